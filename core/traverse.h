@@ -1,0 +1,203 @@
+// Closest-hit traversal of the flat BVH2, written once for host and device.
+//
+// While-while traversal after Aila & Laine (HPG 2009): an inner loop walks inner nodes and postpones the first
+// leaf it meets; a second loop intersects the postponed leaves. The loop bodies are exposed as node_step() and
+// leaf_step() so that a SIMT model can run lanes of a warp in lock step with exactly the control flow a GPU warp
+// has; closest_hit() is the scalar driver. Triangles use the watertight test of Woop, Benthin and Wald
+// ("Watertight Ray/Triangle Intersection", JCGT 2013), double-sided, with the double-precision fallback on
+// exact-zero edge functions. Boxes use the slab test with Ize's conservative far-distance scaling
+// ("Robust BVH Ray Traversal", JCGT 2013).
+//
+// Counting is a compile-time policy: Counters::on_node / on_leaf / on_triangle receive the index fetched.
+// NoCounters compiles to nothing, so timing runs pay nothing for counting.
+#pragma once
+
+#include "core/bvh.h"
+#include "core/ray.h"
+
+namespace raycoh {
+
+struct NoCounters {
+  RAYCOH_HD void on_node(int32_t) {}
+  RAYCOH_HD void on_leaf(int32_t) {}
+  RAYCOH_HD void on_triangle(uint32_t) {}
+};
+
+// Per-ray totals: inner nodes fetched, leaves visited, triangles tested.
+struct RayCounters {
+  uint32_t nodes = 0, leaves = 0, triangles = 0;
+  RAYCOH_HD void on_node(int32_t) { ++nodes; }
+  RAYCOH_HD void on_leaf(int32_t) { ++leaves; }
+  RAYCOH_HD void on_triangle(uint32_t) { ++triangles; }
+};
+
+// Per-ray constants of the box and triangle tests.
+struct PreparedRay {
+  Vec3 org, dir, inv_dir;
+  float tmin;
+  int kx, ky, kz;      // watertight test: kz = dominant axis of dir
+  float sx, sy, sz;    // shear constants
+};
+
+RAYCOH_HD RAYCOH_INLINE PreparedRay prepare_ray(const Ray& r) {
+  PreparedRay p;
+  p.org = r.org;
+  p.dir = r.dir;
+  p.tmin = r.tmin;
+  // Avoid 0 * inf = NaN in the slab test: a zero component becomes a tiny one with its sign kept.
+  const float eps = 1e-20f;
+  p.inv_dir.x = 1.f / (fabsf(r.dir.x) > eps ? r.dir.x : copysignf(eps, r.dir.x));
+  p.inv_dir.y = 1.f / (fabsf(r.dir.y) > eps ? r.dir.y : copysignf(eps, r.dir.y));
+  p.inv_dir.z = 1.f / (fabsf(r.dir.z) > eps ? r.dir.z : copysignf(eps, r.dir.z));
+  const float ax = fabsf(r.dir.x), ay = fabsf(r.dir.y), az = fabsf(r.dir.z);
+  p.kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  p.kx = p.kz == 2 ? 0 : p.kz + 1;
+  p.ky = p.kx == 2 ? 0 : p.kx + 1;
+  if (r.dir[p.kz] < 0.f) {  // keep the winding so that edge signs are consistent
+    int t = p.kx;
+    p.kx = p.ky;
+    p.ky = t;
+  }
+  p.sz = 1.f / r.dir[p.kz];
+  p.sx = r.dir[p.kx] * p.sz;
+  p.sy = r.dir[p.ky] * p.sz;
+  return p;
+}
+
+// Slab test; returns the entry distance, or +inf when [tmin, tmax] misses the box.
+RAYCOH_HD RAYCOH_INLINE float intersect_box(const PreparedRay& r, Vec3 lo, Vec3 hi, float tmax) {
+  const float tx0 = (lo.x - r.org.x) * r.inv_dir.x, tx1 = (hi.x - r.org.x) * r.inv_dir.x;
+  const float ty0 = (lo.y - r.org.y) * r.inv_dir.y, ty1 = (hi.y - r.org.y) * r.inv_dir.y;
+  const float tz0 = (lo.z - r.org.z) * r.inv_dir.z, tz1 = (hi.z - r.org.z) * r.inv_dir.z;
+  const float tnear = max_f(max_f(min_f(tx0, tx1), min_f(ty0, ty1)), max_f(min_f(tz0, tz1), r.tmin));
+  // 1 + 2 gamma(3): makes the far distance conservative against rounding (Ize 2013).
+  const float tfar = min_f(min_f(max_f(tx0, tx1), max_f(ty0, ty1)), min_f(max_f(tz0, tz1), tmax)) * 1.00000024f;
+  return tnear <= tfar ? tnear : __builtin_huge_valf();
+}
+
+// Watertight, double-sided ray/triangle test. Updates hit when the triangle is closer than hit.t.
+RAYCOH_HD RAYCOH_INLINE bool intersect_triangle(const PreparedRay& r, const BvhTriangle& tri, Hit& hit) {
+  const Vec3 a = tri.v0 - r.org, b = tri.v1 - r.org, c = tri.v2 - r.org;
+  const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+  const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+  const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+  float u = cx * by - cy * bx;
+  float v = ax * cy - ay * cx;
+  float w = bx * ay - by * ax;
+  if (u == 0.f || v == 0.f || w == 0.f) {  // exactly on an edge in float: decide in double
+    u = static_cast<float>(static_cast<double>(cx) * by - static_cast<double>(cy) * bx);
+    v = static_cast<float>(static_cast<double>(ax) * cy - static_cast<double>(ay) * cx);
+    w = static_cast<float>(static_cast<double>(bx) * ay - static_cast<double>(by) * ax);
+  }
+  if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
+  const float det = u + v + w;
+  if (det == 0.f) return false;
+  const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
+  float t_scaled = u * az + v * bz + w * cz;
+  const float abs_det = fabsf(det);
+  if (det < 0.f) t_scaled = -t_scaled;
+  if (!(t_scaled > r.tmin * abs_det) || !(t_scaled < hit.t * abs_det)) return false;
+  const float inv_det = 1.f / det;
+  const float t = (det < 0.f ? -t_scaled : t_scaled) * inv_det;
+  if (!(t > r.tmin) || !(t < hit.t)) return false;  // the scaled comparison can round across the bound
+  hit.t = t;
+  hit.u = v * inv_det;  // weight of v1
+  hit.v = w * inv_det;  // weight of v2
+  hit.prim = tri.prim;
+  return true;
+}
+
+// Traversal state of one ray; the fields are what a GPU thread keeps in registers.
+struct TraversalState {
+  PreparedRay ray;
+  Hit hit;
+  int32_t node_ref;  // next node to visit (inner or leaf), or kSentinel when done
+  int32_t leaf_ref;  // postponed leaf (< 0), or >= 0 for none
+  int sp;
+  int32_t stack[kTraversalStackSize];
+};
+
+RAYCOH_HD RAYCOH_INLINE void traversal_begin(TraversalState& s, const Ray& r) {
+  s.ray = prepare_ray(r);
+  s.hit = Hit{};
+  s.hit.t = r.tmax;
+  s.stack[0] = kSentinel;
+  s.sp = 1;
+  s.node_ref = 0;
+  s.leaf_ref = 0;
+  // A ray with a non-finite or empty interval does no work at all.
+  if (!(r.tmax > r.tmin) || !is_finite(r.org) || !is_finite(r.dir) || !(dot(r.dir, r.dir) > 0.f)) s.node_ref = kSentinel;
+}
+
+RAYCOH_HD RAYCOH_INLINE bool traversal_wants_node(const TraversalState& s) {
+  return s.node_ref >= 0 && s.node_ref != kSentinel;
+}
+RAYCOH_HD RAYCOH_INLINE bool traversal_has_leaf(const TraversalState& s) { return s.leaf_ref < 0; }
+RAYCOH_HD RAYCOH_INLINE bool traversal_done(const TraversalState& s) {
+  return s.node_ref == kSentinel && s.leaf_ref >= 0;
+}
+
+// One iteration of the inner-node loop: fetch node_ref, enter the children the ray hits (nearer first),
+// postpone the first leaf met.
+template <class Counters>
+RAYCOH_HD RAYCOH_INLINE void node_step(TraversalState& s, const BvhView& bvh, Counters& counters) {
+  const BvhNode& n = bvh.nodes[s.node_ref];
+  counters.on_node(s.node_ref);
+  const float t0 = intersect_box(s.ray, n.lo0, n.hi0, s.hit.t);
+  const float t1 = intersect_box(s.ray, n.lo1, n.hi1, s.hit.t);
+  const bool hit0 = t0 != __builtin_huge_valf();
+  const bool hit1 = t1 != __builtin_huge_valf();
+  if (!hit0 && !hit1) {
+    s.node_ref = s.stack[--s.sp];
+  } else {
+    s.node_ref = hit0 ? n.child[0] : n.child[1];
+    if (hit0 && hit1) {
+      int32_t far_ref = n.child[1];
+      if (t1 < t0) {
+        far_ref = s.node_ref;
+        s.node_ref = n.child[1];
+      }
+      s.stack[s.sp++] = far_ref;
+    }
+  }
+  if (is_leaf_ref(s.node_ref) && s.leaf_ref >= 0) {
+    s.leaf_ref = s.node_ref;
+    s.node_ref = s.stack[--s.sp];
+  }
+}
+
+// One iteration of the leaf loop: intersect the postponed leaf, then take node_ref as the next leaf if it is one.
+template <class Counters>
+RAYCOH_HD RAYCOH_INLINE void leaf_step(TraversalState& s, const BvhView& bvh, Counters& counters) {
+  counters.on_leaf(s.leaf_ref);
+  const uint32_t first = leaf_first(s.leaf_ref), count = leaf_count(s.leaf_ref);
+  for (uint32_t i = first; i < first + count; ++i) {
+    counters.on_triangle(i);
+    intersect_triangle(s.ray, bvh.tris[i], s.hit);
+  }
+  s.leaf_ref = s.node_ref;
+  if (is_leaf_ref(s.node_ref)) s.node_ref = s.stack[--s.sp];
+}
+
+// Scalar driver: closest hit of one ray. A scalar "warp" of one lane leaves the node loop as soon as it holds a
+// leaf, exactly as a GPU warp whose lanes all hold one.
+template <class Counters>
+RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r, Counters& counters) {
+  TraversalState s;
+  traversal_begin(s, r);
+  while (!traversal_done(s)) {
+    while (traversal_wants_node(s)) {
+      node_step(s, bvh, counters);
+      if (traversal_has_leaf(s)) break;
+    }
+    while (traversal_has_leaf(s)) leaf_step(s, bvh, counters);
+  }
+  return s.hit;
+}
+
+RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r) {
+  NoCounters none;
+  return closest_hit(bvh, r, none);
+}
+
+}  // namespace raycoh

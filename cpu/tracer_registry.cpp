@@ -1,0 +1,37 @@
+// The explicit tracer registry: adding a tracer is one file with a make_<name>_tracer function plus one entry in
+// tracer_infos() and one branch in make_tracer() here. No self-registering statics: the linker would drop them
+// from the static library.
+//
+// Parameters: each tracer reads its own from a ParamSet owned by "tracer '<name>'"; unknown keys are errors.
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "cpu/bvh_build.h"
+#include "cpu/tracer.h"
+#include "scenes/scene.h"
+
+namespace raycoh {
+
+// Defined in cpu/cpu_tracer.cpp and cpu/embree_tracer.cpp. The Scene and Bvh must outlive the tracer.
+std::unique_ptr<Tracer> make_cpu_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
+std::unique_ptr<Tracer> make_embree_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
+
+const std::vector<TracerInfo>& tracer_infos() {
+  static const std::vector<TracerInfo> infos = {
+      {"cpu", "our BVH2 traversal (core/traverse.h) on the CPU, parallel over blocks of rays with oneTBB", "(none)"},
+      {"embree", "Embree 3 on its own BVH: the CPU wall-clock baseline and the correctness oracle",
+       "mode=single|packet16|stream_coherent|stream_incoherent (default single), quality=high|medium (default high)"},
+  };
+  return infos;
+}
+
+std::unique_ptr<Tracer> make_tracer(const PluginSpec& spec, const Scene& scene, const Bvh& bvh) {
+  ParamSet params(fmt::format("tracer '{}'", spec.name), spec.params);
+  if (spec.name == "cpu") return make_cpu_tracer(params, scene, bvh);
+  if (spec.name == "embree") return make_embree_tracer(params, scene, bvh);
+  std::vector<std::string> names;
+  for (const TracerInfo& info : tracer_infos()) names.push_back(info.name);
+  throw Error(fmt::format("unknown tracer '{}'; valid tracers: {}", spec.name, join(names)));
+}
+
+}  // namespace raycoh

@@ -1,0 +1,39 @@
+// The generator interface: G-buffer of first hits + frame seed -> secondary ray batch. One virtual call per
+// frame, never per ray. Adding a generator = one file + one line in generators/registry.cpp.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/params.h"
+#include "generators/ray_batch.h"
+
+namespace raycoh {
+
+class Generator {
+ public:
+  virtual ~Generator() = default;
+  // Writes one ray per hit pixel of gbuffer into out (resized), in the generator's batch order.
+  virtual void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
+                        GenerationStats& stats) = 0;
+  // Canonical, defaulted parameter set ("order=tile,tile=8x8").
+  virtual std::string params() const = 0;
+};
+
+struct GeneratorInfo {
+  std::string name;
+  std::string summary;  // one line for `raycoh list`
+  std::string params;   // parameter table: name, type, default, range
+};
+
+const std::vector<GeneratorInfo>& generator_infos();
+// Throws raycoh::Error for unknown names or bad parameters, naming the valid choices.
+std::unique_ptr<Generator> make_generator(const PluginSpec& spec);
+
+// Helpers shared by generators.
+BsdfParams bsdf_params(const Material& m);
+// Hit pixels of gbuffer in the given pixel order.
+std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vector<uint32_t>& order);
+
+}  // namespace raycoh

@@ -1,0 +1,33 @@
+// NoOpt generator (see noopt.cpp for the method and parameters) and the per-ray helpers other generators reuse.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "core/bsdf.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+
+namespace raycoh {
+
+class NoOptGenerator final : public Generator {
+ public:
+  explicit NoOptGenerator(ParamSet& params);
+  void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
+                GenerationStats& stats) override;
+  std::string params() const override { return params_; }
+
+ private:
+  RayOrder order_;
+  std::pair<int, int> tile_;
+  std::string params_;
+  std::vector<uint32_t> pixel_order_;
+  int order_cache_width_ = -1, order_cache_height_ = -1;
+};
+
+// Writes ray i of the batch from a shading point and the direction chosen for it.
+void emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s);
+// Sums per-ray sample flags into the frame's statistics.
+void count_flags(const std::vector<uint32_t>& flags, GenerationStats& stats);
+
+}  // namespace raycoh

@@ -1,0 +1,88 @@
+// Primary rays (pinhole camera) and G-buffer construction: interpolated position, geometric and shading
+// normals oriented towards the viewer, material class. Parallel over pixels with oneTBB.
+#include "generators/primary.h"
+
+#include <cmath>
+#include <tbb/parallel_for.h>
+
+#include "core/rng.h"
+#include "core/sampling.h"
+
+namespace raycoh {
+
+void RayBatch::resize(size_t n) {
+  rays.resize(n);
+  pixel.resize(n);
+  pdf.resize(n);
+  weight.resize(n);
+  normal.resize(n);
+  material.resize(n);
+}
+
+PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, const std::vector<uint32_t>& order,
+                               uint32_t seed, uint32_t frame, bool jitter) {
+  PrimaryBatch out;
+  out.width = width;
+  out.height = height;
+  out.frame = frame;
+  out.rays.resize(order.size());
+  out.pixel = order;
+  const Vec3 forward = normalize(camera.target - camera.eye);
+  const Vec3 right = normalize(cross(forward, camera.up));
+  const Vec3 up = cross(right, forward);
+  const float tan_half = std::tan(camera.vfov_deg * 0.5f * kPi / 180.f);
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      const uint32_t p = order[i];
+      const float jx = jitter ? rng_float(seed, frame, p, kDimPixelJitterX) : 0.5f;
+      const float jy = jitter ? rng_float(seed, frame, p, kDimPixelJitterY) : 0.5f;
+      const float sx = (2.f * ((static_cast<float>(p % width) + jx) / width) - 1.f) * tan_half * aspect;
+      const float sy = (1.f - 2.f * ((static_cast<float>(p / width) + jy) / height)) * tan_half;
+      Ray& ray = out.rays[i];
+      ray.org = camera.eye;
+      ray.dir = normalize(forward + right * sx + up * sy);
+      ray.tmin = 0.f;
+      ray.tmax = __builtin_huge_valf();
+    }
+  });
+  return out;
+}
+
+GBuffer make_gbuffer(const Scene& scene, const PrimaryBatch& primary, const std::vector<Hit>& hits) {
+  GBuffer g;
+  g.width = primary.width;
+  g.height = primary.height;
+  g.frame = primary.frame;
+  g.points.assign(static_cast<size_t>(g.width) * g.height, ShadingPoint{});
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, primary.rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      const Hit& h = hits[i];
+      if (!h.valid()) continue;
+      const Ray& ray = primary.rays[i];
+      const uint32_t* idx = &scene.indices[3 * static_cast<size_t>(h.prim)];
+      const Vec3 v0 = scene.positions[idx[0]], v1 = scene.positions[idx[1]], v2 = scene.positions[idx[2]];
+      const float w0 = 1.f - h.u - h.v;
+      ShadingPoint& sp = g.points[primary.pixel[i]];
+      sp.prim = h.prim;
+      sp.material = scene.tri_material[h.prim];
+      sp.cls = scene.materials[sp.material].cls;
+      sp.position = v0 * w0 + v1 * h.u + v2 * h.v;
+      sp.wo = -ray.dir;
+      Vec3 ng = cross(v1 - v0, v2 - v0);
+      ng = dot(ng, ng) > 0.f ? normalize(ng) : sp.wo;
+      sp.front_face = dot(ng, sp.wo) >= 0.f;
+      if (!sp.front_face) ng = -ng;
+      Vec3 ns = scene.normals[idx[0]] * w0 + scene.normals[idx[1]] * h.u + scene.normals[idx[2]] * h.v;
+      ns = dot(ns, ns) > 0.f ? normalize(ns) : ng;
+      if (!is_finite(ns)) ns = ng;
+      if (dot(ns, ng) < 0.f) ns = -ns;
+      sp.ng = ng;
+      sp.ns = ns;
+    }
+  });
+  for (const ShadingPoint& sp : g.points) g.hits += sp.valid();
+  return g;
+}
+
+}  // namespace raycoh

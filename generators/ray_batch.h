@@ -1,0 +1,59 @@
+// The G-buffer of first hits and the secondary ray batch made from it (host side).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/ray.h"
+#include "scenes/scene.h"
+
+namespace raycoh {
+
+// One first hit. Normals face the side the camera ray came from (all shared-scene materials are double-sided):
+// ng is the geometric normal, ns the interpolated shading normal flipped into ng's hemisphere.
+struct ShadingPoint {
+  Vec3 position;
+  Vec3 ng;
+  Vec3 ns;
+  Vec3 wo;  // unit, towards the camera
+  uint32_t prim = kNoHit;
+  uint32_t material = 0;
+  MaterialClass cls = MaterialClass::Diffuse;
+  bool front_face = true;  // the camera ray hit the side the triangle's winding faces
+  bool valid() const { return prim != kNoHit; }
+};
+
+// Per pixel (index y * width + x).
+struct GBuffer {
+  int width = 0, height = 0;
+  uint32_t frame = 0;
+  std::vector<ShadingPoint> points;
+  size_t hits = 0;
+};
+
+// Structure-of-arrays batch; element i of every array belongs to ray i. The order of the batch is part of the
+// method (DESIGN.md section 1): warps are 32 consecutive rays.
+struct RayBatch {
+  int width = 0, height = 0;
+  uint32_t frame = 0;
+  std::vector<Ray> rays;
+  std::vector<uint32_t> pixel;          // y * width + x of the shading point the ray leaves
+  std::vector<float> pdf;               // solid-angle pdf of the direction (discrete probability for delta lobes)
+  std::vector<Vec3> weight;             // BSDF x cos / pdf; zero for directions that were rejected
+  std::vector<Vec3> normal;             // shading normal at the origin
+  std::vector<MaterialClass> material;  // class of the material at the origin
+
+  size_t size() const { return rays.size(); }
+  void resize(size_t n);
+};
+
+// What a generator did in one frame, for the harness's reports.
+struct GenerationStats {
+  size_t rays = 0;
+  size_t below_geometric = 0;  // directions on the wrong side of the geometric surface: kept, weight 0
+  size_t below_shading = 0;    // glossy samples reflected below the shading hemisphere: kept, weight 0
+  size_t non_finite = 0;       // NaN/Inf directions replaced by the geometric normal, weight 0
+};
+
+}  // namespace raycoh

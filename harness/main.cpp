@@ -1,0 +1,120 @@
+// raycoh command line: list, scenes info, table, rays. User errors print one line and exit with code 2.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <thread>
+
+#include "core/error.h"
+#include "harness/commands.h"
+#include "harness/table.h"
+
+namespace {
+
+using namespace raycoh;
+
+std::vector<std::string> split_scenes(const std::string& text) {
+  std::vector<std::string> out;
+  for (const PluginSpec& s : split_plugin_list(text)) out.push_back(s.text());
+  if (out.empty()) throw Error("--scenes: empty list");
+  return out;
+}
+
+std::vector<PluginSpec> split_nonempty(const std::string& option, const std::string& text) {
+  auto list = split_plugin_list(text);
+  if (list.empty()) throw Error(fmt::format("{}: empty list", option));
+  return list;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"raycoh: which way of making secondary rays coherent pays off, on which scene, at what cost"};
+  app.require_subcommand(1);
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  app.add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+
+  app.add_subcommand("list", "list generators, encoders, tracers and built-in scenes with their parameters");
+
+  auto* scenes_cmd = app.add_subcommand("scenes", "scene utilities");
+  scenes_cmd->require_subcommand(1);
+  std::string info_scene;
+  auto* info_cmd = scenes_cmd->add_subcommand("info", "print a scene's features, the stages it skips, its BVH");
+  info_cmd->add_option("scene", info_scene, "built-in name or .gltf/.glb/.obj path")->required();
+
+  TableOptions table;
+  std::string t_scenes = "cornell,voxels", t_generators = "noopt", t_tracers = "cpu,embree", t_res = "320x240";
+  auto* table_cmd = app.add_subcommand("table", "trace primary and secondary rays; print MRay/s and ratios to NoOpt");
+  table_cmd->add_option("--scenes", t_scenes, "comma-separated scenes (built-in names, files or folders)")
+      ->capture_default_str();
+  table_cmd->add_option("--generators", t_generators, "comma-separated generators, e.g. noopt")->capture_default_str();
+  table_cmd->add_option("--tracers", t_tracers, "comma-separated tracers, e.g. cpu,embree:mode=packet16")
+      ->capture_default_str();
+  table_cmd->add_option("--res", t_res, "resolution WxH")->capture_default_str();
+  table_cmd->add_option("--frames", table.frames, "frames per scene")->check(CLI::Range(1, 100000))->capture_default_str();
+  table_cmd->add_option("--seed", table.seed, "random seed")->capture_default_str();
+  table_cmd->add_option("--repeat", table.repeats, "timed traces per batch (median reported)")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
+  table_cmd->add_option("--out", table.out, "CSV file to write")->capture_default_str();
+
+  RaysOptions rays;
+  std::string r_generator = "noopt", r_res = "320x240";
+  auto* rays_cmd = app.add_subcommand("rays", "dump one frame's secondary ray batch as CSV, one row per ray");
+  rays_cmd->add_option("--scene", rays.scene, "scene")->required();
+  rays_cmd->add_option("--generator", r_generator, "generator")->capture_default_str();
+  rays_cmd->add_option("--frame", rays.frame, "frame index")->check(CLI::Range(0, 1 << 30))->capture_default_str();
+  rays_cmd->add_option("--res", r_res, "resolution WxH")->capture_default_str();
+  rays_cmd->add_option("--seed", rays.seed, "random seed")->capture_default_str();
+  rays_cmd->add_option("--out", rays.out, "CSV file to write")->required();
+
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands({})) commands.push_back(sub->get_name());
+  for (int i = 1; i < argc; ++i) {  // the first word that is not an option must be a command
+    const std::string arg = argv[i];
+    if (arg.rfind("-", 0) == 0) {
+      if (arg == "--threads") ++i;
+      continue;
+    }
+    if (std::find(commands.begin(), commands.end(), arg) == commands.end()) {
+      std::fprintf(stderr, "raycoh: error: unknown command '%s'; valid commands: %s\n", arg.c_str(),
+                   join(commands).c_str());
+      return 2;
+    }
+    break;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "raycoh: error: %s (see raycoh --help)\n", e.what());
+    return 2;
+  }
+
+  tbb::global_control threads_control(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  const Provenance provenance = collect_provenance(argc, argv, threads);
+  try {
+    if (app.got_subcommand("list")) {
+      run_list();
+    } else if (info_cmd->parsed()) {
+      run_scene_info(info_scene);
+    } else if (table_cmd->parsed()) {
+      table.scenes = split_scenes(t_scenes);
+      table.generators = split_nonempty("--generators", t_generators);
+      table.tracers = split_nonempty("--tracers", t_tracers);
+      std::tie(table.width, table.height) = parse_size("--res", t_res, 1, 16384);
+      return run_table(table, provenance);
+    } else if (rays_cmd->parsed()) {
+      rays.generator = parse_plugin_spec(r_generator);
+      std::tie(rays.width, rays.height) = parse_size("--res", r_res, 1, 16384);
+      run_rays(rays, provenance);
+    }
+  } catch (const Error& e) {
+    std::fprintf(stderr, "raycoh: error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

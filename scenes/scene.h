@@ -1,0 +1,102 @@
+// The in-memory scene every stage reads: triangles with shading normals, classified materials, a camera,
+// emitters and, when the scene has none, a sky + sun environment.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/material.h"
+#include "core/vec.h"
+
+namespace raycoh {
+
+const char* to_string(MaterialClass c);
+
+// Roughness at or below which a glossy lobe is called specular, and above which a non-metal is diffuse.
+constexpr float kSpecularRoughness = 0.05f;
+constexpr float kGlossyRoughness = 0.4f;
+
+struct Material {
+  std::string name;
+  MaterialClass cls = MaterialClass::Diffuse;
+  Vec3 base_color{0.8f, 0.8f, 0.8f};  // linear RGB
+  float roughness = 1.f;
+  float metallic = 0.f;
+  float ior = 1.5f;
+  float transmission = 0.f;
+  bool thin_walled = true;  // transmissive without KHR_materials_volume
+  Vec3 emission{0.f, 0.f, 0.f};  // radiance = emissiveFactor x emissive strength
+  bool has_texture = false;      // references an image texture (not decoded unless a stage needs it)
+};
+
+// Classification rule, one place: emissive > transmissive > specular/glossy (rough enough or metallic) > diffuse.
+MaterialClass classify_material(const Material& m);
+
+struct Camera {
+  Vec3 eye{0.f, 0.f, 1.f};
+  Vec3 target{0.f, 0.f, 0.f};
+  Vec3 up{0.f, 1.f, 0.f};
+  float vfov_deg = 45.f;
+  // true: the source chose the view (a glTF camera node, or a built-in scene's own view);
+  // false: default framing of the scene bounds.
+  bool from_file = false;
+};
+
+// Sky + sun used when a scene has no emitter (or too weak an emitter to light it).
+struct Environment {
+  bool enabled = false;
+  Vec3 sun_dir{0.3f, 0.9f, 0.3f};  // towards the sun; finalize_scene normalises it
+  Vec3 sun_radiance{0.f, 0.f, 0.f};
+  float sun_cos_half_angle = 0.99996f;  // half-angle 0.51 degrees, about 1 degree across
+  Vec3 sky_zenith{0.f, 0.f, 0.f};
+  Vec3 sky_horizon{0.f, 0.f, 0.f};
+};
+
+struct Scene {
+  std::string name;    // short name (file stem or procedural name)
+  std::string source;  // path or procedural spec it was made from
+  std::vector<Vec3> positions;     // world space, after node transforms
+  std::vector<Vec3> normals;       // per vertex, unit length, same count as positions
+  std::vector<uint32_t> indices;   // 3 per triangle
+  std::vector<uint32_t> tri_material;  // per triangle, index into materials
+  std::vector<Material> materials;
+  std::vector<uint32_t> emissive_tris;  // triangles whose material emits
+  Camera camera;
+  Environment env;
+  Bounds bounds;
+  uint32_t degenerate_tris = 0;  // zero-area triangles (kept; they are never hit)
+  bool generated_normals = false;
+
+  size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// What a scene contains, and therefore which pipeline stages it needs.
+struct SceneFeatures {
+  size_t triangles = 0;
+  size_t materials_per_class[5] = {0, 0, 0, 0, 0};
+  bool has_glossy = false;        // glossy or specular
+  bool has_transmissive = false;
+  bool has_emissive = false;
+  bool has_textures = false;
+  bool needs_env_light = false;
+  std::vector<std::string> skipped_stages;  // "stage: reason"
+};
+SceneFeatures analyse(const Scene& scene);
+
+// Load a scene from a spec: a built-in name with optional parameters ("cornell", "voxels:size=96"), a .gltf/.glb
+// or .obj file, or a directory holding exactly one such file. Throws raycoh::Error naming the input on failure.
+Scene load_scene(const std::string& spec);
+
+// The pieces load_scene dispatches to.
+Scene load_gltf(const std::string& path);
+Scene load_obj(const std::string& path);
+Scene make_builtin_scene(const std::string& spec);  // "cornell", "voxels[:size=N]"
+std::vector<std::string> builtin_scene_names();
+std::string builtin_scene_summary(const std::string& name);
+
+// Shared post-processing of every loader: validates geometry (finite positions, indices in range, at least one
+// triangle), generates missing normals, classifies materials, fills bounds, emitters, camera and environment.
+void finalize_scene(Scene& scene);
+
+}  // namespace raycoh

@@ -1,0 +1,80 @@
+// The command line as a user meets it: exit codes, one-line errors naming the input, CSV output kept.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tests/test_util.h"
+
+namespace raycoh::test {
+namespace {
+
+int count_lines(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  int n = 0;
+  std::string line;
+  while (std::getline(in, line)) ++n;
+  return n;
+}
+
+void expect_error(const std::string& args, const std::string& must_contain) {
+  const CommandResult r = run_raycoh(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+  EXPECT_NE(r.output.find(must_contain), std::string::npos) << args << "\n" << r.output;
+  EXPECT_NE(r.output.find("error"), std::string::npos) << r.output;
+}
+
+TEST(Cli, BadNamesAndValuesExitWithCode2AndNameTheChoices) {
+  expect_error("table --generators nope --res 8x8 --frames 1", "valid generators: noopt");
+  expect_error("table --tracers nope --res 8x8 --frames 1", "valid tracers: cpu, embree");
+  expect_error("table --tracers embree:mode=warp --res 8x8 --frames 1", "single");
+  expect_error("table --res 0x10", "--res");
+  expect_error("table --res abc", "--res");
+  expect_error("table --frames 0", "--frames");
+  expect_error("table --scenes /no/such/file.glb --res 8x8", "/no/such/file.glb");
+  expect_error("table --scenes voxels:size=2 --res 8x8 --frames 1", "size");
+  expect_error("scenes info /no/such.obj", "/no/such.obj");
+  expect_error("frobnicate", "frobnicate");
+  expect_error("rays --scene cornell --generator nope --out /tmp/x.csv", "valid generators");
+}
+
+TEST(Cli, ListNamesEveryPlugin) {
+  const CommandResult r = run_raycoh("list");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* s : {"noopt", "none", "cpu", "embree", "cornell", "voxels", "mode="})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s;
+}
+
+TEST(Cli, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
+  const auto dir = temp_dir("cli_table");
+  const auto out = dir / "t.csv";
+  CommandResult r = run_raycoh("table --scenes cornell --res 32x24 --frames 2 --repeat 1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("| cornell | cpu |"), std::string::npos) << r.output;
+  // 1 header + 2 frames x 2 tracers x (primary + noopt)
+  EXPECT_EQ(count_lines(out), 1 + 2 * 2 * 2);
+  EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+
+  const auto bad = dir / "bad.glb";
+  write_file(bad, "glTF this is not a binary gltf");
+  const auto out2 = dir / "t2.csv";
+  r = run_raycoh("table --scenes cornell," + bad.string() + " --res 32x24 --frames 1 --repeat 1 --out " +
+                 out2.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.glb"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out2));
+  EXPECT_EQ(count_lines(out2.string() + ".partial"), 1 + 2 * 2);
+}
+
+TEST(Cli, RaysDumpsOneRowPerRay) {
+  const auto out = temp_dir("cli_rays") / "rays.csv";
+  const CommandResult r = run_raycoh("rays --scene cornell --res 16x16 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("index,pixel_x,pixel_y,frame,org_x", 0), 0u) << header;
+  EXPECT_GT(count_lines(out), 100);
+}
+
+}  // namespace
+}  // namespace raycoh::test

@@ -1,0 +1,52 @@
+// CUDA path: the kernel runs core/traverse.h and must return exactly the CPU tracer's hits. Skips without a GPU.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "cpu/bvh_build.h"
+#include "cpu/tracer.h"
+#include "cuda/cuda_trace.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+#include "tests/test_util.h"
+
+namespace raycoh {
+namespace {
+
+void expect_gpu_matches_cpu(const std::string& spec) {
+  const Scene scene = load_scene(spec);
+  const Bvh bvh = build_bvh(scene);
+  auto cpu = make_tracer({"cpu", ""}, scene, bvh);
+  const auto order = make_pixel_order(256, 192, RayOrder::Tile, 8, 8);
+  const PrimaryBatch primary = make_primary_rays(scene.camera, 256, 192, order, 1, 0, true);
+  std::vector<Hit> cpu_hits(primary.rays.size()), gpu_hits(primary.rays.size());
+  cpu->trace(primary.rays.data(), primary.rays.size(), cpu_hits.data());
+  float ms = 0;
+  cuda::trace_closest(bvh.view(), primary.rays.data(), primary.rays.size(), gpu_hits.data(), &ms);
+  EXPECT_EQ(std::memcmp(cpu_hits.data(), gpu_hits.data(), cpu_hits.size() * sizeof(Hit)), 0) << spec;
+
+  const GBuffer g = make_gbuffer(scene, primary, cpu_hits);
+  RayBatch batch;
+  GenerationStats stats;
+  make_generator({"noopt", ""})->generate(scene, g, 1, batch, stats);
+  cpu_hits.resize(batch.size());
+  gpu_hits.resize(batch.size());
+  cpu->trace(batch.rays.data(), batch.size(), cpu_hits.data());
+  cuda::trace_closest(bvh.view(), batch.rays.data(), batch.size(), gpu_hits.data(), &ms);
+  size_t differ = 0;
+  for (size_t i = 0; i < batch.size(); ++i)
+    differ += std::memcmp(&cpu_hits[i], &gpu_hits[i], sizeof(Hit)) != 0;
+  EXPECT_EQ(differ, 0u) << spec << ": " << differ << " of " << batch.size() << " secondary hits differ";
+}
+
+TEST(Gpu, HitsEqualTheCpuTracerBitForBit) {
+  if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  expect_gpu_matches_cpu("cornell");
+  expect_gpu_matches_cpu("voxels:size=48");
+  for (const auto& path : test::shared_scene_files())
+    if (path.filename() == "sibenik.glb") expect_gpu_matches_cpu(path.string());
+}
+
+}  // namespace
+}  // namespace raycoh

@@ -1,0 +1,33 @@
+// Helpers shared by the tests: where the shared scenes are, temporary files, running the CLI.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace raycoh::test {
+
+// ../shared/scenes (or $RAYCOH_SCENES); empty when absent.
+inline std::filesystem::path shared_scenes_dir() {
+  if (const char* env = std::getenv("RAYCOH_SCENES")) return env;
+  std::filesystem::path p = RAYCOH_SHARED_SCENES;
+  return std::filesystem::exists(p) ? p : std::filesystem::path{};
+}
+
+// Every .glb under the shared scenes directory, sorted by name.
+std::vector<std::filesystem::path> shared_scene_files();
+
+// A fresh directory under the system temp dir, removed at process exit is not needed: tests use unique names.
+std::filesystem::path temp_dir(const std::string& name);
+
+void write_file(const std::filesystem::path& path, const std::string& bytes);
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+// Runs the raycoh binary with the given argument string (shell syntax).
+CommandResult run_raycoh(const std::string& args);
+
+}  // namespace raycoh::test
