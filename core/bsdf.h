@@ -40,8 +40,8 @@ RAYCOH_HD RAYCOH_INLINE Vec3 shading_wo_local(const Frame& f, Vec3 wo) {
 
 // Checks the side of the geometric surface and finiteness; sets flags and zeroes the weight when rejected.
 RAYCOH_HD RAYCOH_INLINE void check_direction(DirectionSample& s, Vec3 ng) {
-  if (!is_finite(s.dir) || !(dot(s.dir, s.dir) > 0.f) || !is_finite(s.pdf)) {
-    s.dir = ng;
+  if (!is_finite(s.dir) || !(dot(s.dir, s.dir) > 0.f) || !is_finite(s.pdf) || !is_finite(ng)) {
+    s.dir = is_finite(ng) && dot(ng, ng) > 0.f ? ng : Vec3{0.f, 0.f, 1.f};
     s.pdf = 0.f;
     s.weight = Vec3(0.f);
     s.flags |= kSampleNonFinite;
@@ -53,6 +53,19 @@ RAYCOH_HD RAYCOH_INLINE void check_direction(DirectionSample& s, Vec3 ng) {
     s.weight = Vec3(0.f);
     s.flags |= kSampleBelowGeometric;
   }
+}
+
+// A Lambertian member using the tangent-space direction `local` (z > 0) in its own frame: pdf and weight by
+// its own BSDF (cos / pi and the base colour), then the geometric-side check. Exactly what sample_direction()
+// does for a diffuse point, so sharing the donor's own sample reproduces NoOpt bit for bit.
+RAYCOH_HD RAYCOH_INLINE DirectionSample diffuse_from_local(const BsdfParams& m, Vec3 ns, Vec3 ng, Vec3 local) {
+  DirectionSample s;
+  const Frame f = make_frame(ns);
+  s.dir = f.to_world(local);
+  s.pdf = cosine_pdf(local);
+  s.weight = m.base_color;
+  check_direction(s, ng);
+  return s;
 }
 
 // pdf and weight of using the world direction wi at this point, by the material's own BSDF (used when a
@@ -124,13 +137,8 @@ RAYCOH_HD RAYCOH_INLINE DirectionSample sample_direction(const BsdfParams& m, Ve
       }
       break;
     }
-    default: {  // diffuse and emissive surfaces reflect diffusely
-      const Vec3 li = sample_cosine_hemisphere(u0, u1);
-      s.dir = f.to_world(li);
-      s.pdf = cosine_pdf(li);
-      s.weight = m.base_color;
-      break;
-    }
+    default:  // diffuse and emissive surfaces reflect diffusely
+      return diffuse_from_local(m, ns, ng, sample_cosine_hemisphere(u0, u1));
   }
   check_direction(s, ng);
   return s;

@@ -32,6 +32,9 @@ enum RngDim : uint32_t {
   kDimSecondary0 = 2,   // first bounce direction
   kDimSecondary1 = 3,
   kDimSecondaryLobe = 4,  // discrete lobe choice (reflect / refract)
+  kDimTileShuffleA = 5,   // per tile (the "pixel" argument is the tile index): shuffle multiplier
+  kDimTileShuffleC = 6,   // per tile: shuffle increment
+  kDimGroupDonor = 7,     // per group (the "pixel" argument is the frame-unique group id): donor member
   kDimFirstFree = 16,     // later stages start here
 };
 

@@ -92,14 +92,12 @@ RAYCOH_HD RAYCOH_INLINE bool intersect_triangle(const PreparedRay& r, const BvhT
   if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
   const float det = u + v + w;
   if (det == 0.f) return false;
-  const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
-  float t_scaled = u * az + v * bz + w * cz;
-  const float abs_det = fabsf(det);
-  if (det < 0.f) t_scaled = -t_scaled;
-  if (!(t_scaled > r.tmin * abs_det) || !(t_scaled < hit.t * abs_det)) return false;
+  // t from the plane equation rather than from the sheared vertex depths, whose weighted sum cancels badly when
+  // the triangle is large compared with t (errors up to 1% of t on the shared scenes).
+  const Vec3 ng = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+  const float t = dot(ng, a) / dot(ng, r.dir);
+  if (!(t > r.tmin) || !(t < hit.t)) return false;
   const float inv_det = 1.f / det;
-  const float t = (det < 0.f ? -t_scaled : t_scaled) * inv_det;
-  if (!(t > r.tmin) || !(t < hit.t)) return false;  // the scaled comparison can round across the bound
   hit.t = t;
   hit.u = v * inv_det;  // weight of v1
   hit.v = w * inv_det;  // weight of v2

@@ -3,22 +3,23 @@
 // constructor (not part of the timed trace).
 //
 // Parameters:
-//   mode     choice  default single   single | packet16 | stream_coherent | stream_incoherent
-//              single             rtcIntersect1 per ray (Embree ignores the coherence flag here)
-//              packet16           rtcIntersect16 on 16 consecutive rays of the batch,
-//              RTC_INTERSECT_CONTEXT_FLAG_COHERENT stream_coherent    rtcIntersect1M on blocks of 256 consecutive rays,
-//              flag COHERENT stream_incoherent  rtcIntersect1M on blocks of 256 consecutive rays, flag INCOHERENT
-//   quality  choice  default high     high | medium
-//              high    RTC_BUILD_QUALITY_HIGH: SAH with spatial splits, Embree's best tree for static scenes
-//              medium  RTC_BUILD_QUALITY_MEDIUM: binned SAH, the builder our own BVH uses (for like-for-like runs)
+//   mode     choice, default single: single | packet16 | stream_coherent | stream_incoherent
+//     single             rtcIntersect1 per ray (Embree ignores the coherence flag here)
+//     packet16           rtcIntersect16 on 16 consecutive rays of the batch, flag COHERENT
+//     stream_coherent    rtcIntersect1M on blocks of 256 consecutive rays, flag COHERENT
+//     stream_incoherent  rtcIntersect1M on blocks of 256 consecutive rays, flag INCOHERENT
+//   quality  choice, default high: high | medium
+//     high    RTC_BUILD_QUALITY_HIGH: SAH with spatial splits, Embree's best tree for static scenes
+//     medium  RTC_BUILD_QUALITY_MEDIUM: binned SAH, the builder our own BVH uses (for like-for-like runs)
 //
-// Follows Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray Tracing" (SIGGRAPH 2014), and Fuetterling
-// et al., "Accelerated Single Ray Tracing for Wide Vector Units" (HPG 2017) for the single-ray kernels.
+// Follows Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray Tracing" (SIGGRAPH 2014); packets after
+// Wald et al., "Interactive Rendering with Coherent Ray Tracing" (Eurographics 2001).
 //
 // Results use our conventions: t = tfar, prim = primID, (u, v) = Embree's (u, v), which weight v1 and v2 as ours
 // do. A ray that misses, or is rejected up front, returns Hit{t = tmax, prim = kNoHit}, exactly like
 // closest_hit(). Rays with tmax <= tmin, a non-finite origin or direction, or a zero direction are rejected here
-// with the same rule as traversal_begin(), so Embree never sees them.
+// with the same rule as traversal_begin(), so Embree never sees them. Embree requires tmin >= 0; a negative tmin
+// is passed on unchanged and its result is Embree's to define.
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -99,45 +100,40 @@ class EmbreeTracer final : public Tracer {
                       "double-sided, so its results would not match (rebuild Embree without "
                       "EMBREE_BACKFACE_CULLING)",
                       embree_version()));
+    // Checked before any Embree object exists, so that a throw leaks nothing.
+    for (size_t i = 0; i < scene.indices.size(); ++i)
+      if (scene.indices[i] >= scene.positions.size())
+        throw Error(fmt::format("scene '{}': triangle {} uses vertex {}, but there are {} vertices", scene.name, i / 3,
+                                scene.indices[i], scene.positions.size()));
     const std::string what = fmt::format("building the Embree scene of '{}'", scene.name);
-    scene_ = rtcNewScene(device);
+    scene_.reset(rtcNewScene(device));
     embree_check(what);
     const RTCBuildQuality quality = high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
-    rtcSetSceneBuildQuality(scene_, quality);
+    rtcSetSceneBuildQuality(scene_.get(), quality);
 
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetGeometryBuildQuality(geom, quality);
+    const std::unique_ptr<RTCGeometryTy, decltype(&rtcReleaseGeometry)> geom(
+        rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE), rtcReleaseGeometry);
+    embree_check(what);
+    rtcSetGeometryBuildQuality(geom.get(), quality);
     // Embree-allocated buffers rather than shared ones: Embree reads vertices with 16-byte loads and needs padding
     // past the last vertex, which scene.positions does not have.
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                 3 * sizeof(float), scene.positions.size()));
-    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(uint32_t), scene.triangle_count()));
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), scene.positions.size()));
+    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+        geom.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), scene.triangle_count()));
     embree_check(what);
     for (size_t i = 0; i < scene.positions.size(); ++i) {
       vertices[3 * i + 0] = scene.positions[i].x;
       vertices[3 * i + 1] = scene.positions[i].y;
       vertices[3 * i + 2] = scene.positions[i].z;
     }
-    for (size_t i = 0; i < scene.indices.size(); ++i) {
-      if (scene.indices[i] >= scene.positions.size())
-        throw Error(fmt::format("scene '{}': triangle {} uses vertex {}, but there are {} vertices", scene.name, i / 3,
-                                scene.indices[i], scene.positions.size()));
-      indices[i] = scene.indices[i];
-    }
-    rtcCommitGeometry(geom);
+    std::copy(scene.indices.begin(), scene.indices.begin() + 3 * scene.triangle_count(), indices);
+    rtcCommitGeometry(geom.get());
     // geomID 0: primID is then the scene's triangle index, as in our BVH.
-    rtcAttachGeometryByID(scene_, geom, 0);
-    rtcReleaseGeometry(geom);
-    rtcCommitScene(scene_);
+    rtcAttachGeometryByID(scene_.get(), geom.get(), 0);
+    rtcCommitScene(scene_.get());
     embree_check(what);
   }
-
-  ~EmbreeTracer() override {
-    if (scene_) rtcReleaseScene(scene_);
-  }
-  EmbreeTracer(const EmbreeTracer&) = delete;
-  EmbreeTracer& operator=(const EmbreeTracer&) = delete;
 
   void trace(const Ray* rays, size_t count, Hit* hits) override {
     const size_t blocks = (count + kRaysPerBlock - 1) / kRaysPerBlock;
@@ -181,7 +177,7 @@ class EmbreeTracer final : public Tracer {
       }
       RTCRayHit rh;
       to_embree(rays[i], rh);
-      rtcIntersect1(scene_, &ctx, &rh);
+      rtcIntersect1(scene_.get(), &ctx, &rh);
       hits[i] = from_embree(rays[i], rh);
     }
   }
@@ -213,7 +209,7 @@ class EmbreeTracer final : public Tracer {
         p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         p.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       }
-      rtcIntersect16(valid, scene_, &ctx, &p);
+      rtcIntersect16(valid, scene_.get(), &ctx, &p);
       for (size_t k = 0; k < n; ++k) {
         const Ray& r = rays[base + k];
         Hit h = miss(r);
@@ -240,11 +236,11 @@ class EmbreeTracer final : public Tracer {
       else
         to_embree(kIdleRay, stream[k]);
     }
-    rtcIntersect1M(scene_, &ctx, stream, static_cast<unsigned>(n), sizeof(RTCRayHit));
+    rtcIntersect1M(scene_.get(), &ctx, stream, static_cast<unsigned>(n), sizeof(RTCRayHit));
     for (size_t k = 0; k < n; ++k) hits[begin + k] = from_embree(rays[begin + k], stream[k]);
   }
 
-  RTCScene scene_ = nullptr;
+  std::unique_ptr<RTCSceneTy, decltype(&rtcReleaseScene)> scene_{nullptr, rtcReleaseScene};
   Mode mode_;
   std::string params_;
 };

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/bsdf.h"
 #include "core/params.h"
 #include "generators/ray_batch.h"
 
@@ -31,9 +32,15 @@ const std::vector<GeneratorInfo>& generator_infos();
 // Throws raycoh::Error for unknown names or bad parameters, naming the valid choices.
 std::unique_ptr<Generator> make_generator(const PluginSpec& spec);
 
-// Helpers shared by generators.
+// Helpers shared by generators (generators/common.cpp).
 BsdfParams bsdf_params(const Material& m);
 // Hit pixels of gbuffer in the given pixel order.
 std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vector<uint32_t>& order);
+// Writes ray i of the batch from a shading point and the direction chosen for it. The origin is offset along
+// the geometric normal on the side the direction leaves; a non-finite position yields a finite stand-in ray
+// with weight 0, flagged kSampleNonFinite in the returned flags.
+uint32_t emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s);
+// Sums per-ray sample flags into the frame's statistics (resets the per-ray counters, keeps group counts).
+void count_flags(const std::vector<uint32_t>& flags, GenerationStats& stats);
 
 }  // namespace raycoh

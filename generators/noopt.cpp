@@ -46,34 +46,11 @@ void NoOptGenerator::generate(const Scene& scene, const GBuffer& gbuffer, uint32
       const DirectionSample s =
           sample_direction(m, sp.ns, sp.ng, sp.wo, sp.front_face, rng_float(seed, frame, p, kDimSecondary0),
                            rng_float(seed, frame, p, kDimSecondary1), rng_float(seed, frame, p, kDimSecondaryLobe));
-      emit_ray(out, i, sp, p, s);
-      flags[i] = s.flags;
+      flags[i] = emit_ray(out, i, sp, p, s);
     }
   });
-  count_flags(flags, stats);
-}
-
-void emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s) {
-  Ray& ray = out.rays[i];
-  ray.org = offset_ray_origin(sp.position, dot(s.dir, sp.ng) >= 0.f ? sp.ng : -sp.ng);
-  ray.dir = s.dir;
-  ray.tmin = 0.f;
-  ray.tmax = __builtin_huge_valf();
-  out.pixel[i] = pixel;
-  out.pdf[i] = s.pdf;
-  out.weight[i] = s.weight;
-  out.normal[i] = sp.ns;
-  out.material[i] = sp.cls;
-}
-
-void count_flags(const std::vector<uint32_t>& flags, GenerationStats& stats) {
   stats = GenerationStats{};
-  stats.rays = flags.size();
-  for (uint32_t f : flags) {
-    stats.below_geometric += (f & kSampleBelowGeometric) != 0;
-    stats.below_shading += (f & kSampleBelowShading) != 0;
-    stats.non_finite += (f & kSampleNonFinite) != 0;
-  }
+  count_flags(flags, stats);
 }
 
 }  // namespace raycoh

@@ -25,9 +25,4 @@ class NoOptGenerator final : public Generator {
   int order_cache_width_ = -1, order_cache_height_ = -1;
 };
 
-// Writes ray i of the batch from a shading point and the direction chosen for it.
-void emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s);
-// Sums per-ray sample flags into the frame's statistics.
-void count_flags(const std::vector<uint32_t>& flags, GenerationStats& stats);
-
 }  // namespace raycoh

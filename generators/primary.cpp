@@ -10,13 +10,26 @@
 
 namespace raycoh {
 
-void RayBatch::resize(size_t n) {
+void RayBatch::resize(size_t n, bool with_groups) {
   rays.resize(n);
   pixel.resize(n);
   pdf.resize(n);
   weight.resize(n);
   normal.resize(n);
   material.resize(n);
+  tile.resize(with_groups ? n : 0);
+  group.resize(with_groups ? n : 0);
+  group_type.resize(with_groups ? n : 0);
+}
+
+const char* to_string(GroupType t) {
+  switch (t) {
+    case GroupType::Diffuse: return "diffuse";
+    case GroupType::Glossy: return "glossy";
+    case GroupType::Hybrid: return "hybrid";
+    case GroupType::WorldShared: return "world";
+    default: return "independent";
+  }
 }
 
 PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, const std::vector<uint32_t>& order,

@@ -32,6 +32,13 @@ struct GBuffer {
   size_t hits = 0;
 };
 
+// How a group of pixels shares directions (the paper, section 3.2): all-diffuse groups share one tangent-space
+// direction; all-glossy groups sample their own; hybrid groups give diffuse members the glossy members' mean
+// tangent-space direction. Transmissive members always sample their own (the paper does not handle them); a
+// group whose hit members are all transmissive is "independent". Direct reuse shares one world direction.
+enum class GroupType : uint8_t { Independent = 0, Diffuse = 1, Glossy = 2, Hybrid = 3, WorldShared = 4 };
+const char* to_string(GroupType t);
+
 // Structure-of-arrays batch; element i of every array belongs to ray i. The order of the batch is part of the
 // method (DESIGN.md section 1): warps are 32 consecutive rays.
 struct RayBatch {
@@ -43,9 +50,15 @@ struct RayBatch {
   std::vector<Vec3> weight;             // BSDF x cos / pdf; zero for directions that were rejected
   std::vector<Vec3> normal;             // shading normal at the origin
   std::vector<MaterialClass> material;  // class of the material at the origin
+  // Filled by grouping generators only (empty otherwise): tile index (row-major over the image's tiles), group
+  // id unique in the frame (tile * groups_per_tile + group in tile) and the group's type.
+  std::vector<uint32_t> tile;
+  std::vector<uint32_t> group;
+  std::vector<GroupType> group_type;
 
   size_t size() const { return rays.size(); }
-  void resize(size_t n);
+  bool has_groups() const { return !group.empty(); }
+  void resize(size_t n, bool with_groups = false);
 };
 
 // What a generator did in one frame, for the harness's reports.
@@ -53,7 +66,11 @@ struct GenerationStats {
   size_t rays = 0;
   size_t below_geometric = 0;  // directions on the wrong side of the geometric surface: kept, weight 0
   size_t below_shading = 0;    // glossy samples reflected below the shading hemisphere: kept, weight 0
-  size_t non_finite = 0;       // NaN/Inf directions replaced by the geometric normal, weight 0
+  size_t non_finite = 0;       // NaN/Inf inputs or directions: the ray gets a finite stand-in and weight 0
+  // Grouping generators: groups with at least one hit pixel, by type.
+  size_t groups[5] = {0, 0, 0, 0, 0};  // indexed by GroupType
+  size_t hybrid_mean_fallback = 0;     // hybrid groups whose mean glossy direction nearly cancelled
+  size_t reused_rays = 0;              // rays whose direction came from another pixel
 };
 
 }  // namespace raycoh

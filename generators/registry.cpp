@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "generators/generator.h"
 #include "generators/noopt.h"
+#include "generators/tangent_reuse.h"
 
 namespace raycoh {
 
@@ -11,6 +12,14 @@ const std::vector<GeneratorInfo>& generator_infos() {
   static const std::vector<GeneratorInfo> infos = {
       {"noopt", "baseline: every pixel samples its own BSDF lobe (cosine / GGX VNDF / dielectric)",
        "order=tile|scanline (tile), tile=WxH (8x8, each in [1, 4096])"},
+      {"ours",
+       "the paper: tangent-space direction reuse in interleaved groups of K pixels per tile (Liu et al. 2024)",
+       "tile=WxH (8x8, sides in [1, 1024], WH <= 65536), k=K (8, in [1, WH]), order=tile|group|scanline (tile), "
+       "seed=S (0: grouping salt)"},
+      {"tile", "ablation: tangent-space reuse in contiguous groups of K pixels, no interleaving, fixed per frame",
+       "tile=WxH (8x8), k=K (8, in [1, WH]), order=tile|group|scanline (tile), seed=S (0)"},
+      {"direct", "ablation: one world-space direction per tile (the paper's Fig. 1; back-facing directions)",
+       "tile=WxH (8x8, sides in [1, 1024])"},
   };
   return infos;
 }
@@ -18,28 +27,12 @@ const std::vector<GeneratorInfo>& generator_infos() {
 std::unique_ptr<Generator> make_generator(const PluginSpec& spec) {
   ParamSet params(fmt::format("generator '{}'", spec.name), spec.params);
   if (spec.name == "noopt") return std::make_unique<NoOptGenerator>(params);
+  if (spec.name == "ours") return std::make_unique<TangentSpaceReuse>(params, true);
+  if (spec.name == "tile") return std::make_unique<TangentSpaceReuse>(params, false);
+  if (spec.name == "direct") return std::make_unique<DirectReuse>(params);
   std::vector<std::string> names;
   for (const auto& info : generator_infos()) names.push_back(info.name);
   throw Error(fmt::format("unknown generator '{}'; valid generators: {}", spec.name, join(names)));
-}
-
-BsdfParams bsdf_params(const Material& m) {
-  BsdfParams b;
-  b.cls = m.cls;
-  b.base_color = m.base_color;
-  b.roughness = m.roughness;
-  b.metallic = m.metallic;
-  b.ior = m.ior;
-  b.thin_walled = m.thin_walled;
-  return b;
-}
-
-std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vector<uint32_t>& order) {
-  std::vector<uint32_t> pixels;
-  pixels.reserve(gbuffer.hits);
-  for (uint32_t p : order)
-    if (gbuffer.points[p].valid()) pixels.push_back(p);
-  return pixels;
 }
 
 }  // namespace raycoh

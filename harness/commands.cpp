@@ -41,7 +41,7 @@ void run_scene_info(const std::string& spec) {
               scene.emissive_tris.size(), f.has_textures ? "yes" : "no");
   std::printf("lighting     %s\n", scene.env.enabled ? "sky + sun (environment)" : "scene emitters");
   std::printf("camera       %s: eye [%g %g %g] target [%g %g %g] vfov %g\n",
-              scene.camera.from_file ? "from file" : "default framing", scene.camera.eye.x, scene.camera.eye.y,
+              scene.camera.from_file ? "from the scene" : "default framing of the bounds", scene.camera.eye.x, scene.camera.eye.y,
               scene.camera.eye.z, scene.camera.target.x, scene.camera.target.y, scene.camera.target.z,
               scene.camera.vfov_deg);
   for (const std::string& s : f.skipped_stages) std::printf("skipped      %s\n", s.c_str());

@@ -12,6 +12,7 @@
 // Materials: pbrMetallicRoughness factors, emissiveFactor x KHR_materials_emissive_strength,
 // KHR_materials_transmission, KHR_materials_ior, KHR_materials_volume (present = solid, absent = thin-walled).
 // Camera: the first perspective camera met in the traversal: eye at the node's origin, looking down its -Z.
+#include <fmt/format.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -19,7 +20,6 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fmt/format.h>
 #include <fstream>
 #include <iterator>
 
@@ -138,7 +138,8 @@ Material convert_material(const tinygltf::Material& gm, size_t index) {
     m.emission = {static_cast<float>(gm.emissiveFactor[0] * strength),
                   static_cast<float>(gm.emissiveFactor[1] * strength),
                   static_cast<float>(gm.emissiveFactor[2] * strength)};
-  m.transmission = static_cast<float>(number_in(gm.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
+  m.transmission =
+      static_cast<float>(number_in(gm.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
   m.ior = static_cast<float>(number_in(gm.extensions, "KHR_materials_ior", "ior", 1.5));
   m.thin_walled = gm.extensions.find("KHR_materials_volume") == gm.extensions.end();
   m.has_texture = pbr.baseColorTexture.index >= 0 || pbr.metallicRoughnessTexture.index >= 0 ||
@@ -148,8 +149,7 @@ Material convert_material(const tinygltf::Material& gm, size_t index) {
   return m;
 }
 
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                void*) {
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
   return true;
 }
 
@@ -184,7 +184,8 @@ class GltfReader {
       : model_(model), path_(path), scene_(scene) {}
 
   void read() {
-    for (size_t i = 0; i < model_.materials.size(); ++i) scene_.materials.push_back(convert_material(model_.materials[i], i));
+    for (size_t i = 0; i < model_.materials.size(); ++i)
+      scene_.materials.push_back(convert_material(model_.materials[i], i));
     visit_count_.assign(model_.nodes.size(), 0);
     for (int root : root_nodes()) visit(root, Mat4{});
     if (scene_.indices.empty()) {
@@ -230,7 +231,8 @@ class GltfReader {
       const Mat4 world = parent_world * local_transform(node);
       if (node.mesh >= 0) {
         if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
-          fail(fmt::format("node {} refers to mesh {}, but there are {} meshes", index, node.mesh, model_.meshes.size()));
+          fail(fmt::format("node {} refers to mesh {}, but there are {} meshes", index, node.mesh,
+                           model_.meshes.size()));
         read_mesh(node.mesh, world);
       }
       if (node.camera >= 0) take_camera(node, world);
@@ -288,11 +290,12 @@ class GltfReader {
     v.type = a.type;
     if (a.count == 0) return v;
     // 128-bit arithmetic: count and offsets come straight from JSON and may be absurd.
-    const unsigned __int128 end = static_cast<unsigned __int128>(a.byteOffset) +
-                                  static_cast<unsigned __int128>(stride) * (a.count - 1) + elem;
+    const unsigned __int128 end =
+        static_cast<unsigned __int128>(a.byteOffset) + static_cast<unsigned __int128>(stride) * (a.count - 1) + elem;
     if (end > bv.byteLength)
-      fail(fmt::format("{} needs {} elements of {} bytes at offset {} (stride {}), beyond the {} bytes of buffer view {}",
-                       name, a.count, elem, a.byteOffset, stride, bv.byteLength, a.bufferView));
+      fail(fmt::format(
+          "{} needs {} elements of {} bytes at offset {} (stride {}), beyond the {} bytes of buffer view {}", name,
+          a.count, elem, a.byteOffset, stride, bv.byteLength, a.bufferView));
     v.data = model_.buffers[static_cast<size_t>(bv.buffer)].data.data() + bv.byteOffset + a.byteOffset;
     return v;
   }
@@ -306,14 +309,18 @@ class GltfReader {
       const unsigned char* p = v.data + i * v.stride;
       uint32_t value;
       switch (v.component_type) {
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = p[0]; break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          value = p[0];
+          break;
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
           uint16_t s;
           std::memcpy(&s, p, 2);
           value = s;
           break;
         }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: std::memcpy(&value, p, 4); break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+          std::memcpy(&value, p, 4);
+          break;
         default:
           fail(fmt::format("accessor {} ({}) has component type {}; indices must be unsigned byte, short or int",
                            accessor, what, v.component_type));
@@ -374,24 +381,21 @@ class GltfReader {
         for (size_t i = 0; i < pv.count; ++i) idx[i] = static_cast<uint32_t>(i);
       }
 
-      scene_.positions.reserve(base + pv.count);
       for (size_t i = 0; i < pv.count; ++i) {
         float p[3];
         std::memcpy(p, pv.data + i * pv.stride, sizeof p);
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-          fail(fmt::format("accessor {} ({}): vertex {} is not finite ({}, {}, {})", pos_it->second, pos_what, i,
-                           p[0], p[1], p[2]));
+          fail(fmt::format("accessor {} ({}): vertex {} is not finite ({}, {}, {})", pos_it->second, pos_what, i, p[0],
+                           p[1], p[2]));
         scene_.positions.push_back(world.point(p));
       }
 
       const auto nrm_it = prim.attributes.find("NORMAL");
-      scene_.normals.reserve(base + pv.count);
       if (nrm_it != prim.attributes.end()) {
         const std::string nrm_what = "NORMAL of " + where;
         const AccessorView nv = view(nrm_it->second, nrm_what);
         check_float3(nv, nrm_it->second, nrm_what);
-        if (nv.count != pv.count)
-          fail(fmt::format("{} has {} normals for {} positions", where, nv.count, pv.count));
+        if (nv.count != pv.count) fail(fmt::format("{} has {} normals for {} positions", where, nv.count, pv.count));
         for (size_t i = 0; i < nv.count; ++i) {
           float n[3];
           std::memcpy(n, nv.data + i * nv.stride, sizeof n);
@@ -412,12 +416,13 @@ class GltfReader {
       };
       // Strip and fan orders follow the glTF 2.0 specification (section 3.7.2.1), which keeps the winding.
       if (mode == TINYGLTF_MODE_TRIANGLES) {
-        scene_.indices.reserve(scene_.indices.size() + idx.size());
         for (size_t i = 0; i + 2 < idx.size(); i += 3) emit(idx[i], idx[i + 1], idx[i + 2]);
       } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         for (size_t i = 0; i + 2 < idx.size(); ++i) {
-          if (i % 2 == 0) emit(idx[i], idx[i + 1], idx[i + 2]);
-          else emit(idx[i], idx[i + 2], idx[i + 1]);
+          if (i % 2 == 0)
+            emit(idx[i], idx[i + 1], idx[i + 2]);
+          else
+            emit(idx[i], idx[i + 2], idx[i + 1]);
         }
       } else {
         for (size_t i = 1; i + 1 < idx.size(); ++i) emit(idx[i], idx[i + 1], idx[0]);
@@ -475,8 +480,7 @@ Scene load_gltf(const std::string& path) {
     fail(fmt::format("not a valid glTF file: {}", one_line(e.what())));
   }
   // tinygltf also writes non-fatal notes (e.g. chunk padding) into err, so only the return value decides.
-  if (!ok)
-    fail(fmt::format("not a valid glTF {} file: {}", binary ? "binary" : "JSON", one_line(err)));
+  if (!ok) fail(fmt::format("not a valid glTF {} file: {}", binary ? "binary" : "JSON", one_line(err)));
   bytes = {};
 
   Scene scene;

@@ -16,12 +16,12 @@
 //   transmission  1 - d when d < 1 (Tr = 1 - d), else 1 for the glass illumination models (illum 4, 6, 7, 9)
 //   ior           Ni, or 1.5 when Ni <= 1 (many exporters write 1 for "unset")
 //   thin-walled   glass illumination models are thin panes; dissolve-only transparency is a solid volume
+#include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fmt/format.h>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -105,7 +105,8 @@ Scene load_obj(const std::string& path) {
   };
   struct KeyHash {
     size_t operator()(const Key& k) const {
-      return std::hash<uint64_t>()((static_cast<uint64_t>(k.material) << 40) ^ (static_cast<uint64_t>(k.vn) << 20) ^ k.v);
+      return std::hash<uint64_t>()((static_cast<uint64_t>(k.material) << 40) ^ (static_cast<uint64_t>(k.vn) << 20) ^
+                                   k.v);
     }
   };
   std::unordered_map<Key, uint32_t, KeyHash> vertex_of;
@@ -130,8 +131,8 @@ Scene load_obj(const std::string& path) {
       }
       uint32_t corner[256];
       // Faces are numbered from 1 in each object, like lines in an editor, so that a user can find them.
-      const std::string face = shape.name.empty() ? fmt::format("face {}", f + 1)
-                                                  : fmt::format("object '{}': face {}", shape.name, f + 1);
+      const std::string face =
+          shape.name.empty() ? fmt::format("face {}", f + 1) : fmt::format("object '{}': face {}", shape.name, f + 1);
       for (size_t k = 0; k < n; ++k) {
         const tinyobj::index_t& ix = mesh.indices[offset + k];
         if (ix.vertex_index < 0)

@@ -8,16 +8,16 @@
 //           Camera at (0, 1, 3.5) looking in, vertical field of view 45 degrees. No parameters.
 //
 // voxels    A Minecraft-like landscape of unit cubes, a heightmap of size x size columns (heights 1..24 from
-//           hashed value noise, 4 octaves from a 32-block wavelength) with water at level 10: specular water tops over low columns,
-//           diffuse grass, dirt, stone, sand and snow blocks, and a few glossy blocks (gold ore, quartz) in the
-//           stone. Only faces not shared with a neighbouring block are emitted (the world's underside is not:
-//           it is never seen from above). Lit by sky + sun (no emitters); camera looking over the landscape
-//           from a corner.
+//           hashed value noise, 4 octaves from a 32-block wavelength) with water at level 10: specular water tops over
+//           low columns, diffuse grass, dirt, stone, sand and snow blocks, and a few glossy blocks (gold ore, quartz)
+//           in the stone. Only faces not shared with a neighbouring block are emitted (the world's underside is not: it
+//           is never seen from above). Lit by sky + sun (no emitters); camera looking over the landscape from a corner.
 //           Parameters:
-//             size  int  default 64  range [4, 1024]  columns along x and z (about 6 size^2 triangles)
+//             size  int  default 64  range [4, 1024]  columns along x and z (about 5 size^2 triangles)
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/params.h"
@@ -91,11 +91,11 @@ Scene make_cornell() {
   };
   QuadBuilder b{s};
   const float x0 = -1.f, x1 = 1.f, y0 = 0.f, y1 = 2.f, z0 = -1.f, z1 = 1.f;
-  b.quad({x0, y0, z1}, {x1, y0, z1}, {x1, y0, z0}, {x0, y0, z0}, {0.f, 1.f, 0.f}, kWhite);    // floor
-  b.quad({x0, y1, z1}, {x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {0.f, -1.f, 0.f}, kWhite);   // ceiling
-  b.quad({x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0}, {0.f, 0.f, 1.f}, kWhite);    // back wall
-  b.quad({x0, y0, z1}, {x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {1.f, 0.f, 0.f}, kRed);      // left wall
-  b.quad({x1, y0, z0}, {x1, y0, z1}, {x1, y1, z1}, {x1, y1, z0}, {-1.f, 0.f, 0.f}, kGreen);   // right wall
+  b.quad({x0, y0, z1}, {x1, y0, z1}, {x1, y0, z0}, {x0, y0, z0}, {0.f, 1.f, 0.f}, kWhite);   // floor
+  b.quad({x0, y1, z1}, {x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {0.f, -1.f, 0.f}, kWhite);  // ceiling
+  b.quad({x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0}, {0.f, 0.f, 1.f}, kWhite);   // back wall
+  b.quad({x0, y0, z1}, {x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {1.f, 0.f, 0.f}, kRed);     // left wall
+  b.quad({x1, y0, z0}, {x1, y0, z1}, {x1, y1, z1}, {x1, y1, z0}, {-1.f, 0.f, 0.f}, kGreen);  // right wall
   const float short_box[4][2] = {{0.53f, 0.75f}, {0.70f, 0.17f}, {0.13f, 0.00f}, {-0.05f, 0.57f}};
   const float tall_box[4][2] = {{-0.53f, 0.09f}, {0.04f, -0.09f}, {-0.14f, -0.67f}, {-0.71f, -0.49f}};
   b.block(short_box, 0.6f, kShort);
@@ -125,7 +125,8 @@ float value_noise(float x, float z, float wavelength, uint32_t octave) {
   const float ix = std::floor(fx), iz = std::floor(fz);
   const float tx = fx - ix, tz = fz - iz;
   const float sx = tx * tx * (3.f - 2.f * tx), sz = tz * tz * (3.f - 2.f * tz);
-  const uint32_t x0 = static_cast<uint32_t>(static_cast<int32_t>(ix)), z0 = static_cast<uint32_t>(static_cast<int32_t>(iz));
+  const uint32_t x0 = static_cast<uint32_t>(static_cast<int32_t>(ix)),
+                 z0 = static_cast<uint32_t>(static_cast<int32_t>(iz));
   const float v00 = hash01(x0, z0, octave), v10 = hash01(x0 + 1, z0, octave);
   const float v01 = hash01(x0, z0 + 1, octave), v11 = hash01(x0 + 1, z0 + 1, octave);
   const float a = v00 + (v10 - v00) * sx, b = v01 + (v11 - v01) * sx;
@@ -189,7 +190,8 @@ Scene make_voxels(int size) {
       const int h = h_at(x, z);
       const float x0 = static_cast<float>(x), x1 = x0 + 1.f, z0 = static_cast<float>(z), z1 = z0 + 1.f;
       const float top = static_cast<float>(h);
-      b.quad({x0, top, z0}, {x1, top, z0}, {x1, top, z1}, {x0, top, z1}, {0.f, 1.f, 0.f}, block_material(x, z, h - 1, h));
+      b.quad({x0, top, z0}, {x1, top, z0}, {x1, top, z1}, {x0, top, z1}, {0.f, 1.f, 0.f},
+             block_material(x, z, h - 1, h));
       if (h < kVoxelWaterLevel) {
         const float w = static_cast<float>(kVoxelWaterLevel);
         b.quad({x0, w, z0}, {x1, w, z0}, {x1, w, z1}, {x0, w, z1}, {0.f, 1.f, 0.f}, kWater);
@@ -227,10 +229,12 @@ Scene make_voxels(int size) {
 
 const std::vector<std::pair<std::string, std::string>>& builtin_table() {
   static const std::vector<std::pair<std::string, std::string>> table = {
-      {"cornell", "Cornell box (McGuire proportions): red/green/white diffuse walls, glossy metal tall block, "
-                  "diffuse short block, emissive ceiling light; 32 triangles; no parameters"},
-      {"voxels", "voxel landscape of unit cubes (heightmap, water, grass/dirt/stone/sand/snow, a few glossy "
-                 "blocks), sky + sun lit; size (int, default 64, range [4, 1024]) = columns along x and z"},
+      {"cornell",
+       "Cornell box (McGuire proportions): red/green/white diffuse walls, glossy metal tall block, "
+       "diffuse short block, emissive ceiling light; 32 triangles; no parameters"},
+      {"voxels",
+       "voxel landscape of unit cubes (heightmap, water, grass/dirt/stone/sand/snow, a few glossy "
+       "blocks), sky + sun lit; size (int, default 64, range [4, 1024]) = columns along x and z"},
   };
   return table;
 }

@@ -8,12 +8,13 @@
 // about 2.4 W/m^2 at normal incidence and the sky about 1 more, so a white wall in the open reads about 0.5-1.
 #include "scenes/scene.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cfloat>
 #include <cmath>
 #include <filesystem>
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/params.h"
@@ -109,19 +110,24 @@ std::filesystem::path pick_scene_file(const std::filesystem::path& dir, const st
   std::vector<std::string> names;
   for (const auto& p : pick) names.push_back(p.filename().string());
   std::sort(names.begin(), names.end());
-  throw Error(fmt::format("scene '{}': the directory holds several scene files ({}); name one of them", spec,
-                          join(names)));
+  throw Error(
+      fmt::format("scene '{}': the directory holds several scene files ({}); name one of them", spec, join(names)));
 }
 
 }  // namespace
 
 const char* to_string(MaterialClass c) {
   switch (c) {
-    case MaterialClass::Diffuse: return "diffuse";
-    case MaterialClass::Glossy: return "glossy";
-    case MaterialClass::Specular: return "specular";
-    case MaterialClass::Transmissive: return "transmissive";
-    case MaterialClass::Emissive: return "emissive";
+    case MaterialClass::Diffuse:
+      return "diffuse";
+    case MaterialClass::Glossy:
+      return "glossy";
+    case MaterialClass::Specular:
+      return "specular";
+    case MaterialClass::Transmissive:
+      return "transmissive";
+    case MaterialClass::Emissive:
+      return "emissive";
   }
   return "unknown";
 }
@@ -251,17 +257,18 @@ SceneFeatures analyse(const Scene& scene) {
     if (m.has_texture) ++textured;
   }
   f.has_glossy = f.materials_per_class[static_cast<int>(MaterialClass::Glossy)] +
-                     f.materials_per_class[static_cast<int>(MaterialClass::Specular)] > 0;
+                     f.materials_per_class[static_cast<int>(MaterialClass::Specular)] >
+                 0;
   f.has_transmissive = f.materials_per_class[static_cast<int>(MaterialClass::Transmissive)] > 0;
   f.has_emissive = !scene.emissive_tris.empty();
   f.has_textures = textured > 0;
   f.needs_env_light = scene.env.enabled;
 
   // Every stage shades with material constants; textures would only change colours, not ray directions.
-  f.skipped_stages.push_back(f.has_textures
-                                 ? fmt::format("texture decoding: no stage needs textures ({} textured "
-                                               "materials use their base colour factor)", textured)
-                                 : std::string("texture decoding: scene has no textures"));
+  f.skipped_stages.push_back(f.has_textures ? fmt::format("texture decoding: no stage needs textures ({} textured "
+                                                          "materials use their base colour factor)",
+                                                          textured)
+                                            : std::string("texture decoding: scene has no textures"));
   if (!f.has_glossy) f.skipped_stages.push_back("hybrid groups: no glossy materials");
   if (!f.has_transmissive) f.skipped_stages.push_back("transmission handling: no transmissive materials");
   if (!f.has_emissive) f.skipped_stages.push_back("emitter sampling: scene has no emitters");

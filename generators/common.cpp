@@ -1,0 +1,57 @@
+// Helpers every generator shares: material parameters, batch writing, statistics.
+#include "core/sampling.h"
+#include "generators/generator.h"
+
+namespace raycoh {
+
+BsdfParams bsdf_params(const Material& m) {
+  BsdfParams b;
+  b.cls = m.cls;
+  b.base_color = m.base_color;
+  b.roughness = m.roughness;
+  b.metallic = m.metallic;
+  b.ior = m.ior;
+  b.thin_walled = m.thin_walled;
+  return b;
+}
+
+std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vector<uint32_t>& order) {
+  std::vector<uint32_t> pixels;
+  pixels.reserve(gbuffer.hits);
+  for (uint32_t p : order)
+    if (gbuffer.points[p].valid()) pixels.push_back(p);
+  return pixels;
+}
+
+uint32_t emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s) {
+  uint32_t flags = s.flags;
+  Ray& ray = out.rays[i];
+  if (is_finite(sp.position) && is_finite(sp.ng)) {
+    ray.org = offset_ray_origin(sp.position, dot(s.dir, sp.ng) >= 0.f ? sp.ng : -sp.ng);
+    out.weight[i] = s.weight;
+  } else {
+    ray.org = Vec3(0.f);
+    out.weight[i] = Vec3(0.f);
+    flags |= kSampleNonFinite;
+  }
+  ray.dir = s.dir;
+  ray.tmin = 0.f;
+  ray.tmax = __builtin_huge_valf();
+  out.pixel[i] = pixel;
+  out.pdf[i] = s.pdf;
+  out.normal[i] = is_finite(sp.ns) ? sp.ns : s.dir;
+  out.material[i] = sp.cls;
+  return flags;
+}
+
+void count_flags(const std::vector<uint32_t>& flags, GenerationStats& stats) {
+  stats.rays = flags.size();
+  stats.below_geometric = stats.below_shading = stats.non_finite = 0;
+  for (uint32_t f : flags) {
+    stats.below_geometric += (f & kSampleBelowGeometric) != 0;
+    stats.below_shading += (f & kSampleBelowShading) != 0;
+    stats.non_finite += (f & kSampleNonFinite) != 0;
+  }
+}
+
+}  // namespace raycoh

@@ -1,0 +1,40 @@
+// The paper's generator (`ours`) and its contiguous-group ablation (`tile`); see tangent_reuse.cpp.
+#pragma once
+
+#include <string>
+#include <utility>
+
+#include "generators/generator.h"
+
+namespace raycoh {
+
+class TangentSpaceReuse final : public Generator {
+ public:
+  // interleaved = true: `ours` (shuffled, per-frame groups); false: `tile` (contiguous groups).
+  TangentSpaceReuse(ParamSet& params, bool interleaved);
+  void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
+                GenerationStats& stats) override;
+  std::string params() const override { return params_; }
+
+ private:
+  bool interleaved_;
+  std::pair<int, int> tile_;
+  int k_ = 8;
+  std::string order_;
+  uint32_t salt_ = 0;
+  std::string params_;
+};
+
+class DirectReuse final : public Generator {
+ public:
+  explicit DirectReuse(ParamSet& params);
+  void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
+                GenerationStats& stats) override;
+  std::string params() const override { return params_; }
+
+ private:
+  std::pair<int, int> tile_;
+  std::string params_;
+};
+
+}  // namespace raycoh

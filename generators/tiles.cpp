@@ -1,0 +1,55 @@
+#include "generators/tiles.h"
+
+#include <algorithm>
+#include <tbb/parallel_for.h>
+
+#include "core/rng.h"
+
+namespace raycoh {
+
+TileGrid::TileGrid(int w, int h, int tw, int th)
+    : width(w), height(h), tile_w(tw), tile_h(th), tiles_x((w + tw - 1) / tw), tiles_y((h + th - 1) / th) {}
+
+void TileGrid::rect(int t, int& x0, int& y0, int& w, int& h) const {
+  x0 = (t % tiles_x) * tile_w;
+  y0 = (t / tiles_x) * tile_h;
+  w = std::min(tile_w, width - x0);
+  h = std::min(tile_h, height - y0);
+}
+
+TileShuffle make_tile_shuffle(uint32_t m, uint32_t seed, uint32_t frame, uint32_t tile) {
+  TileShuffle s;
+  s.m = m;
+  uint32_t size = 1;
+  while (size < m) size <<= 1;
+  s.mask = size - 1;
+  s.a = ((rng_u32(seed, frame, tile, kDimTileShuffleA) & s.mask) & ~3u) | 1u;
+  if (size >= 8 && s.a == 1u) s.a = 5u;
+  s.c = (rng_u32(seed, frame, tile, kDimTileShuffleC) & s.mask) | 1u;
+  s.c &= s.mask;  // M = 1: c = 0
+  return s;
+}
+
+std::vector<uint32_t> tile_hit_offsets(const GBuffer& g, const TileGrid& grid) {
+  std::vector<uint32_t> offsets(static_cast<size_t>(grid.count()) + 1, 0);
+  tbb::parallel_for(0, grid.count(), [&](int t) {
+    int x0, y0, w, h;
+    grid.rect(t, x0, y0, w, h);
+    uint32_t n = 0;
+    for (int y = y0; y < y0 + h; ++y)
+      for (int x = x0; x < x0 + w; ++x) n += g.points[static_cast<size_t>(y) * g.width + x].valid();
+    offsets[static_cast<size_t>(t) + 1] = n;
+  });
+  for (size_t t = 1; t < offsets.size(); ++t) offsets[t] += offsets[t - 1];
+  return offsets;
+}
+
+std::vector<uint32_t> scanline_slots(const GBuffer& g) {
+  std::vector<uint32_t> slots(g.points.size(), 0);
+  uint32_t n = 0;
+  for (size_t p = 0; p < g.points.size(); ++p)
+    if (g.points[p].valid()) slots[p] = n++;
+  return slots;
+}
+
+}  // namespace raycoh
