@@ -135,6 +135,14 @@ std::vector<PluginSpec> split_plugin_list(const std::string& text) {
   return out;
 }
 
+int parse_int(const std::string& what, const std::string& text, int lo, int hi) {
+  int v = 0;
+  auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || p != text.data() + text.size() || v < lo || v > hi)
+    throw Error(fmt::format("{}: '{}' is not valid; expected an integer in [{}, {}]", what, text, lo, hi));
+  return v;
+}
+
 std::pair<int, int> parse_size(const std::string& what, const std::string& text, int lo, int hi) {
   const size_t x = text.find('x');
   int w = 0, h = 0;

@@ -53,6 +53,9 @@ std::vector<PluginSpec> split_plugin_list(const std::string& text);
 // "1920x1080" -> {1920, 1080}; throws raycoh::Error naming what on a bad value.
 std::pair<int, int> parse_size(const std::string& what, const std::string& text, int lo, int hi);
 
+// An integer in [lo, hi]; throws raycoh::Error naming what on a bad value.
+int parse_int(const std::string& what, const std::string& text, int lo, int hi);
+
 // Did-you-mean helper for errors: "valid: a, b, c".
 std::string join(const std::vector<std::string>& items, const std::string& sep = ", ");
 

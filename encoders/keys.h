@@ -9,14 +9,14 @@
 //
 //   origin_code    3-D Morton code of the origin, 21 bits per axis (x y z per level), left-aligned: bit 0 is 0.
 //   reis_code      the top 22 bits of origin_code, then phi and theta interleaved, 21 bits each (phi first)
-//                  (Reis et al. 2017, "High-Quality Rendering of Glossy Reflections ... Coherent Ray Tracing").
+//                  (Reis et al. 2017, "Coherent Ray-Space Hierarchy via Ray Hashing and Sorting").
 //   costa_code     phi and theta interleaved, 4 bits each (phi first), then the origin Morton code with 15 bits
 //                  per axis; the 11 low bits are 0 (Costa et al. 2015, "Accelerating Occlusion Rendering on a
 //                  GPU via Ray Classification").
 //   aila_code      AilaCompact: origin 13 bits per axis, direction (d + 1) / 2 13 bits per axis; the origin's
 //                  three top levels alone (o12 o11 o10, x y z each), then 3-bit groups alternating origin and
 //                  direction levels o9 d12 o8 d11 ... o0 d3, then d2 d1 d0; the top 64 of these 78 bits
-//                  (Aila & Laine 2010, "Architecture Considerations for Tracing Incoherent Rays").
+//                  (Aila & Karras 2010, "Architecture Considerations for Tracing Incoherent Rays").
 //   twopoint_code  6-D Morton code (ax ay az bx by bz per level) of the origin a and an estimated end point
 //                  b = o + L d, L = min(length_factor x longest box extent, tmax, distance to the box's exit),
 //                  13 bits per axis each; the top 64 of 78 bits.

@@ -25,8 +25,8 @@
 //   hybrid group   glossy members sample their own lobes; the mean of their tangent-space directions,
 //                  normalised, is used by every diffuse member, with pdf and weight from the member's own BSDF
 //                  (this direction is not drawn from the diffuse pdf: the paper's bias, measured, not hidden).
-//                  If the mean nearly cancels (length < 1e-3 of the glossy count) or no glossy sample is valid,
-//                  the diffuse members fall back to the diffuse-group rule (counted: hybrid_mean_fallback).
+//                  If the mean nearly cancels (the average vector is shorter than 0.01) or no glossy sample is
+//                  valid, the diffuse members fall back to the diffuse-group rule (counted: hybrid_mean_fallback).
 // A shared direction that ends up below a member's geometric surface (shading normal far from the geometric
 // one) stays in the batch with weight 0 and is counted in below_geometric, like every generator's.
 // K = 1 reproduces NoOpt bit for bit: the donor is the pixel itself and uses NoOpt's random numbers.
@@ -175,7 +175,7 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
           Vec3 local;
           bool from_donor = false;
           const float mean_len = length(mean);
-          if (type == GroupType::Hybrid && n_mean > 0 && mean_len > 1e-3f * static_cast<float>(n_mean) &&
+          if (type == GroupType::Hybrid && n_mean > 0 && mean_len > 1e-2f * static_cast<float>(n_mean) &&
               mean.z > 0.f) {
             local = mean * (1.f / mean_len);
           } else {

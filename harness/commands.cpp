@@ -67,19 +67,26 @@ void run_rays(const RaysOptions& o, const Provenance& provenance) {
   GenerationStats stats;
   generator->generate(scene, gbuffer, o.seed, batch, stats);
 
-  CsvWriter csv(o.out, {"index", "pixel_x", "pixel_y", "frame", "org_x", "org_y", "org_z", "dir_x", "dir_y", "dir_z",
-                        "tmin", "tmax", "normal_x", "normal_y", "normal_z", "material_class", "pdf", "weight_r",
-                        "weight_g", "weight_b"});
+  std::vector<std::string> columns = {"index",  "pixel_x",  "pixel_y",  "frame",    "org_x",          "org_y",
+                                      "org_z",  "dir_x",    "dir_y",    "dir_z",    "tmin",           "tmax",
+                                      "normal_x", "normal_y", "normal_z", "material_class", "pdf", "weight_r",
+                                      "weight_g", "weight_b"};
+  if (batch.has_groups()) columns.insert(columns.end(), {"tile", "group", "group_type"});
+  CsvWriter csv(o.out, columns);
   for (size_t i = 0; i < batch.size(); ++i) {
     const Ray& r = batch.rays[i];
     const Vec3 n = batch.normal[i], w = batch.weight[i];
-    csv.write_row({std::to_string(i), std::to_string(batch.pixel[i] % o.width), std::to_string(batch.pixel[i] / o.width),
+    std::vector<std::string> row = {std::to_string(i), std::to_string(batch.pixel[i] % o.width), std::to_string(batch.pixel[i] / o.width),
                    std::to_string(o.frame), fmt::format("{:.9g}", r.org.x), fmt::format("{:.9g}", r.org.y),
                    fmt::format("{:.9g}", r.org.z), fmt::format("{:.9g}", r.dir.x), fmt::format("{:.9g}", r.dir.y),
                    fmt::format("{:.9g}", r.dir.z), fmt::format("{:.9g}", r.tmin), fmt::format("{:.9g}", r.tmax),
                    fmt::format("{:.9g}", n.x), fmt::format("{:.9g}", n.y), fmt::format("{:.9g}", n.z),
                    to_string(batch.material[i]), fmt::format("{:.9g}", batch.pdf[i]), fmt::format("{:.9g}", w.x),
-                   fmt::format("{:.9g}", w.y), fmt::format("{:.9g}", w.z)});
+                   fmt::format("{:.9g}", w.y), fmt::format("{:.9g}", w.z)};
+    if (batch.has_groups())
+      row.insert(row.end(), {std::to_string(batch.tile[i]), std::to_string(batch.group[i]),
+                             to_string(batch.group_type[i])});
+    csv.write_row(row);
   }
   csv.finish();
   std::printf("wrote %zu rays of %s / %s [%s], frame %d, %dx%d, seed %u to %s (%zu below the geometric surface, "

@@ -58,6 +58,21 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000))->capture_default_str();
   table_cmd->add_option("--out", table.out, "CSV file to write")->capture_default_str();
 
+  SweepOptions sweep;
+  std::string s_tiles = "8x8,16x8,16x16,32x8", s_groups = "8,16,32,64", s_tracers = "cpu", s_res = "320x240";
+  auto* sweep_cmd = app.add_subcommand("sweep", "tile size x group size of ours (the paper's Table 3 layout)");
+  sweep_cmd->add_option("--scene", sweep.scene, "scene")->required();
+  sweep_cmd->add_option("--generator", sweep.generator, "ours or tile")->capture_default_str();
+  sweep_cmd->add_option("--tiles", s_tiles, "comma-separated tile sizes WxH")->capture_default_str();
+  sweep_cmd->add_option("--groups", s_groups, "comma-separated group sizes K")->capture_default_str();
+  sweep_cmd->add_option("--tracers", s_tracers, "comma-separated tracers")->capture_default_str();
+  sweep_cmd->add_option("--res", s_res, "resolution WxH")->capture_default_str();
+  sweep_cmd->add_option("--frames", sweep.frames, "frames")->check(CLI::Range(1, 100000))->capture_default_str();
+  sweep_cmd->add_option("--seed", sweep.seed, "random seed")->capture_default_str();
+  sweep_cmd->add_option("--repeat", sweep.repeats, "timed traces per batch (median reported)")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
+  sweep_cmd->add_option("--out", sweep.out, "CSV file to write")->capture_default_str();
+
   RaysOptions rays;
   std::string r_generator = "noopt", r_res = "320x240";
   auto* rays_cmd = app.add_subcommand("rays", "dump one frame's secondary ray batch as CSV, one row per ray");
@@ -107,6 +122,16 @@ int main(int argc, char** argv) {
       table.tracers = split_nonempty("--tracers", t_tracers);
       std::tie(table.width, table.height) = parse_size("--res", t_res, 1, 16384);
       return run_table(table, provenance);
+    } else if (sweep_cmd->parsed()) {
+      sweep.tiles.clear();
+      for (const PluginSpec& t : split_nonempty("--tiles", s_tiles))
+        sweep.tiles.push_back(parse_size("--tiles", t.text(), 1, 1024));
+      sweep.groups.clear();
+      for (const PluginSpec& k : split_nonempty("--groups", s_groups))
+        sweep.groups.push_back(parse_int("--groups", k.text(), 1, 65536));
+      sweep.tracers = split_nonempty("--tracers", s_tracers);
+      std::tie(sweep.width, sweep.height) = parse_size("--res", s_res, 1, 16384);
+      return run_sweep(sweep, provenance);
     } else if (rays_cmd->parsed()) {
       rays.generator = parse_plugin_spec(r_generator);
       std::tie(rays.width, rays.height) = parse_size("--res", r_res, 1, 16384);

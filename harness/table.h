@@ -1,13 +1,10 @@
-// `raycoh table`: per scene, frame, generator and tracer, trace primary and secondary rays, print a Markdown
-// table in the layout of the paper's Table 1 (MRay/s and ratio to NoOpt) and write one CSV row per
-// measurement (schema in results/README.md).
+// `raycoh table` (the paper's Table 1 layout) and `raycoh sweep` (its Table 3 layout: tile size x group size).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "core/params.h"
-#include "harness/provenance.h"
+#include "harness/experiment.h"
 
 namespace raycoh {
 
@@ -21,11 +18,20 @@ struct TableOptions {
   int repeats = 3;  // timed traces per measurement; the median is reported
   std::string out = "raycoh-table.csv";
 };
-
-// Returns the process exit code. Throws raycoh::Error on bad input (rows measured so far stay on disk).
 int run_table(const TableOptions& options, const Provenance& provenance);
 
-// Column names of the table CSV (without the provenance columns, which follow).
-std::vector<std::string> table_columns();
+struct SweepOptions {
+  std::string scene;
+  std::string generator = "ours";  // or "tile"
+  std::vector<std::pair<int, int>> tiles{{8, 8}, {16, 8}, {16, 16}, {32, 8}};
+  std::vector<int> groups{8, 16, 32, 64};
+  std::vector<PluginSpec> tracers{{"cpu", ""}};
+  int width = 320, height = 240;
+  int frames = 4;
+  uint32_t seed = 1;
+  int repeats = 3;
+  std::string out = "raycoh-sweep.csv";
+};
+int run_sweep(const SweepOptions& options, const Provenance& provenance);
 
 }  // namespace raycoh

@@ -1,0 +1,67 @@
+// What the key-based encoders share: one class template that runs a per-ray code function (encoders/keys.h)
+// inline in a oneTBB loop, so a batch costs one virtual call; the `bits` parameter; and the factory that each
+// encoder's file defines (registry.cpp dispatches to them).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <utility>
+
+#include "encoders/encoder.h"
+#include "encoders/keys.h"
+
+namespace raycoh {
+
+template <class CodeFn>
+class KeyEncoder final : public Encoder {
+ public:
+  KeyEncoder(std::string name, const Bounds& box, int bits, std::string params, CodeFn code, std::string details)
+      : Encoder(std::move(name), box),
+        bits_(bits),
+        params_(std::move(params)),
+        details_(std::move(details)),
+        code_(std::move(code)) {}
+
+  void encode(const RayBatch& batch, uint64_t* keys) const override {
+    const Ray* rays = batch.rays.data();
+    // Keys are independent per ray; 4096 rays per task keeps the scheduling cost far below the work.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, batch.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) keys[i] = key_from_code(code_(rays[i]), bits_);
+    });
+  }
+  int key_bits() const override { return bits_; }
+  std::string params() const override { return params_; }
+  std::string details() const override { return details_; }
+
+ private:
+  int bits_;
+  std::string params_;
+  std::string details_;
+  CodeFn code_;
+};
+
+// code(const Ray&) -> uint64_t is the 64-bit code of one ray.
+template <class CodeFn>
+std::unique_ptr<Encoder> make_key_encoder(std::string name, const Bounds& box, int bits, std::string params,
+                                          CodeFn code, std::string details = {}) {
+  return std::make_unique<KeyEncoder<CodeFn>>(std::move(name), box, bits, std::move(params), std::move(code),
+                                              std::move(details));
+}
+
+// bits = 32 | 64 (default 32): the key is the code's top `bits` bits.
+int read_key_bits(ParamSet& params);
+// Checks that every given parameter was used, then returns the canonical set with ",box=..." appended.
+std::string finish_encoder_params(ParamSet& params, const Bounds& box);
+
+// One factory per encoder file.
+std::unique_ptr<Encoder> make_none_encoder(ParamSet& params, const EncoderContext& context);
+std::unique_ptr<Encoder> make_origin_encoder(ParamSet& params, const EncoderContext& context);
+std::unique_ptr<Encoder> make_reis_encoder(ParamSet& params, const EncoderContext& context);
+std::unique_ptr<Encoder> make_costa_encoder(ParamSet& params, const EncoderContext& context);
+std::unique_ptr<Encoder> make_aila_encoder(ParamSet& params, const EncoderContext& context);
+std::unique_ptr<Encoder> make_twopoint_encoder(ParamSet& params, const EncoderContext& context);
+std::unique_ptr<Encoder> make_mlhcc_encoder(ParamSet& params, const EncoderContext& context);
+
+}  // namespace raycoh

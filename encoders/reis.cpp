@@ -1,0 +1,20 @@
+// Reis: origin first, then direction (Reis et al. 2017, "Coherent Ray-Space Hierarchy via Ray Hashing and
+// Sorting", as compared by Meister et al. 2020). The code is the top 22 bits of the origin's Morton code
+// (encoders/origin.cpp: 8/7/7 bits of x/y/z), then the spherical direction's phi and theta, 21 bits each,
+// interleaved phi first; a 32-bit key holds phi and theta with 5 bits each.
+//
+// Parameters
+//   bits  int  32  32 | 64: key width, the top bits of the 64-bit code
+// Recorded with them: box=lo..hi, the scene bounds positions are quantised in.
+#include "encoders/key_encoder.h"
+
+namespace raycoh {
+
+std::unique_ptr<Encoder> make_reis_encoder(ParamSet& params, const EncoderContext& context) {
+  const int bits = read_key_bits(params);
+  const Bounds box = context.bounds;
+  return make_key_encoder("reis", box, bits, finish_encoder_params(params, box),
+                          [box](const Ray& r) { return reis_code(r.org, r.dir, box); });
+}
+
+}  // namespace raycoh

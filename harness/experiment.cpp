@@ -1,0 +1,216 @@
+#include "harness/experiment.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <memory>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "cpu/bvh_build.h"
+#include "cpu/tracer.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+#include "harness/csv.h"
+
+namespace raycoh {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The primary pass uses the compact 8x8 tile order every generator uses by default.
+constexpr int kPrimaryTile = 8;
+
+struct Timing {
+  double median = 0, min = 0;
+};
+
+Timing time_trace(Tracer& tracer, const std::vector<Ray>& rays, std::vector<Hit>& hits, int repeats) {
+  std::vector<double> t;
+  for (int r = 0; r < repeats; ++r) {
+    const auto t0 = Clock::now();
+    tracer.trace(rays.data(), rays.size(), hits.data());
+    t.push_back(seconds_since(t0));
+  }
+  std::sort(t.begin(), t.end());
+  return {t[t.size() / 2], t.front()};
+}
+
+void add_stats(GenerationStats& sum, const GenerationStats& s) {
+  sum.rays += s.rays;
+  sum.below_geometric += s.below_geometric;
+  sum.below_shading += s.below_shading;
+  sum.non_finite += s.non_finite;
+  for (int i = 0; i < 5; ++i) sum.groups[i] += s.groups[i];
+  sum.hybrid_mean_fallback += s.hybrid_mean_fallback;
+  sum.reused_rays += s.reused_rays;
+}
+
+void check_scene_specs(const std::vector<std::string>& scenes) {
+  const std::vector<std::string> builtins = builtin_scene_names();
+  for (const std::string& spec : scenes) {
+    const std::string name = parse_plugin_spec(spec).name;
+    if (std::find(builtins.begin(), builtins.end(), name) == builtins.end() && !std::filesystem::exists(spec))
+      throw Error(fmt::format("scene '{}' is neither a built-in scene ({}) nor an existing file or folder", spec,
+                              join(builtins)));
+  }
+}
+
+}  // namespace
+
+void ensure_baseline(std::vector<Method>& methods) {
+  for (const Method& m : methods)
+    if (m.label == "noopt") return;
+  methods.insert(methods.begin(), Method{"noopt", {"noopt", ""}});
+  std::fprintf(stderr, "adding generator noopt as the baseline of the ratios\n");
+}
+
+std::vector<std::string> experiment_columns() {
+  return {"scene",        "scene_triangles", "pass",          "method",           "generator",
+          "generator_params", "tracer",      "tracer_params", "width",            "height",
+          "frame",        "seed",            "rays",          "gen_ms",           "trace_ms",
+          "trace_ms_min", "repeats",         "mray_s",        "below_geometric",  "below_shading",
+          "non_finite",   "groups_diffuse",  "groups_glossy", "groups_hybrid",    "groups_independent",
+          "groups_world", "hybrid_mean_fallback", "reused_rays"};
+}
+
+std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Provenance& provenance) {
+  // Every name and parameter is checked before anything is measured.
+  std::vector<std::unique_ptr<Generator>> generators;
+  for (const Method& m : o.methods) generators.push_back(make_generator(m.generator));
+  RAYCOH_CHECK(std::any_of(o.methods.begin(), o.methods.end(), [](const Method& m) { return m.label == "noopt"; }),
+               "the methods must contain the noopt baseline");
+  check_scene_specs(o.scenes);
+
+  std::vector<std::string> columns = experiment_columns();
+  for (const auto& c : provenance_columns()) columns.push_back(c);
+  CsvWriter csv(o.out, columns);
+  const std::vector<std::string> prov = provenance_values(provenance);
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  std::vector<SceneResult> results;
+
+  try {
+    for (size_t si = 0; si < o.scenes.size(); ++si) {
+      const auto t_load = Clock::now();
+      const Scene scene = load_scene(o.scenes[si]);
+      const double load_s = seconds_since(t_load);
+      const SceneFeatures features = analyse(scene);
+      const Bvh bvh = build_bvh(scene);
+      std::fprintf(stderr,
+                   "[%zu/%zu] %s: %zu triangles, loaded in %.2f s; BVH %zu inner nodes, %zu leaves, depth %zu, "
+                   "SAH %.1f, %.1f MiB, built in %.2f s\n",
+                   si + 1, o.scenes.size(), scene.name.c_str(), scene.triangle_count(), load_s,
+                   bvh.stats.inner_nodes, bvh.stats.leaves, bvh.stats.max_depth, bvh.stats.sah_cost,
+                   bvh.stats.bytes / 1048576.0, bvh.stats.build_seconds);
+      for (const std::string& s : features.skipped_stages) std::fprintf(stderr, "    skipped: %s\n", s.c_str());
+
+      SceneResult res;
+      res.scene = scene.name;
+      res.triangles = scene.triangle_count();
+      std::vector<std::unique_ptr<Tracer>> tracers;
+      for (const PluginSpec& spec : o.tracers) {
+        tracers.push_back(make_tracer(spec, scene, bvh));
+        const std::string p = tracers.back()->params();
+        res.tracer_labels.push_back(p.empty() ? spec.name : spec.name + "[" + p + "]");
+      }
+      auto gbuffer_tracer = make_tracer({"cpu", ""}, scene, bvh);
+      const std::vector<uint32_t> primary_order =
+          make_pixel_order(o.width, o.height, RayOrder::Tile, kPrimaryTile, kPrimaryTile);
+
+      std::vector<Hit> hits;
+      RayBatch batch;
+      for (int frame = 0; frame < o.frames; ++frame) {
+        if (tty) std::fprintf(stderr, "\r    frame %d/%d", frame + 1, o.frames);
+        const PrimaryBatch primary = make_primary_rays(scene.camera, o.width, o.height, primary_order, o.seed,
+                                                       static_cast<uint32_t>(frame), true);
+        hits.resize(primary.rays.size());
+        gbuffer_tracer->trace(primary.rays.data(), primary.rays.size(), hits.data());
+        const GBuffer gbuffer = make_gbuffer(scene, primary, hits);
+
+        auto record = [&](const std::string& pass, const std::string& label, const std::string& gen,
+                          const std::string& gen_params, size_t ti, size_t rays, double gen_s, const Timing& t,
+                          const GenerationStats* gs) {
+          auto count = [&](size_t v) { return gs ? std::to_string(v) : std::string(); };
+          std::vector<std::string> row = {scene.name,
+                                          std::to_string(scene.triangle_count()),
+                                          pass,
+                                          label,
+                                          gen,
+                                          gen_params,
+                                          o.tracers[ti].name,
+                                          tracers[ti]->params(),
+                                          std::to_string(o.width),
+                                          std::to_string(o.height),
+                                          std::to_string(frame),
+                                          std::to_string(o.seed),
+                                          std::to_string(rays),
+                                          fmt::format("{:.4f}", gen_s * 1e3),
+                                          fmt::format("{:.4f}", t.median * 1e3),
+                                          fmt::format("{:.4f}", t.min * 1e3),
+                                          std::to_string(o.repeats),
+                                          fmt::format("{:.3f}", t.median > 0 ? rays / t.median * 1e-6 : 0.0),
+                                          count(gs ? gs->below_geometric : 0),
+                                          count(gs ? gs->below_shading : 0),
+                                          count(gs ? gs->non_finite : 0),
+                                          count(gs ? gs->groups[1] : 0),
+                                          count(gs ? gs->groups[2] : 0),
+                                          count(gs ? gs->groups[3] : 0),
+                                          count(gs ? gs->groups[0] : 0),
+                                          count(gs ? gs->groups[4] : 0),
+                                          count(gs ? gs->hybrid_mean_fallback : 0),
+                                          count(gs ? gs->reused_rays : 0)};
+          row.insert(row.end(), prov.begin(), prov.end());
+          csv.write_row(row);
+          Accumulated& acc = res.by_tracer[res.tracer_labels[ti]][label];
+          acc.rays += static_cast<double>(rays);
+          acc.trace_s += t.median;
+          acc.gen_s += gen_s;
+          ++acc.frames;
+        };
+
+        for (size_t ti = 0; ti < tracers.size(); ++ti) {  // primary rays: the coherent bound
+          if (frame == 0) tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data());  // warm-up
+          const Timing t = time_trace(*tracers[ti], primary.rays, hits, o.repeats);
+          record("primary", "primary", "primary", "order=tile,tile=8x8", ti, primary.rays.size(), 0.0, t, nullptr);
+        }
+        for (size_t mi = 0; mi < o.methods.size(); ++mi) {
+          const Method& method = o.methods[mi];
+          GenerationStats gs;
+          const auto t_gen = Clock::now();
+          generators[mi]->generate(scene, gbuffer, o.seed, batch, gs);
+          const double gen_s = seconds_since(t_gen);
+          add_stats(res.generation[method.label], gs);
+          res.gen_ms[method.label] += gen_s * 1e3 / o.frames;
+          res.rays_per_frame = static_cast<double>(batch.size());
+          hits.resize(batch.size());
+          for (size_t ti = 0; ti < tracers.size(); ++ti) {
+            if (frame == 0) tracers[ti]->trace(batch.rays.data(), batch.size(), hits.data());  // warm-up
+            const Timing t = time_trace(*tracers[ti], batch.rays, hits, o.repeats);
+            record("secondary", method.label, method.generator.name, generators[mi]->params(), ti, batch.size(),
+                   gen_s, t, &gs);
+          }
+        }
+      }
+      if (tty) std::fprintf(stderr, "\r\033[K");
+      results.push_back(std::move(res));
+    }
+  } catch (const Error& e) {
+    if (csv.rows() == 0) {
+      std::error_code ec;
+      std::filesystem::remove(csv.partial_path(), ec);
+      throw;
+    }
+    throw Error(fmt::format("{} ({} rows measured before this are kept in {})", e.what(), csv.rows(),
+                            csv.partial_path()));
+  }
+  csv.finish();
+  return results;
+}
+
+}  // namespace raycoh

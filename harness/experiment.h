@@ -1,0 +1,60 @@
+// The measurement loop every experiment shares (`table`, `sweep`): per scene, load, build the BVH once, then
+// per frame trace the primary rays (G-buffer + the coherent bound), and for every method generate the
+// secondary batch and trace it with every tracer. One CSV row per scene x pass x method x tracer x frame
+// (schema in results/README.md); rows are flushed as they are measured.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/params.h"
+#include "generators/ray_batch.h"
+#include "harness/provenance.h"
+
+namespace raycoh {
+
+// A way of making the secondary batch: a generator (later also an encoder).
+struct Method {
+  std::string label;  // column name in the console tables
+  PluginSpec generator;
+};
+
+struct ExperimentOptions {
+  std::vector<std::string> scenes;
+  std::vector<Method> methods;  // must contain the baseline labelled "noopt"
+  std::vector<PluginSpec> tracers;
+  int width = 320, height = 240;
+  int frames = 4;
+  uint32_t seed = 1;
+  int repeats = 3;
+  std::string out;
+};
+
+// Sums over frames for one tracer and method.
+struct Accumulated {
+  double rays = 0, trace_s = 0, gen_s = 0;
+  int frames = 0;
+  double mray_s() const { return trace_s > 0 ? rays / trace_s * 1e-6 : 0.0; }
+};
+
+struct SceneResult {
+  std::string scene;
+  size_t triangles = 0;
+  double rays_per_frame = 0;
+  std::vector<std::string> tracer_labels;
+  std::map<std::string, std::map<std::string, Accumulated>> by_tracer;  // tracer label -> method label ("primary" too)
+  std::map<std::string, GenerationStats> generation;                    // method label -> sums over frames
+  std::map<std::string, double> gen_ms;                                 // method label -> mean per frame
+};
+
+// Throws raycoh::Error on bad input; rows measured before the error stay in "<out>.partial".
+std::vector<SceneResult> run_experiment(const ExperimentOptions& options, const Provenance& provenance);
+
+// Column names of the experiment CSV (the provenance columns follow).
+std::vector<std::string> experiment_columns();
+
+// Adds plain `noopt` in front unless a method is labelled "noopt".
+void ensure_baseline(std::vector<Method>& methods);
+
+}  // namespace raycoh
