@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,6 +17,63 @@ namespace raycoh {
 struct Scene;
 struct Bvh;
 
+// What the `simt` tracer measures over one batch (every rule in cpu/simt.h; the cache model in
+// cpu/cache_model.h). All fields but modeled_cost are exact integer sums, the same for every thread count.
+// A CUDA counting run that follows cpu/simt.h reproduces everything above the cache-model block exactly.
+struct CoherenceCounters {
+  uint64_t rays = 0;           // rays in the batch
+  uint64_t warps = 0;          // ceil(rays / warp_size); the last one may be partial
+  uint32_t warp_size = 32;
+  uint32_t line_bytes = 64;    // line size of the *_lines transactions
+  uint32_t sector_bytes = 32;  // sector size of the cache model and of *_fetches
+
+  // Warp steps and the lanes active in them.
+  uint64_t node_steps = 0;      // iterations of the warp's node loop
+  uint64_t leaf_steps = 0;      // iterations of the warp's leaf loop
+  uint64_t triangle_steps = 0;  // triangle iterations inside leaf steps
+  uint64_t node_lanes = 0, leaf_lanes = 0, triangle_lanes = 0;  // active lanes summed over those steps
+  // Memory transactions: distinct line_bytes lines among the active lanes' fetches, summed over steps.
+  uint64_t node_lines = 0, triangle_lines = 0;
+  // Cache-model requests: distinct sector_bytes sectors among the active lanes' fetches, summed over steps
+  // (= L1 accesses).
+  uint64_t node_fetches = 0, triangle_fetches = 0;
+  // Per-ray totals (RayCounters summed over the rays). Equal to the *_lanes sums by construction.
+  uint64_t nodes = 0, leaves = 0, triangles = 0;
+
+  // Cache model, in sectors.
+  uint64_t l1_hits = 0, l1_misses = 0;
+  uint64_t l2_hits = 0, l2_misses = 0;
+  uint64_t dram_bytes = 0;   // l2_misses x sector_bytes
+  double modeled_cost = 0.0; // cycles, whole batch (cpu/simt.h, modeled_cost())
+
+  // Fraction of lanes doing useful work: active lanes / (warp_size x steps). Node and leaf steps pooled.
+  double simt_efficiency() const {
+    return ratio(static_cast<double>(node_lanes + leaf_lanes),
+                 static_cast<double>(warp_size) * static_cast<double>(node_steps + leaf_steps));
+  }
+  double node_simt_efficiency() const {
+    return ratio(static_cast<double>(node_lanes), static_cast<double>(warp_size) * static_cast<double>(node_steps));
+  }
+  double leaf_simt_efficiency() const {
+    return ratio(static_cast<double>(leaf_lanes), static_cast<double>(warp_size) * static_cast<double>(leaf_steps));
+  }
+  double triangle_simt_efficiency() const {
+    return ratio(static_cast<double>(triangle_lanes),
+                 static_cast<double>(warp_size) * static_cast<double>(triangle_steps));
+  }
+  double per_ray(double total) const { return ratio(total, static_cast<double>(rays)); }
+  double per_ray(uint64_t total) const { return per_ray(static_cast<double>(total)); }
+  double fetches_per_ray() const { return per_ray(node_fetches + triangle_fetches); }
+  double lines_per_ray() const { return per_ray(node_lines + triangle_lines); }
+  double l1_misses_per_ray() const { return per_ray(l1_misses); }
+  double l2_misses_per_ray() const { return per_ray(l2_misses); }
+  double dram_bytes_per_ray() const { return per_ray(dram_bytes); }
+  double cost_per_ray() const { return per_ray(modeled_cost); }
+
+ private:
+  static double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
+};
+
 class Tracer {
  public:
   virtual ~Tracer() = default;
@@ -23,6 +81,8 @@ class Tracer {
   virtual void trace(const Ray* rays, size_t count, Hit* hits) = 0;
   // Canonical, defaulted parameter set ("mode=single").
   virtual std::string params() const = 0;
+  // Counters of the last trace() call, for tracers that model coherence (`simt`); nullptr for the others.
+  virtual const CoherenceCounters* last_counters() const { return nullptr; }
 };
 
 struct TracerInfo {

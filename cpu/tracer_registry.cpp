@@ -12,15 +12,20 @@
 
 namespace raycoh {
 
-// Defined in cpu/cpu_tracer.cpp and cpu/embree_tracer.cpp. The Scene and Bvh must outlive the tracer.
+// Defined in cpu/cpu_tracer.cpp, cpu/embree_tracer.cpp and cpu/simt_tracer.cpp. The Scene and Bvh must outlive
+// the tracer.
 std::unique_ptr<Tracer> make_cpu_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 std::unique_ptr<Tracer> make_embree_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
+std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 
 const std::vector<TracerInfo>& tracer_infos() {
   static const std::vector<TracerInfo> infos = {
       {"cpu", "our BVH2 traversal (core/traverse.h) on the CPU, parallel over blocks of rays with oneTBB", "(none)"},
       {"embree", "Embree 3 on its own BVH: the CPU wall-clock baseline and the correctness oracle",
        "mode=single|packet16|stream_coherent|stream_incoherent (default single), quality=high|medium (default high)"},
+      {"simt", "warps of 32 consecutive rays in lock step + L1/L2 cache model: SIMT efficiency, misses, modeled cost",
+       "preset=rtx3060|h100 (default rtx3060), warp=[1,64] (32), line=64|128 (64), sms=[1,1024], l1_kb=[1,65536], "
+       "l2_mb=[0.002,4096] (preset's), resident=[1,64] (32)"},
   };
   return infos;
 }
@@ -29,6 +34,7 @@ std::unique_ptr<Tracer> make_tracer(const PluginSpec& spec, const Scene& scene, 
   ParamSet params(fmt::format("tracer '{}'", spec.name), spec.params);
   if (spec.name == "cpu") return make_cpu_tracer(params, scene, bvh);
   if (spec.name == "embree") return make_embree_tracer(params, scene, bvh);
+  if (spec.name == "simt") return make_simt_tracer(params, scene, bvh);
   std::vector<std::string> names;
   for (const TracerInfo& info : tracer_infos()) names.push_back(info.name);
   throw Error(fmt::format("unknown tracer '{}'; valid tracers: {}", spec.name, join(names)));

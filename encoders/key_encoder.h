@@ -3,10 +3,11 @@
 // encoder's file defines (registry.cpp dispatches to them).
 #pragma once
 
-#include <memory>
-#include <string>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <memory>
+#include <string>
 #include <utility>
 
 #include "encoders/encoder.h"

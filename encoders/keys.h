@@ -196,16 +196,16 @@ RAYCOH_HD RAYCOH_INLINE uint64_t aila_code(Vec3 org, Vec3 dir, const Bounds& box
 }
 
 // Length of the estimated segment: min(length_factor x longest extent of box, tmax, distance to the box's exit
-// along dir), never negative; 0 for NaN input and for origins past the box's far side.
-RAYCOH_HD RAYCOH_INLINE float estimated_length(Vec3 org, Vec3 dir, float tmax, const Bounds& box,
-                                               float length_factor) {
+// along dir), never negative. A NaN candidate (NaN tmax, a NaN coordinate) is skipped, as no comparison with it
+// holds; a broken box gives 0, and so does an origin past the box's far side.
+RAYCOH_HD RAYCOH_INLINE float estimated_length(Vec3 org, Vec3 dir, float tmax, const Bounds& box, float length_factor) {
   const Vec3 extent = box.extent();
-  const float longest = max_f(extent.x, max_f(extent.y, extent.z));
-  float length = min_f(length_factor * longest, tmax);
+  float length = length_factor * max_f(extent.x, max_f(extent.y, extent.z));
+  if (tmax < length) length = tmax;
   for (int axis = 0; axis < 3; ++axis) {
     const float d = dir[axis];
-    if (d > 0.f) length = min_f(length, (box.hi[axis] - org[axis]) / d);
-    if (d < 0.f) length = min_f(length, (box.lo[axis] - org[axis]) / d);
+    const float exit = d > 0.f ? (box.hi[axis] - org[axis]) / d : (d < 0.f ? (box.lo[axis] - org[axis]) / d : length);
+    if (exit < length) length = exit;
   }
   return length > 0.f ? length : 0.f;
 }
@@ -216,11 +216,10 @@ RAYCOH_HD RAYCOH_INLINE Vec3 estimated_end_point(Vec3 org, Vec3 dir, float tmax,
   return {org.x + dir.x * length, org.y + dir.y * length, org.z + dir.z * length};
 }
 
-RAYCOH_HD RAYCOH_INLINE uint64_t twopoint_code(Vec3 org, Vec3 dir, float tmax, const Bounds& box,
-                                               float length_factor) {
+RAYCOH_HD RAYCOH_INLINE uint64_t twopoint_code(Vec3 org, Vec3 dir, float tmax, const Bounds& box, float length_factor) {
   const uint64_t a = morton3(quantize_point(org, box, kTwoPointAxisBits));
-  const uint64_t b = morton3(quantize_point(estimated_end_point(org, dir, tmax, box, length_factor), box,
-                                            kTwoPointAxisBits));
+  const uint64_t b =
+      morton3(quantize_point(estimated_end_point(org, dir, tmax, box, length_factor), box, kTwoPointAxisBits));
   CodeWriter w;
   for (int level = kTwoPointAxisBits - 1; level >= 0 && w.used < 64; --level) {
     w.put(morton_level(a, level), 3);
@@ -316,8 +315,7 @@ RAYCOH_HD RAYCOH_INLINE uint64_t mlhcc_code(Vec3 org, Vec3 dir, float tmax, cons
   const int stride = with_end ? 2 : 1;
   mlhcc_write_path(cuts, clamp_to_box(org, box), stride, 0, code);
   if (with_end)
-    mlhcc_write_path(cuts, clamp_to_box(estimated_end_point(org, dir, tmax, box, length_factor), box), stride, 1,
-                     code);
+    mlhcc_write_path(cuts, clamp_to_box(estimated_end_point(org, dir, tmax, box, length_factor), box), stride, 1, code);
   return code;
 }
 

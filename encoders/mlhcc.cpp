@@ -32,6 +32,7 @@
 //   ranks   string  compressed  compressed | global: per-level widths from sibling sets or from whole levels
 // Recorded with them: box=lo..hi, the scene bounds points are clamped to. Needs the scene's BVH.
 #include <fmt/format.h>
+
 #include <memory>
 
 #include "core/error.h"
@@ -45,9 +46,9 @@ std::unique_ptr<Encoder> make_mlhcc_encoder(ParamSet& params, const EncoderConte
   const float lambda = params.get_float("lambda", 0.125f, 0.001f, 0.999f);
   const float length = params.get_float("L", 0.25f, 0.f, 16.f);
   const bool with_end = params.get_choice("points", "both", {"both", "origin"}) == "both";
-  const MlhccRanks ranks =
-      params.get_choice("ranks", "compressed", {"compressed", "global"}) == "compressed" ? MlhccRanks::Compressed
-                                                                                        : MlhccRanks::Global;
+  const MlhccRanks ranks = params.get_choice("ranks", "compressed", {"compressed", "global"}) == "compressed"
+                               ? MlhccRanks::Compressed
+                               : MlhccRanks::Global;
   const Bounds box = context.bounds;
   const std::string canonical = finish_encoder_params(params, box);
   if (!context.bvh) throw Error(fmt::format("{}: needs the scene's BVH, and none was given", params.owner()));

@@ -7,8 +7,9 @@
 //   ranks   MlhccRanks   Compressed (rank among siblings under one cut node) | Global (rank in the whole level)
 #include "encoders/mlhcc_cuts.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+
+#include <algorithm>
 
 #include "core/error.h"
 

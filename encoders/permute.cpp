@@ -14,8 +14,8 @@ namespace {
 // Resizes out to n when in holds n elements (the array is gathered), or clears it when in's array is empty.
 template <class T>
 bool prepare(const std::vector<T>& in, std::vector<T>& out, size_t n, const char* name) {
-  RAYCOH_CHECK(in.empty() || in.size() == n, fmt::format("RayBatch::{} has {} elements for {} rays", name,
-                                                         in.size(), n));
+  RAYCOH_CHECK(in.empty() || in.size() == n,
+               fmt::format("RayBatch::{} has {} elements for {} rays", name, in.size(), n));
   out.resize(in.empty() ? 0 : n);
   return !in.empty();
 }

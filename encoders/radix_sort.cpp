@@ -1,12 +1,13 @@
 // Stable parallel LSD radix sort (see radix_sort.h for the method and parameters).
 #include "encoders/radix_sort.h"
 
-#include <algorithm>
 #include <fmt/format.h>
-#include <limits>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "core/error.h"

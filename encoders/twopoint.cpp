@@ -17,9 +17,8 @@ std::unique_ptr<Encoder> make_twopoint_encoder(ParamSet& params, const EncoderCo
   const int bits = read_key_bits(params);
   const float length = params.get_float("L", 0.25f, 0.f, 16.f);
   const Bounds box = context.bounds;
-  return make_key_encoder("twopoint", box, bits, finish_encoder_params(params, box), [box, length](const Ray& r) {
-    return twopoint_code(r.org, r.dir, r.tmax, box, length);
-  });
+  return make_key_encoder("twopoint", box, bits, finish_encoder_params(params, box),
+                          [box, length](const Ray& r) { return twopoint_code(r.org, r.dir, r.tmax, box, length); });
 }
 
 }  // namespace raycoh

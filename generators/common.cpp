@@ -44,14 +44,21 @@ uint32_t emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixe
   return flags;
 }
 
-void count_flags(const std::vector<uint32_t>& flags, GenerationStats& stats) {
-  stats.rays = flags.size();
-  stats.below_geometric = stats.below_shading = stats.non_finite = 0;
-  for (uint32_t f : flags) {
-    stats.below_geometric += (f & kSampleBelowGeometric) != 0;
-    stats.below_shading += (f & kSampleBelowShading) != 0;
-    stats.non_finite += (f & kSampleNonFinite) != 0;
-  }
+void tally_ray(uint32_t flags, GenerationStats& stats) {
+  ++stats.rays;
+  stats.below_geometric += (flags & kSampleBelowGeometric) != 0;
+  stats.below_shading += (flags & kSampleBelowShading) != 0;
+  stats.non_finite += (flags & kSampleNonFinite) != 0;
+}
+
+void merge_stats(GenerationStats& into, const GenerationStats& from) {
+  into.rays += from.rays;
+  into.below_geometric += from.below_geometric;
+  into.below_shading += from.below_shading;
+  into.non_finite += from.non_finite;
+  for (int i = 0; i < 5; ++i) into.groups[i] += from.groups[i];
+  into.hybrid_mean_fallback += from.hybrid_mean_fallback;
+  into.reused_rays += from.reused_rays;
 }
 
 }  // namespace raycoh

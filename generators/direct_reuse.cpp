@@ -10,6 +10,7 @@
 // Parameters
 //   tile   WxH   8x8   each side in [1, 1024], W H <= 65536
 #include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
@@ -35,7 +36,7 @@ void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, 
   out.height = g.height;
   out.frame = g.frame;
   out.resize(offsets.back(), true);
-  std::vector<uint32_t> flags(offsets.back());
+  tbb::enumerable_thread_specific<GenerationStats> partial;
   const uint32_t frame = g.frame;
   tbb::parallel_for(0, grid.count(), [&](int t) {
     const uint32_t hits = offsets[t + 1] - offsets[t];
@@ -75,7 +76,7 @@ void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, 
         } else {
           s = evaluate_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, shared.dir);
         }
-        flags[slot] = emit_ray(out, slot, sp, p, s);
+        tally_ray(emit_ray(out, slot, sp, p, s), partial.local());
         out.tile[slot] = static_cast<uint32_t>(t);
         out.group[slot] = static_cast<uint32_t>(t);
         out.group_type[slot] = GroupType::WorldShared;
@@ -83,12 +84,12 @@ void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, 
       }
   });
   stats = GenerationStats{};
+  for (const GenerationStats& s : partial) merge_stats(stats, s);
   for (uint32_t t = 0; t < static_cast<uint32_t>(grid.count()); ++t)
     if (offsets[t + 1] > offsets[t]) {
       ++stats.groups[static_cast<int>(GroupType::WorldShared)];
       stats.reused_rays += offsets[t + 1] - offsets[t] - 1;
     }
-  count_flags(flags, stats);
 }
 
 }  // namespace raycoh

@@ -40,7 +40,9 @@ std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vec
 // the geometric normal on the side the direction leaves; a non-finite position yields a finite stand-in ray
 // with weight 0, flagged kSampleNonFinite in the returned flags.
 uint32_t emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s);
-// Sums per-ray sample flags into the frame's statistics (resets the per-ray counters, keeps group counts).
-void count_flags(const std::vector<uint32_t>& flags, GenerationStats& stats);
+// Counts one emitted ray and its sample flags.
+void tally_ray(uint32_t flags, GenerationStats& stats);
+// Adds every counter of `from` into `into`.
+void merge_stats(GenerationStats& into, const GenerationStats& from);
 
 }  // namespace raycoh

@@ -7,6 +7,7 @@
 //   order  string  tile      scanline | tile: batch order (DESIGN.md section 1; NoOpt gets the same compact
 //                            tile order as every generator, so no speedup is inflated by a scanline baseline)
 //   tile   WxH     8x8       [1, 4096] each: tile of the tile order
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/bsdf.h"
@@ -14,6 +15,7 @@
 #include "generators/generator.h"
 #include "generators/noopt.h"
 #include "generators/pixel_order.h"
+#include "generators/tiles.h"
 
 namespace raycoh {
 
@@ -26,31 +28,38 @@ NoOptGenerator::NoOptGenerator(ParamSet& params) {
 
 void NoOptGenerator::generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                               GenerationStats& stats) {
-  if (order_cache_width_ != gbuffer.width || order_cache_height_ != gbuffer.height) {
-    pixel_order_ = make_pixel_order(gbuffer.width, gbuffer.height, order_, tile_.first, tile_.second);
-    order_cache_width_ = gbuffer.width;
-    order_cache_height_ = gbuffer.height;
-  }
-  const std::vector<uint32_t> pixels = hit_pixels_in_order(gbuffer, pixel_order_);
+  // Scanline order is the tile order with one-row tiles; either way tiles are filled in parallel.
+  const TileGrid grid = order_ == RayOrder::Scanline ? TileGrid(gbuffer.width, gbuffer.height, gbuffer.width, 1)
+                                                     : TileGrid(gbuffer.width, gbuffer.height, tile_.first, tile_.second);
+  const std::vector<uint32_t> offsets = tile_hit_offsets(gbuffer, grid);
   out.width = gbuffer.width;
   out.height = gbuffer.height;
   out.frame = gbuffer.frame;
-  out.resize(pixels.size());
+  out.resize(offsets.back());
   const uint32_t frame = gbuffer.frame;
-  std::vector<uint32_t> flags(pixels.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i) {
-      const uint32_t p = pixels[i];
-      const ShadingPoint& sp = gbuffer.points[p];
-      const BsdfParams m = bsdf_params(scene.materials[sp.material]);
-      const DirectionSample s =
-          sample_direction(m, sp.ns, sp.ng, sp.wo, sp.front_face, rng_float(seed, frame, p, kDimSecondary0),
-                           rng_float(seed, frame, p, kDimSecondary1), rng_float(seed, frame, p, kDimSecondaryLobe));
-      flags[i] = emit_ray(out, i, sp, p, s);
+  tbb::enumerable_thread_specific<GenerationStats> partial;
+  tbb::parallel_for(tbb::blocked_range<int>(0, grid.count(), 16), [&](const tbb::blocked_range<int>& range) {
+    GenerationStats& local = partial.local();
+    for (int t = range.begin(); t < range.end(); ++t) {
+      int x0, y0, w, h;
+      grid.rect(t, x0, y0, w, h);
+      uint32_t slot = offsets[t];
+      for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x) {
+          const uint32_t p = static_cast<uint32_t>(y * gbuffer.width + x);
+          const ShadingPoint& sp = gbuffer.points[p];
+          if (!sp.valid()) continue;
+          const DirectionSample s = sample_direction(
+              bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, sp.front_face,
+              rng_float(seed, frame, p, kDimSecondary0), rng_float(seed, frame, p, kDimSecondary1),
+              rng_float(seed, frame, p, kDimSecondaryLobe));
+          tally_ray(emit_ray(out, slot, sp, p, s), local);
+          ++slot;
+        }
     }
   });
   stats = GenerationStats{};
-  count_flags(flags, stats);
+  for (const GenerationStats& s : partial) merge_stats(stats, s);
 }
 
 }  // namespace raycoh

@@ -21,8 +21,6 @@ class NoOptGenerator final : public Generator {
   RayOrder order_;
   std::pair<int, int> tile_;
   std::string params_;
-  std::vector<uint32_t> pixel_order_;
-  int order_cache_width_ = -1, order_cache_height_ = -1;
 };
 
 }  // namespace raycoh

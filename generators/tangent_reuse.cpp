@@ -64,7 +64,6 @@ struct Scratch {
   std::vector<uint32_t> members;      // pixel numbers i, grouped, row-major inside a group
   std::vector<uint32_t> cursor;       // counting-sort write positions
   std::vector<uint32_t> rank;         // per pixel number i: rank among the tile's hit pixels (row-major)
-  std::vector<DirectionSample> samples;  // per pixel number i
   GenerationStats stats;
 };
 
@@ -93,7 +92,6 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
   out.height = g.height;
   out.frame = g.frame;
   out.resize(total, true);
-  std::vector<uint32_t> flags(total);
   const uint32_t frame = g.frame;
   const uint32_t group_seed = seed ^ hash32(salt_);
   const uint32_t k = static_cast<uint32_t>(k_);
@@ -116,7 +114,6 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
       const TileShuffle shuffle = make_tile_shuffle(m, group_seed, frame, static_cast<uint32_t>(t));
       sc.group_of.resize(m);
       sc.rank.resize(m);
-      sc.samples.resize(m);
       sc.group_start.assign(groups + 1, 0);
       uint32_t hits = 0;
       for (uint32_t i = 0; i < m; ++i) {
@@ -133,7 +130,6 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
       for (uint32_t i = 0; i < m; ++i)
         if (g.points[pixel_of(i)].valid()) sc.members[sc.cursor[sc.group_of[i]]++] = i;
 
-      uint32_t group_slot = offsets[t];
       for (uint32_t q = 0; q < groups; ++q) {
         const uint32_t begin = sc.group_start[q], end = sc.group_start[q + 1];
         if (begin == end) continue;
@@ -149,6 +145,16 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
                                : n_glossy            ? GroupType::Glossy
                                                      : GroupType::Independent;
         ++sc.stats.groups[static_cast<int>(type)];
+        // Writes member j's ray straight into its batch slot (group order: members are already grouped).
+        auto emit = [&](uint32_t j, const DirectionSample& s) {
+          const uint32_t i = sc.members[j];
+          const uint32_t p = pixel_of(i);
+          const uint32_t slot = scanline ? slots[p] : offsets[t] + (group_order ? j : sc.rank[i]);
+          tally_ray(emit_ray(out, slot, g.points[p], p, s), sc.stats);
+          out.tile[slot] = static_cast<uint32_t>(t);
+          out.group[slot] = group_id;
+          out.group_type[slot] = type;
+        };
 
         // Glossy and transmissive members sample their own lobes with NoOpt's random numbers.
         Vec3 mean{0.f, 0.f, 0.f};
@@ -161,7 +167,7 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
               bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, sp.front_face,
               rng_float(seed, frame, p, kDimSecondary0), rng_float(seed, frame, p, kDimSecondary1),
               rng_float(seed, frame, p, kDimSecondaryLobe));
-          sc.samples[sc.members[j]] = s;
+          emit(j, s);
           if (is_glossy_like(sp.cls) && s.flags == kSampleOk) {
             const Vec3 local = make_frame(sp.ns).to_local(s.dir);
             if (local.z > 0.f) {
@@ -197,31 +203,15 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
           for (uint32_t j = begin; j < end; ++j) {
             const ShadingPoint& sp = g.points[pixel_of(sc.members[j])];
             if (!is_diffuse_like(sp.cls)) continue;
-            sc.samples[sc.members[j]] =
-                diffuse_from_local(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, local);
+            emit(j, diffuse_from_local(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, local));
           }
           sc.stats.reused_rays += n_diffuse - (from_donor ? 1 : 0);
-        }
-        // Write the group's rays.
-        for (uint32_t j = begin; j < end; ++j) {
-          const uint32_t i = sc.members[j];
-          const uint32_t p = pixel_of(i);
-          const uint32_t slot = scanline ? slots[p] : group_order ? group_slot++ : offsets[t] + sc.rank[i];
-          flags[slot] = emit_ray(out, slot, g.points[p], p, sc.samples[i]);
-          out.tile[slot] = static_cast<uint32_t>(t);
-          out.group[slot] = group_id;
-          out.group_type[slot] = type;
         }
       }
     }
   });
   stats = GenerationStats{};
-  for (const Scratch& sc : scratch) {
-    for (int i = 0; i < 5; ++i) stats.groups[i] += sc.stats.groups[i];
-    stats.hybrid_mean_fallback += sc.stats.hybrid_mean_fallback;
-    stats.reused_rays += sc.stats.reused_rays;
-  }
-  count_flags(flags, stats);
+  for (const Scratch& sc : scratch) merge_stats(stats, sc.stats);
 }
 
 }  // namespace raycoh

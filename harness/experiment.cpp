@@ -42,16 +42,6 @@ Timing time_trace(Tracer& tracer, const std::vector<Ray>& rays, std::vector<Hit>
   return {t[t.size() / 2], t.front()};
 }
 
-void add_stats(GenerationStats& sum, const GenerationStats& s) {
-  sum.rays += s.rays;
-  sum.below_geometric += s.below_geometric;
-  sum.below_shading += s.below_shading;
-  sum.non_finite += s.non_finite;
-  for (int i = 0; i < 5; ++i) sum.groups[i] += s.groups[i];
-  sum.hybrid_mean_fallback += s.hybrid_mean_fallback;
-  sum.reused_rays += s.reused_rays;
-}
-
 void check_scene_specs(const std::vector<std::string>& scenes) {
   const std::vector<std::string> builtins = builtin_scene_names();
   for (const std::string& spec : scenes) {
@@ -185,7 +175,7 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
           const auto t_gen = Clock::now();
           generators[mi]->generate(scene, gbuffer, o.seed, batch, gs);
           const double gen_s = seconds_since(t_gen);
-          add_stats(res.generation[method.label], gs);
+          merge_stats(res.generation[method.label], gs);
           res.gen_ms[method.label] += gen_s * 1e3 / o.frames;
           res.rays_per_frame = static_cast<double>(batch.size());
           hits.resize(batch.size());

@@ -1,0 +1,259 @@
+// The `simt` tracer's cache model: see cpu/cache_model.h for the rules, presets and their sources.
+#include "cpu/cache_model.h"
+
+#include <fmt/format.h>
+
+#include <bit>
+
+#include "core/error.h"
+#include "core/params.h"
+
+namespace raycoh {
+namespace {
+
+constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
+constexpr uint32_t kL1Sets = 4;  // Accel-Sim's L1 geometry (see the header)
+
+bool is_pow2(uint64_t x) { return x != 0 && (x & (x - 1)) == 0; }
+
+const CacheModelConfig& validated(const CacheModelConfig& c) {
+  validate(c);
+  return c;
+}
+
+}  // namespace
+
+std::vector<std::string> cache_preset_names() { return {"rtx3060", "h100"}; }
+
+uint32_t l1_ways_for(uint64_t bytes, uint32_t line_bytes) {
+  const uint64_t lines = bytes / line_bytes;
+  return lines >= kL1Sets ? static_cast<uint32_t>(lines / kL1Sets) : 1u;
+}
+
+CacheModelConfig cache_preset(const std::string& name) {
+  CacheModelConfig c;
+  c.preset = name;
+  c.line_bytes = 128;
+  c.sector_bytes = 32;
+  c.resident_warps = 32;
+  c.l2.ways = 16;
+  if (name == "rtx3060") {
+    c.sms = 28;
+    c.l1.bytes = 128 * kKiB;
+    c.l2.bytes = 3 * kMiB;
+    c.cost = CostWeights{70.0, 10.0, 70.0, 39.0, 187.0, 441.0};
+  } else if (name == "h100") {
+    c.sms = 132;
+    c.l1.bytes = 256 * kKiB;
+    c.l2.bytes = 50 * kMiB;
+    c.cost = CostWeights{70.0, 10.0, 70.0, 34.0, 200.0, 390.0};
+  } else {
+    throw Error(fmt::format("unknown cache preset '{}'; valid presets: {}", name, join(cache_preset_names())));
+  }
+  c.l1.ways = l1_ways_for(c.l1.bytes, c.line_bytes);
+  return c;
+}
+
+void validate(const CacheModelConfig& c) {
+  if (!is_pow2(c.sector_bytes) || !is_pow2(c.line_bytes) || c.line_bytes < c.sector_bytes ||
+      c.line_bytes / c.sector_bytes > 32)
+    throw Error(fmt::format("cache model: line {} B / sector {} B must be powers of two with 1 to 32 sectors per line",
+                            c.line_bytes, c.sector_bytes));
+  if (c.sms < 1 || c.sms > 1024) throw Error(fmt::format("cache model: sms={} is not in [1, 1024]", c.sms));
+  if (c.resident_warps < 1 || c.resident_warps > 64)
+    throw Error(fmt::format("cache model: resident_warps={} is not in [1, 64]", c.resident_warps));
+  for (const auto& [name, level] : {std::pair{"L1", c.l1}, std::pair{"L2", c.l2}}) {
+    const uint64_t set_bytes = uint64_t{c.line_bytes} * level.ways;
+    if (level.ways < 1 || level.bytes < set_bytes || level.bytes % set_bytes != 0)
+      throw Error(fmt::format("cache model: {} of {} B with {} ways of {} B lines is not a whole number of sets", name,
+                              level.bytes, level.ways, c.line_bytes));
+  }
+}
+
+// ---- SectoredLruCache ----
+
+SectoredLruCache::SectoredLruCache(uint64_t capacity_bytes, uint32_t ways, uint32_t line_bytes,
+                                   uint32_t sector_bytes) {
+  RAYCOH_CHECK(is_pow2(line_bytes) && is_pow2(sector_bytes) && line_bytes >= sector_bytes &&
+                   line_bytes / sector_bytes <= 32 && ways >= 1 && capacity_bytes % (uint64_t{line_bytes} * ways) == 0 &&
+                   capacity_bytes >= uint64_t{line_bytes} * ways,
+               fmt::format("capacity {} ways {} line {} sector {}", capacity_bytes, ways, line_bytes, sector_bytes));
+  ways_ = ways;
+  sets_ = static_cast<uint32_t>(capacity_bytes / (uint64_t{line_bytes} * ways));
+  sector_shift_ = static_cast<uint32_t>(std::countr_zero(line_bytes / sector_bytes));
+  const size_t slots = size_t{sets_} * ways_;
+  tag_.assign(slots, 0);
+  valid_.assign(slots, 0);
+  prev_.assign(slots, kNone);
+  next_.assign(slots, kNone);
+  head_.assign(sets_, kNone);
+  tail_.assign(sets_, kNone);
+  used_.assign(sets_, 0);
+  // At most half full, so that linear probing stays short.
+  const uint64_t table = std::bit_ceil(uint64_t{2} * slots);
+  hash_key_.assign(table, 0);
+  hash_slot_.assign(table, kNone);
+  hash_mask_ = table - 1;
+  hash_shift_ = 64 - static_cast<uint32_t>(std::countr_zero(table));
+}
+
+// Fibonacci hashing: the top bits of the product mix every bit of the line number.
+uint64_t SectoredLruCache::home(uint64_t line) const {
+  return hash_shift_ == 64 ? 0 : (line * 0x9E3779B97F4A7C15ull) >> hash_shift_;
+}
+
+uint32_t SectoredLruCache::find(uint64_t line) const {
+  for (uint64_t i = home(line);; i = (i + 1) & hash_mask_) {
+    if (hash_key_[i] == line + 1) return hash_slot_[i];
+    if (hash_key_[i] == 0) return kNone;
+  }
+}
+
+void SectoredLruCache::hash_insert(uint64_t line, uint32_t slot) {
+  uint64_t i = home(line);
+  while (hash_key_[i] != 0) i = (i + 1) & hash_mask_;
+  hash_key_[i] = line + 1;
+  hash_slot_[i] = slot;
+}
+
+// Backward-shift deletion (Knuth, TAOCP vol. 3, algorithm 6.4R): keeps every probe chain unbroken without
+// tombstones, so lookups never slow down over a long replay.
+void SectoredLruCache::hash_erase(uint64_t line) {
+  uint64_t i = home(line);
+  while (hash_key_[i] != line + 1) i = (i + 1) & hash_mask_;
+  for (uint64_t j = (i + 1) & hash_mask_;; j = (j + 1) & hash_mask_) {
+    if (hash_key_[j] == 0) break;
+    const uint64_t h = home(hash_key_[j] - 1);
+    // Entry j may move into the hole at i unless its home h lies cyclically in (i, j].
+    const bool home_in_between = i <= j ? (i < h && h <= j) : (i < h || h <= j);
+    if (home_in_between) continue;
+    hash_key_[i] = hash_key_[j];
+    hash_slot_[i] = hash_slot_[j];
+    i = j;
+  }
+  hash_key_[i] = 0;
+  hash_slot_[i] = kNone;
+}
+
+void SectoredLruCache::unlink(uint32_t set, uint32_t slot) {
+  const uint32_t p = prev_[slot], n = next_[slot];
+  (p == kNone ? head_[set] : next_[p]) = n;
+  (n == kNone ? tail_[set] : prev_[n]) = p;
+  prev_[slot] = next_[slot] = kNone;
+}
+
+void SectoredLruCache::push_front(uint32_t set, uint32_t slot) {
+  prev_[slot] = kNone;
+  next_[slot] = head_[set];
+  if (head_[set] != kNone) prev_[head_[set]] = slot;
+  head_[set] = slot;
+  if (tail_[set] == kNone) tail_[set] = slot;
+}
+
+bool SectoredLruCache::access(uint64_t sector) {
+  const uint64_t line = sector >> sector_shift_;
+  const uint32_t bit = 1u << (sector & ((uint64_t{1} << sector_shift_) - 1));
+  const auto set = static_cast<uint32_t>(line % sets_);
+  uint32_t slot = find(line);
+  if (slot != kNone) {
+    if (head_[set] != slot) {
+      unlink(set, slot);
+      push_front(set, slot);
+    }
+    if (valid_[slot] & bit) return true;
+    valid_[slot] |= bit;
+    return false;
+  }
+  if (used_[set] < ways_) {
+    slot = set * ways_ + used_[set]++;
+  } else {
+    slot = tail_[set];
+    hash_erase(tag_[slot]);
+    unlink(set, slot);
+  }
+  push_front(set, slot);
+  tag_[slot] = line;
+  valid_[slot] = bit;
+  hash_insert(line, slot);
+  return false;
+}
+
+// ---- MemoryHierarchy ----
+
+MemoryHierarchy::MemoryHierarchy(const CacheModelConfig& c)
+    : l2_(validated(c).l2.bytes, c.l2.ways, c.line_bytes, c.sector_bytes) {
+  l1_.reserve(c.sms);
+  for (uint32_t s = 0; s < c.sms; ++s) l1_.emplace_back(c.l1.bytes, c.l1.ways, c.line_bytes, c.sector_bytes);
+}
+
+void MemoryHierarchy::access(uint32_t sm, uint64_t sector) {
+  if (l1_[sm].access(sector)) {
+    ++counters_.l1_hits;
+    return;
+  }
+  ++counters_.l1_misses;
+  if (l2_.access(sector))
+    ++counters_.l2_hits;
+  else
+    ++counters_.l2_misses;
+}
+
+// ---- WarpScheduleReplay ----
+
+WarpScheduleReplay::WarpScheduleReplay(const CacheModelConfig& c, size_t warp_count)
+    : memory_(c), sms_(c.sms), resident_(c.resident_warps), warp_count_(warp_count) {
+  slots_.assign(size_t{sms_} * resident_, Slot{});
+  next_warp_.resize(sms_);
+  for (uint32_t s = 0; s < sms_; ++s) next_warp_[s] = s;
+  done_ = warp_count_ == 0;
+}
+
+bool WarpScheduleReplay::refill(std::vector<WarpTrace>& traces, size_t ready) {
+  for (uint32_t s = 0; s < sms_; ++s) {
+    for (uint32_t j = 0; j < resident_; ++j) {
+      Slot& slot = slots_[size_t{s} * resident_ + j];
+      while (slot.warp == SIZE_MAX && next_warp_[s] < warp_count_) {
+        const size_t w = next_warp_[s];
+        if (w >= ready) return false;
+        next_warp_[s] += sms_;
+        if (traces[w].requests() == 0) {
+          traces[w] = WarpTrace{};
+          continue;
+        }
+        slot.warp = w;
+        slot.request = 0;
+      }
+    }
+  }
+  return true;
+}
+
+void WarpScheduleReplay::run(std::vector<WarpTrace>& traces, size_t ready) {
+  RAYCOH_CHECK(traces.size() == warp_count_, fmt::format("{} traces for {} warps", traces.size(), warp_count_));
+  while (!done_) {
+    if (!refill(traces, ready)) return;
+    bool any = false;
+    for (uint32_t j = 0; j < resident_; ++j) {
+      for (uint32_t s = 0; s < sms_; ++s) {
+        Slot& slot = slots_[size_t{s} * resident_ + j];
+        if (slot.warp == SIZE_MAX) continue;
+        any = true;
+        WarpTrace& t = traces[slot.warp];
+        const uint32_t begin = slot.request == 0 ? 0 : t.request_end[slot.request - 1];
+        const uint32_t end = t.request_end[slot.request];
+        for (uint32_t i = begin; i < end; ++i) memory_.access(s, t.sectors[i]);
+        if (++slot.request == t.requests()) {
+          t = WarpTrace{};  // frees the trace's memory
+          slot.warp = SIZE_MAX;
+        }
+      }
+    }
+    if (!any) {
+      done_ = true;
+      return;
+    }
+    ++cycles_;
+  }
+}
+
+}  // namespace raycoh
