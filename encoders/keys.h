@@ -192,7 +192,7 @@ RAYCOH_HD RAYCOH_INLINE uint64_t aila_code(Vec3 org, Vec3 dir, const Bounds& box
     w.put(morton_level(o, level), 3);
     w.put(morton_level(d, level + 3), 3);
   }
-  return w.code;  // d2 d1 d0 would start at bit 69 and never fit
+  return w.code;  // d2 d1 d0 would follow 69 bits from the MSB: past the 64 kept
 }
 
 // Length of the estimated segment: min(length_factor x longest extent of box, tmax, distance to the box's exit

@@ -72,7 +72,7 @@ void run_rays(const RaysOptions& o, const Provenance& provenance) {
                                       "normal_x", "normal_y", "normal_z", "material_class", "pdf", "weight_r",
                                       "weight_g", "weight_b"};
   if (batch.has_groups()) columns.insert(columns.end(), {"tile", "group", "group_type"});
-  CsvWriter csv(o.out, columns);
+  CsvWriter csv(o.out, columns, CsvWriter::Resume::No);  // a ray dump is one frame: never appended to
   for (size_t i = 0; i < batch.size(); ++i) {
     const Ray& r = batch.rays[i];
     const Vec3 n = batch.normal[i], w = batch.weight[i];

@@ -1,6 +1,6 @@
 #include "harness/csv.h"
 
-#include <cstdio>
+#include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
 
@@ -15,21 +15,85 @@ std::string csv_escape(const std::string& field) {
   return out + "\"";
 }
 
-CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns)
-    : path_(path), columns_(columns.size()) {
+bool csv_parse_line(const std::string& line, std::vector<std::string>& fields) {
+  fields.clear();
+  std::string cur;
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cur += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        cur += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      fields.push_back(std::move(cur));
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  fields.push_back(std::move(cur));
+  return !quoted;
+}
+
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns, Resume allow_resume)
+    : path_(path), columns_(columns) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  out_.open(partial_path(), std::ios::out | std::ios::trunc);
+
+  // Resume: keep the complete rows of an interrupted run with the same columns.
+  bool resume = false;
+  size_t keep_bytes = 0;
+  {
+    std::ifstream in(partial_path(), std::ios::binary);
+    std::string line;
+    std::vector<std::string> fields;
+    if (allow_resume == Resume::Yes && in && std::getline(in, line) && !in.eof() && csv_parse_line(line, fields) && fields == columns) {
+      resume = true;
+      keep_bytes = line.size() + 1;
+      while (std::getline(in, line)) {
+        if (in.eof()) break;  // no newline: a torn last row
+        if (!csv_parse_line(line, fields) || fields.size() != columns.size()) break;
+        resumed_.push_back(fields);
+        keep_bytes += line.size() + 1;
+      }
+    }
+  }
+  if (resume) {
+    std::filesystem::resize_file(partial_path(), keep_bytes, ec);
+    out_.open(partial_path(), std::ios::out | std::ios::app);
+  } else {
+    out_.open(partial_path(), std::ios::out | std::ios::trunc);
+  }
   if (!out_) throw Error(fmt::format("--out {}: cannot write {}", path, partial_path()));
-  write_row(columns);
-  rows_ = 0;
+  if (!resume) {
+    for (size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << csv_escape(columns[i]);
+    out_ << '\n';
+    out_.flush();
+  }
+}
+
+size_t CsvWriter::column(const std::string& name) const {
+  const auto it = std::find(columns_.begin(), columns_.end(), name);
+  RAYCOH_CHECK(it != columns_.end(), "unknown CSV column " + name);
+  return static_cast<size_t>(it - columns_.begin());
 }
 
 void CsvWriter::write_row(const std::vector<std::string>& values) {
-  RAYCOH_CHECK(values.size() == columns_, fmt::format("{} values for {} columns", values.size(), columns_));
-  for (size_t i = 0; i < values.size(); ++i) out_ << (i ? "," : "") << csv_escape(values[i]);
-  out_ << '\n';
+  RAYCOH_CHECK(values.size() == columns_.size(), fmt::format("{} values for {} columns", values.size(), columns_.size()));
+  // One string, one write: a crash leaves at most one torn line, which a resume drops.
+  std::string line;
+  for (size_t i = 0; i < values.size(); ++i) line += (i ? "," : "") + csv_escape(values[i]);
+  line += '\n';
+  out_ << line;
   out_.flush();
   ++rows_;
 }
@@ -39,6 +103,13 @@ void CsvWriter::finish() {
   std::error_code ec;
   std::filesystem::rename(partial_path(), path_, ec);
   if (ec) throw Error(fmt::format("--out {}: cannot rename {}: {}", path_, partial_path(), ec.message()));
+}
+
+void CsvWriter::discard_if_empty() {
+  if (rows_ > 0 || !resumed_.empty()) return;
+  out_.close();
+  std::error_code ec;
+  std::filesystem::remove(partial_path(), ec);
 }
 
 }  // namespace raycoh

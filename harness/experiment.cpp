@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <memory>
-#include <unistd.h>
 
 #include "core/error.h"
 #include "cpu/bvh_build.h"
@@ -15,6 +14,7 @@
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "harness/csv.h"
+#include "harness/progress.h"
 
 namespace raycoh {
 
@@ -40,6 +40,45 @@ Timing time_trace(Tracer& tracer, const std::vector<Ray>& rays, std::vector<Hit>
   }
   std::sort(t.begin(), t.end());
   return {t[t.size() / 2], t.front()};
+}
+
+const char* const kPrimaryParams = "order=tile,tile=8x8";
+
+std::string row_key(const std::vector<std::string>& fields) {
+  std::string k;
+  for (const std::string& f : fields) k += f + '\x1f';
+  return k;
+}
+
+double number(const std::string& s) { return s.empty() ? 0.0 : std::stod(s); }
+
+// Adds one CSV row (new or resumed) to the scene's sums; the generation statistics are the same in every
+// tracer's row of a batch, so only the first tracer's row counts them.
+void accumulate_row(const CsvWriter& csv, const std::vector<std::string>& row, SceneResult& res,
+                    const std::string& tracer_label, const std::string& label, bool first_tracer, int frames) {
+  Accumulated& acc = res.by_tracer[tracer_label][label];
+  const double rays = number(row[csv.column("rays")]);
+  const double gen_ms = number(row[csv.column("gen_ms")]);
+  acc.rays += rays;
+  acc.trace_s += number(row[csv.column("trace_ms")]) * 1e-3;
+  acc.gen_s += gen_ms * 1e-3;
+  ++acc.frames;
+  if (row[csv.column("pass")] != "secondary" || !first_tracer) return;
+  res.rays_per_frame = rays;
+  res.gen_ms[label] += gen_ms / frames;
+  GenerationStats& g = res.generation[label];
+  auto add = [&](size_t& field, const char* column) { field += static_cast<size_t>(number(row[csv.column(column)])); };
+  g.rays += static_cast<size_t>(rays);
+  add(g.below_geometric, "below_geometric");
+  add(g.below_shading, "below_shading");
+  add(g.non_finite, "non_finite");
+  add(g.groups[1], "groups_diffuse");
+  add(g.groups[2], "groups_glossy");
+  add(g.groups[3], "groups_hybrid");
+  add(g.groups[0], "groups_independent");
+  add(g.groups[4], "groups_world");
+  add(g.hybrid_mean_fallback, "hybrid_mean_fallback");
+  add(g.reused_rays, "reused_rays");
 }
 
 void check_scene_specs(const std::vector<std::string>& scenes) {
@@ -82,7 +121,17 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
   for (const auto& c : provenance_columns()) columns.push_back(c);
   CsvWriter csv(o.out, columns);
   const std::vector<std::string> prov = provenance_values(provenance);
-  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  std::map<std::string, const std::vector<std::string>*> done;
+  for (const auto& row : csv.resumed_rows()) {
+    std::vector<std::string> k;
+    for (const char* c : {"scene", "pass", "method", "generator_params", "tracer", "tracer_params", "width", "height",
+                          "frame", "seed", "repeats", "git_revision"})
+      k.push_back(row[csv.column(c)]);
+    done[row_key(k)] = &row;
+  }
+  if (!done.empty())
+    std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done.size(), csv.partial_path().c_str());
+  Progress progress;
   std::vector<SceneResult> results;
 
   try {
@@ -115,14 +164,15 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
 
       std::vector<Hit> hits;
       RayBatch batch;
+      std::vector<bool> warmed(tracers.size(), false);  // one untimed trace per tracer and scene
       for (int frame = 0; frame < o.frames; ++frame) {
-        if (tty) std::fprintf(stderr, "\r    frame %d/%d", frame + 1, o.frames);
-        const PrimaryBatch primary = make_primary_rays(scene.camera, o.width, o.height, primary_order, o.seed,
-                                                       static_cast<uint32_t>(frame), true);
-        hits.resize(primary.rays.size());
-        gbuffer_tracer->trace(primary.rays.data(), primary.rays.size(), hits.data());
-        const GBuffer gbuffer = make_gbuffer(scene, primary, hits);
-
+        progress.update(si, o.scenes.size(), frame, o.frames, scene.name);
+        // The key of a measurement; rows of an interrupted run with the same key are not measured again.
+        auto key = [&](const std::string& pass, const std::string& label, const std::string& gen_params, size_t ti) {
+          return row_key({scene.name, pass, label, gen_params, o.tracers[ti].name, tracers[ti]->params(),
+                          std::to_string(o.width), std::to_string(o.height), std::to_string(frame),
+                          std::to_string(o.seed), std::to_string(o.repeats), provenance.git_revision});
+        };
         auto record = [&](const std::string& pass, const std::string& label, const std::string& gen,
                           const std::string& gen_params, size_t ti, size_t rays, double gen_s, const Timing& t,
                           const GenerationStats* gs) {
@@ -157,47 +207,74 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
                                           count(gs ? gs->reused_rays : 0)};
           row.insert(row.end(), prov.begin(), prov.end());
           csv.write_row(row);
-          Accumulated& acc = res.by_tracer[res.tracer_labels[ti]][label];
-          acc.rays += static_cast<double>(rays);
-          acc.trace_s += t.median;
-          acc.gen_s += gen_s;
-          ++acc.frames;
+          accumulate_row(csv, row, res, res.tracer_labels[ti], label, ti == 0, o.frames);
+        };
+        // Rows already measured by an interrupted run count as measured now.
+        auto resumed = [&](const std::string& pass, const std::string& label, const std::string& gen_params,
+                           size_t ti) {
+          const auto it = done.find(key(pass, label, gen_params, ti));
+          if (it == done.end()) return false;
+          accumulate_row(csv, *it->second, res, res.tracer_labels[ti], label, ti == 0, o.frames);
+          return true;
         };
 
+        bool frame_done = true;
+        for (size_t ti = 0; ti < tracers.size() && frame_done; ++ti) {
+          frame_done = done.count(key("primary", "primary", kPrimaryParams, ti)) > 0;
+          for (size_t mi = 0; mi < o.methods.size() && frame_done; ++mi)
+            frame_done = done.count(key("secondary", o.methods[mi].label, generators[mi]->params(), ti)) > 0;
+        }
+        if (frame_done) {  // nothing left to measure in this frame: take its rows as they are
+          for (size_t ti = 0; ti < tracers.size(); ++ti) {
+            resumed("primary", "primary", kPrimaryParams, ti);
+            for (size_t mi = 0; mi < o.methods.size(); ++mi)
+              resumed("secondary", o.methods[mi].label, generators[mi]->params(), ti);
+          }
+          continue;
+        }
+
+        const PrimaryBatch primary = make_primary_rays(scene.camera, o.width, o.height, primary_order, o.seed,
+                                                       static_cast<uint32_t>(frame), true);
+        hits.resize(primary.rays.size());
+        gbuffer_tracer->trace(primary.rays.data(), primary.rays.size(), hits.data());
+        const GBuffer gbuffer = make_gbuffer(scene, primary, hits);
+
         for (size_t ti = 0; ti < tracers.size(); ++ti) {  // primary rays: the coherent bound
-          if (frame == 0) tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data());  // warm-up
+          if (resumed("primary", "primary", kPrimaryParams, ti)) continue;
+          if (!warmed[ti]) tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data());
+          warmed[ti] = true;
           const Timing t = time_trace(*tracers[ti], primary.rays, hits, o.repeats);
-          record("primary", "primary", "primary", "order=tile,tile=8x8", ti, primary.rays.size(), 0.0, t, nullptr);
+          record("primary", "primary", "primary", kPrimaryParams, ti, primary.rays.size(), 0.0, t, nullptr);
         }
         for (size_t mi = 0; mi < o.methods.size(); ++mi) {
           const Method& method = o.methods[mi];
+          std::vector<size_t> todo;
+          for (size_t ti = 0; ti < tracers.size(); ++ti)
+            if (!resumed("secondary", method.label, generators[mi]->params(), ti)) todo.push_back(ti);
+          if (todo.empty()) continue;
           GenerationStats gs;
           const auto t_gen = Clock::now();
           generators[mi]->generate(scene, gbuffer, o.seed, batch, gs);
           const double gen_s = seconds_since(t_gen);
-          merge_stats(res.generation[method.label], gs);
-          res.gen_ms[method.label] += gen_s * 1e3 / o.frames;
-          res.rays_per_frame = static_cast<double>(batch.size());
           hits.resize(batch.size());
-          for (size_t ti = 0; ti < tracers.size(); ++ti) {
-            if (frame == 0) tracers[ti]->trace(batch.rays.data(), batch.size(), hits.data());  // warm-up
+          for (size_t ti : todo) {
+            if (!warmed[ti]) tracers[ti]->trace(batch.rays.data(), batch.size(), hits.data());
+            warmed[ti] = true;
             const Timing t = time_trace(*tracers[ti], batch.rays, hits, o.repeats);
             record("secondary", method.label, method.generator.name, generators[mi]->params(), ti, batch.size(),
                    gen_s, t, &gs);
           }
         }
       }
-      if (tty) std::fprintf(stderr, "\r\033[K");
+      progress.clear();
       results.push_back(std::move(res));
     }
   } catch (const Error& e) {
-    if (csv.rows() == 0) {
-      std::error_code ec;
-      std::filesystem::remove(csv.partial_path(), ec);
-      throw;
-    }
-    throw Error(fmt::format("{} ({} rows measured before this are kept in {})", e.what(), csv.rows(),
-                            csv.partial_path()));
+    progress.clear();
+    csv.discard_if_empty();
+    if (csv.rows() + csv.resumed_rows().size() == 0) throw;
+    throw Error(fmt::format("{} ({} rows measured so far are kept in {}; run the same command again to resume)",
+                            e.what(), csv.rows() + csv.resumed_rows().size(), csv.partial_path()));
   }
   csv.finish();
   return results;

@@ -35,6 +35,8 @@ TEST(Cli, BadNamesAndValuesExitWithCode2AndNameTheChoices) {
   expect_error("scenes info /no/such.obj", "/no/such.obj");
   expect_error("frobnicate", "frobnicate");
   expect_error("rays --scene cornell --generator nope --out /tmp/x.csv", "valid generators");
+  expect_error("table --generators ours:k=65 --res 8x8", "k=65");
+  expect_error("table --generators ours:kk=2 --res 8x8", "valid parameters: tile, k, order, seed");
 }
 
 TEST(Cli, ListNamesEveryPlugin) {
@@ -63,6 +65,49 @@ TEST(Cli, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
   EXPECT_NE(r.output.find("bad.glb"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out2));
   EXPECT_EQ(count_lines(out2.string() + ".partial"), 1 + 2 * 2);
+}
+
+std::vector<std::string> read_lines(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> lines;
+  std::string line;
+  while (std::getline(in, line)) lines.push_back(line);
+  return lines;
+}
+
+TEST(Cli, AnInterruptedTableResumesAndSkipsFinishedRows) {
+  const auto dir = temp_dir("cli_resume");
+  const auto out = dir / "r.csv";
+  const std::string args = "table --scenes cornell --res 24x16 --frames 2 --repeat 1 --out " + out.string();
+  ASSERT_EQ(run_raycoh(args).exit_code, 0);
+  const auto complete = read_lines(out);
+  ASSERT_EQ(complete.size(), 1u + 2 * 2 * 2);
+  // An interrupted run: the header, three finished rows and a torn fourth one.
+  std::filesystem::remove(out);
+  write_file(out.string() + ".partial",
+             complete[0] + "\n" + complete[1] + "\n" + complete[2] + "\n" + complete[3] + "\n" + complete[4].substr(0, 20));
+  const CommandResult r = run_raycoh(args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming: 3 rows"), std::string::npos) << r.output;
+  const auto resumed = read_lines(out);
+  ASSERT_EQ(resumed.size(), complete.size());
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(resumed[i], complete[i]);  // kept as measured, not measured again
+  EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+}
+
+TEST(Cli, SweepPrintsTheTileByGroupTable) {
+  const auto out = temp_dir("cli_sweep") / "s.csv";
+  const CommandResult r = run_raycoh("sweep --scene cornell --tiles 4x4,8x8 --groups 4,32 --res 32x32 --frames 1 "
+                                     "--repeat 1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("| (W,H) | K = 4 | K = 32 |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| (4,4) |"), std::string::npos);
+  EXPECT_NE(r.output.find(" — |"), std::string::npos) << "K = 32 > 4x4 must be an empty cell\n" << r.output;
+  // noopt + 3 valid cells, 1 tracer, 1 frame, plus primary and header
+  EXPECT_EQ(count_lines(out), 1 + 1 + 4);
+  expect_error("sweep --scene cornell --tiles 0x8", "--tiles");
+  expect_error("sweep --scene cornell --groups 0", "--groups");
+  expect_error("sweep --scene cornell --generator noopt", "ours or tile");
 }
 
 TEST(Cli, RaysDumpsOneRowPerRay) {

@@ -575,7 +575,7 @@ struct RefMlhcc {
 };
 
 TEST(Mlhcc, MatchesTheRecursiveReferenceOnARealBvh) {
-  const Scene scene = load_scene("cornell");
+  const Scene scene = load_scene("voxels");
   const Bvh bvh = build_bvh(scene);
   const EncoderContext ctx{scene.bounds, &bvh};
   const RayBatch batch = make_batch(random_rays(scene.bounds, 4000, 5));

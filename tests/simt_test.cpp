@@ -1,0 +1,471 @@
+// The SIMT warp model (cpu/simt.h) and the `simt` tracer: hand-built warps on a hand-built BVH whose every step
+// is known (one shared path, disjoint subtrees with Aila's speculative node walk, partial and rejected lanes,
+// leaves of different sizes, straddling triangles); a warp of one lane equals closest_hit() with RayCounters
+// on real scenes; the tracer's hits equal the `cpu` tracer's bit for bit; counter identities; batches whose
+// size is not a multiple of 32; determinism across thread counts; the registry's parameters and errors.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+#include "core/error.h"
+#include "cpu/bvh_build.h"
+#include "cpu/embree_device.h"
+#include "cpu/simt.h"
+#include "cpu/tracer.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+#include "scenes/scene.h"
+#include "tests/test_util.h"
+
+namespace raycoh {
+namespace {
+
+// ---- A hand-built BVH whose traversal is known step by step ----
+//
+//   node 0: [0,1]x[0,2] -> node 1               [1,2]x[0,2] -> node 2
+//   node 1: [0,1]x[0,1] -> leaf {tri 0}         [0,1]x[1,2] -> leaf {tri 1}
+//   node 2: [1,2]x[0,1] -> leaf {tri 2}         [1,2]x[1,2] -> node 3
+//   node 3: [1,1.5]x[1,2] -> leaf {tri 3}       [1.5,2]x[1,2] -> leaf {tri 4, tri 5}
+// All boxes span z in [0.5, 1.5]. Rays go +z from z = 0:
+//   ray A at (0.5, 0.5): nodes 0, 1; leaf {0}; hits tri 0 at t = 1.      nodes 2, leaves 1, triangles 1
+//   ray B at (1.75, 1.5): nodes 0, 2, 3; leaf {4, 5}; hits tri 4 at t = 1 (tri 5 lies behind it, at z = 1.2).
+//                                                                         nodes 3, leaves 1, triangles 2
+struct HandBvh {
+  std::vector<BvhNode> nodes;
+  std::vector<BvhTriangle> tris;
+  BvhView view() const {
+    return {nodes.data(), tris.data(), static_cast<uint32_t>(nodes.size()), static_cast<uint32_t>(tris.size())};
+  }
+};
+
+BvhNode node(Vec3 lo0, Vec3 hi0, int32_t c0, Vec3 lo1, Vec3 hi1, int32_t c1) {
+  BvhNode n{};
+  n.lo0 = lo0;
+  n.hi0 = hi0;
+  n.lo1 = lo1;
+  n.hi1 = hi1;
+  n.child[0] = c0;
+  n.child[1] = c1;
+  return n;
+}
+
+BvhTriangle triangle_around(float cx, float cy, float z, uint32_t prim) {
+  BvhTriangle t{};
+  t.v0 = {cx - 0.2f, cy - 0.2f, z};
+  t.v1 = {cx + 0.2f, cy - 0.2f, z};
+  t.v2 = {cx, cy + 0.2f, z};
+  t.prim = prim;
+  return t;
+}
+
+HandBvh hand_bvh() {
+  HandBvh b;
+  const float z0 = 0.5f, z1 = 1.5f;
+  b.nodes.push_back(node({0, 0, z0}, {1, 2, z1}, 1, {1, 0, z0}, {2, 2, z1}, 2));
+  b.nodes.push_back(node({0, 0, z0}, {1, 1, z1}, make_leaf_ref(0, 1), {0, 1, z0}, {1, 2, z1}, make_leaf_ref(1, 1)));
+  b.nodes.push_back(node({1, 0, z0}, {2, 1, z1}, make_leaf_ref(2, 1), {1, 1, z0}, {2, 2, z1}, 3));
+  b.nodes.push_back(
+      node({1, 1, z0}, {1.5f, 2, z1}, make_leaf_ref(3, 1), {1.5f, 1, z0}, {2, 2, z1}, make_leaf_ref(4, 2)));
+  b.tris = {triangle_around(0.5f, 0.5f, 1.f, 0), triangle_around(0.5f, 1.5f, 1.f, 1),
+            triangle_around(1.5f, 0.5f, 1.f, 2), triangle_around(1.25f, 1.5f, 1.f, 3),
+            triangle_around(1.75f, 1.5f, 1.f, 4), triangle_around(1.75f, 1.5f, 1.2f, 5)};
+  return b;
+}
+
+const Ray kRayA{{0.5f, 0.5f, 0.f}, 0.f, {0.f, 0.f, 1.f}, __builtin_huge_valf()};
+const Ray kRayB{{1.75f, 1.5f, 0.f}, 0.f, {0.f, 0.f, 1.f}, __builtin_huge_valf()};
+
+// Triangles at byte 4096: tri 0 = [4096, 4144) is one 64-byte line and sectors 128-129; tri 4 = [4288, 4336) is
+// line 67, sectors 134-135; tri 5 = [4336, 4384) straddles lines 67-68 and covers sectors 135-136.
+SimtConfig hand_config(uint32_t line_bytes = 64) {
+  SimtConfig c;
+  c.warp_size = 32;
+  c.line_bytes = line_bytes;
+  c.sector_bytes = 32;
+  c.node_base = 0;
+  c.tri_base = 4096;
+  return c;
+}
+
+uint64_t lanes_mask(uint32_t from, uint32_t to) {  // lanes [from, to)
+  uint64_t m = 0;
+  for (uint32_t l = from; l < to; ++l) m |= uint64_t{1} << l;
+  return m;
+}
+
+struct WarpRun {
+  CoherenceCounters c;
+  std::vector<SimtStep> steps;
+  std::vector<Hit> hits;
+  std::vector<RayCounters> rays;
+  WarpTrace trace;
+};
+
+WarpRun run_warp(const HandBvh& b, const std::vector<Ray>& rays, const SimtConfig& config) {
+  WarpRun r;
+  r.hits.resize(rays.size());
+  r.rays.resize(rays.size());
+  simt_trace_warp(b.view(), rays.data(), static_cast<uint32_t>(rays.size()), config, r.hits.data(), r.c, &r.trace,
+                  r.rays.data(), &r.steps);
+  return r;
+}
+
+void expect_step(const SimtStep& s, SimtStepKind kind, uint64_t active, uint32_t lines, uint32_t sectors) {
+  EXPECT_EQ(static_cast<int>(s.kind), static_cast<int>(kind));
+  EXPECT_EQ(s.active, active);
+  EXPECT_EQ(s.lines, lines);
+  EXPECT_EQ(s.sectors, sectors);
+}
+
+TEST(SimtWarp, AllLanesOnOnePath) {
+  const HandBvh b = hand_bvh();
+  const WarpRun r = run_warp(b, std::vector<Ray>(32, kRayA), hand_config());
+  const uint64_t all = lanes_mask(0, 32);
+  ASSERT_EQ(r.steps.size(), 4u);
+  expect_step(r.steps[0], SimtStepKind::Node, all, 1, 2);
+  expect_step(r.steps[1], SimtStepKind::Node, all, 1, 2);
+  expect_step(r.steps[2], SimtStepKind::Leaf, all, 0, 0);
+  expect_step(r.steps[3], SimtStepKind::Triangle, all, 1, 2);
+  EXPECT_DOUBLE_EQ(r.c.simt_efficiency(), 1.0);
+  EXPECT_DOUBLE_EQ(r.c.triangle_simt_efficiency(), 1.0);
+  EXPECT_EQ(r.c.node_lines, r.c.node_steps);
+  EXPECT_EQ(r.c.triangle_lines, r.c.triangle_steps);
+  EXPECT_EQ(r.c.nodes, 64u);
+  for (size_t i = 0; i < 32; ++i) {
+    EXPECT_EQ(r.hits[i].prim, 0u);
+    EXPECT_EQ(r.hits[i].t, 1.f);
+    EXPECT_EQ(r.rays[i].nodes, 2u);
+    EXPECT_EQ(r.rays[i].leaves, 1u);
+    EXPECT_EQ(r.rays[i].triangles, 1u);
+  }
+  // The cache requests: node 0's sectors, node 1's, then tri 0's.
+  EXPECT_EQ(r.trace.sectors, (std::vector<uint32_t>{0, 1, 2, 3, 128, 129}));
+  EXPECT_EQ(r.trace.request_end, (std::vector<uint32_t>{2, 4, 6}));
+}
+
+TEST(SimtWarp, DisjointSubtreesAndTheSpeculativeNodeWalk) {
+  const HandBvh b = hand_bvh();
+  std::vector<Ray> rays(16, kRayA);
+  rays.insert(rays.end(), 16, kRayB);
+  const WarpRun r = run_warp(b, rays, hand_config());
+  const uint64_t all = lanes_mask(0, 32), lanes_b = lanes_mask(16, 32);
+  ASSERT_EQ(r.steps.size(), 6u);
+  expect_step(r.steps[0], SimtStepKind::Node, all, 1, 2);      // node 0
+  expect_step(r.steps[1], SimtStepKind::Node, all, 2, 4);      // nodes 1 and 2: A now holds a leaf, B does not
+  expect_step(r.steps[2], SimtStepKind::Node, lanes_b, 1, 2);  // node 3 (A's lanes have no node left)
+  expect_step(r.steps[3], SimtStepKind::Leaf, all, 0, 0);
+  expect_step(r.steps[4], SimtStepKind::Triangle, all, 2, 4);      // tri 0 and tri 4
+  expect_step(r.steps[5], SimtStepKind::Triangle, lanes_b, 2, 2);  // tri 5 straddles two lines
+  EXPECT_EQ(r.c.node_steps, 3u);
+  EXPECT_EQ(r.c.node_lanes, 80u);
+  EXPECT_EQ(r.c.node_lines, 4u);
+  EXPECT_EQ(r.c.node_fetches, 8u);
+  EXPECT_EQ(r.c.leaf_steps, 1u);
+  EXPECT_EQ(r.c.leaf_lanes, 32u);
+  EXPECT_EQ(r.c.triangle_steps, 2u);
+  EXPECT_EQ(r.c.triangle_lanes, 48u);
+  EXPECT_EQ(r.c.triangle_lines, 4u);
+  EXPECT_EQ(r.c.triangle_fetches, 6u);
+  EXPECT_DOUBLE_EQ(r.c.node_simt_efficiency(), 80.0 / 96.0);
+  EXPECT_DOUBLE_EQ(r.c.leaf_simt_efficiency(), 1.0);
+  EXPECT_DOUBLE_EQ(r.c.simt_efficiency(), 112.0 / 128.0);
+  EXPECT_EQ(r.c.nodes, r.c.node_lanes);
+  EXPECT_EQ(r.c.leaves, r.c.leaf_lanes);
+  EXPECT_EQ(r.c.triangles, r.c.triangle_lanes);
+  for (size_t i = 0; i < 32; ++i) {
+    EXPECT_EQ(r.hits[i].prim, i < 16 ? 0u : 4u);
+    EXPECT_EQ(r.rays[i].nodes, i < 16 ? 2u : 3u);
+    EXPECT_EQ(r.rays[i].triangles, i < 16 ? 1u : 2u);
+  }
+  // With 128-byte lines nodes 0 and 1 share a line, and so do nodes 2 and 3.
+  const WarpRun wide = run_warp(b, rays, hand_config(128));
+  EXPECT_EQ(wide.c.node_lines, 4u);
+  EXPECT_EQ(wide.steps[1].lines, 2u);
+  EXPECT_EQ(wide.c.node_fetches, r.c.node_fetches);
+}
+
+TEST(SimtWarp, LanesHoldingALeafKeepWalkingNodes) {
+  // Ray W runs along x = 1, the shared face of both halves, and hits nothing. Alone, it postpones leaf {tri 0}
+  // after nodes 0 and 1, tests it, and only then fetches node 2 from its stack. Next to ray B, which holds no
+  // leaf after two steps, W fetches node 2 in the third node step while still holding leaf {tri 0}: node 2's
+  // child {tri 2} then waits in node_ref and W tests both leaves in two leaf steps.
+  const HandBvh b = hand_bvh();
+  const Ray w{{1.f, 0.5f, 0.f}, 0.f, {0.f, 0.f, 1.f}, __builtin_huge_valf()};
+  const WarpRun alone = run_warp(b, {w}, hand_config());
+  ASSERT_EQ(alone.steps.size(), 7u);
+  EXPECT_EQ(static_cast<int>(alone.steps[2].kind), static_cast<int>(SimtStepKind::Leaf));  // after 2 nodes
+  EXPECT_EQ(static_cast<int>(alone.steps[4].kind), static_cast<int>(SimtStepKind::Node));  // node 2, later
+  RayCounters scalar;
+  const Hit expect = closest_hit(b.view(), w, scalar);
+  EXPECT_FALSE(expect.valid());
+  EXPECT_EQ(alone.rays[0].nodes, scalar.nodes);
+  EXPECT_EQ(alone.rays[0].leaves, scalar.leaves);
+
+  const WarpRun pair = run_warp(b, {w, kRayB}, hand_config());
+  ASSERT_EQ(pair.steps.size(), 8u);
+  expect_step(pair.steps[0], SimtStepKind::Node, 0b11, 1, 2);  // node 0
+  expect_step(pair.steps[1], SimtStepKind::Node, 0b11, 2, 4);  // W: node 1 (leaf {tri 0}); B: node 2
+  expect_step(pair.steps[2], SimtStepKind::Node, 0b11, 2, 4);  // W: node 2, speculatively; B: node 3
+  expect_step(pair.steps[3], SimtStepKind::Leaf, 0b11, 0, 0);
+  expect_step(pair.steps[4], SimtStepKind::Triangle, 0b11, 2, 4);  // tri 0 and tri 4
+  expect_step(pair.steps[5], SimtStepKind::Triangle, 0b10, 2, 2);  // tri 5
+  expect_step(pair.steps[6], SimtStepKind::Leaf, 0b01, 0, 0);      // W's postponed leaf {tri 2}
+  expect_step(pair.steps[7], SimtStepKind::Triangle, 0b01, 2, 2);  // tri 2 = bytes [96, 144): two lines
+  EXPECT_EQ(std::memcmp(&pair.hits[0], &expect, sizeof(Hit)), 0);
+  EXPECT_EQ(pair.hits[1].prim, 4u);
+}
+
+TEST(SimtWarp, PartiallyActiveAndRejectedLanes) {
+  const HandBvh b = hand_bvh();
+  std::vector<Ray> rays(10, kRayA);
+  rays.insert(rays.end(), 10, kRayB);
+  rays[3].org.x = std::nanf("");  // rejected by traversal_begin: never active
+  const WarpRun r = run_warp(b, rays, hand_config());
+  const uint64_t present = lanes_mask(0, 20) & ~uint64_t{1 << 3};
+  ASSERT_EQ(r.steps.size(), 6u);
+  expect_step(r.steps[0], SimtStepKind::Node, present, 1, 2);
+  expect_step(r.steps[2], SimtStepKind::Node, lanes_mask(10, 20), 1, 2);
+  EXPECT_EQ(r.c.rays, 20u);
+  EXPECT_EQ(r.c.warps, 1u);
+  EXPECT_EQ(r.c.node_lanes, 19u + 19u + 10u);
+  EXPECT_DOUBLE_EQ(r.c.node_simt_efficiency(), 48.0 / 96.0);
+  EXPECT_DOUBLE_EQ(r.c.leaf_simt_efficiency(), 19.0 / 32.0);
+  EXPECT_FALSE(r.hits[3].valid());
+  EXPECT_EQ(r.rays[3].nodes, 0u);
+
+  // No lane at all does any work: no steps, no requests.
+  const WarpRun none = run_warp(b, std::vector<Ray>(5, rays[3]), hand_config());
+  EXPECT_TRUE(none.steps.empty());
+  EXPECT_EQ(none.trace.requests(), 0u);
+  EXPECT_EQ(none.c.simt_efficiency(), 0.0);
+}
+
+// ---- Real scenes ----
+
+struct Batch {
+  Scene scene;
+  Bvh bvh;
+  std::vector<Ray> rays;
+};
+
+// NoOpt diffuse/glossy secondary rays of frame 0, in the generator's order (tile-major unless `generator` says).
+Batch make_batch(const std::string& scene_spec, int w, int h, const std::string& generator = "noopt") {
+  Batch b{load_scene(scene_spec), {}, {}};
+  b.bvh = build_bvh(b.scene);
+  const auto order = make_pixel_order(w, h, RayOrder::Tile, 8, 8);
+  const PrimaryBatch primary = make_primary_rays(b.scene.camera, w, h, order, 1, 0, true);
+  std::vector<Hit> hits(primary.rays.size());
+  make_tracer({"cpu", ""}, b.scene, b.bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
+  const GBuffer gbuffer = make_gbuffer(b.scene, primary, hits);
+  RayBatch batch;
+  GenerationStats stats;
+  make_generator(parse_plugin_spec(generator))->generate(b.scene, gbuffer, 1, batch, stats);
+  b.rays = batch.rays;
+  return b;
+}
+
+std::vector<std::string> real_scenes() {
+  std::vector<std::string> specs = {"cornell", "voxels"};
+  for (const auto& file : test::shared_scene_files())
+    if (file.stem() == "sibenik" || file.stem() == "conference") specs.push_back(file.string());
+  return specs;
+}
+
+class SimtOnScene : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SimtOnScene, WarpOfOneIsClosestHitExactly) {
+  const Batch b = make_batch(GetParam(), 64, 48);
+  ASSERT_GT(b.rays.size(), 0u);
+  const SimtConfig config = simt_config(b.bvh.view(), 1, 64, 32);
+  CoherenceCounters total;
+  for (size_t i = 0; i < b.rays.size(); ++i) {
+    RayCounters expect_counters;
+    const Hit expect = closest_hit(b.bvh.view(), b.rays[i], expect_counters);
+    Hit hit;
+    RayCounters counters;
+    CoherenceCounters warp;
+    simt_trace_warp(b.bvh.view(), &b.rays[i], 1, config, &hit, warp, nullptr, &counters);
+    ASSERT_EQ(std::memcmp(&hit, &expect, sizeof(Hit)), 0) << "ray " << i;
+    ASSERT_EQ(counters.nodes, expect_counters.nodes) << "ray " << i;
+    ASSERT_EQ(counters.leaves, expect_counters.leaves) << "ray " << i;
+    ASSERT_EQ(counters.triangles, expect_counters.triangles) << "ray " << i;
+    // One lane: every step has one active lane, one line per node (64-byte lines) and one or two per triangle.
+    ASSERT_EQ(warp.node_steps, counters.nodes);
+    ASSERT_EQ(warp.node_lines, counters.nodes);
+    ASSERT_EQ(warp.leaf_steps, counters.leaves);
+    ASSERT_EQ(warp.triangle_steps, counters.triangles);
+    add_warp_counters(total, warp);
+  }
+  EXPECT_DOUBLE_EQ(total.simt_efficiency(), 1.0);
+}
+
+void expect_identities(const CoherenceCounters& c, size_t rays) {
+  EXPECT_EQ(c.rays, rays);
+  EXPECT_EQ(c.warps, (rays + c.warp_size - 1) / c.warp_size);
+  EXPECT_EQ(c.nodes, c.node_lanes);
+  EXPECT_EQ(c.leaves, c.leaf_lanes);
+  EXPECT_EQ(c.triangles, c.triangle_lanes);
+  EXPECT_LE(c.node_lines, c.node_lanes);
+  EXPECT_GE(c.node_lines, c.node_steps);
+  EXPECT_LE(c.triangle_lines, 2 * c.triangle_lanes);
+  EXPECT_GE(c.triangle_lines, c.triangle_steps);
+  EXPECT_EQ(c.l1_hits + c.l1_misses, c.node_fetches + c.triangle_fetches);
+  EXPECT_EQ(c.l2_hits + c.l2_misses, c.l1_misses);
+  EXPECT_EQ(c.dram_bytes, c.l2_misses * c.sector_bytes);
+  EXPECT_GT(c.simt_efficiency(), 0.0);
+  EXPECT_LE(c.simt_efficiency(), 1.0);
+  EXPECT_GT(c.modeled_cost, 0.0);
+}
+
+TEST_P(SimtOnScene, HitsEqualTheCpuTracerBitForBit) {
+  const Batch b = make_batch(GetParam(), 96, 64);
+  auto cpu = make_tracer({"cpu", ""}, b.scene, b.bvh);
+  std::vector<Hit> expect(b.rays.size());
+  cpu->trace(b.rays.data(), b.rays.size(), expect.data());
+  for (const std::string params : {"", "warp=13,line=128", "preset=h100,warp=64"}) {
+    SCOPED_TRACE(params);
+    auto simt = make_tracer({"simt", params}, b.scene, b.bvh);
+    std::vector<Hit> hits(b.rays.size());
+    simt->trace(b.rays.data(), b.rays.size(), hits.data());
+    size_t differ = 0;
+    for (size_t i = 0; i < hits.size(); ++i) differ += std::memcmp(&hits[i], &expect[i], sizeof(Hit)) != 0;
+    EXPECT_EQ(differ, 0u) << "of " << hits.size() << " rays";
+    ASSERT_NE(simt->last_counters(), nullptr);
+    expect_identities(*simt->last_counters(), b.rays.size());
+  }
+}
+
+std::string scene_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string stem = std::filesystem::path(info.param).stem().string();
+  for (char& c : stem)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return stem;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SimtOnScene, ::testing::ValuesIn(real_scenes()), scene_name);
+
+TEST(SimtTracer, BatchNotAMultipleOfTheWarpSize) {
+  const Batch b = make_batch("cornell", 32, 24);
+  const std::vector<Ray> rays(b.rays.begin(), b.rays.begin() + 45);
+  auto simt = make_tracer({"simt", ""}, b.scene, b.bvh);
+  std::vector<Hit> hits(rays.size());
+  simt->trace(rays.data(), rays.size(), hits.data());
+  const CoherenceCounters& c = *simt->last_counters();
+  EXPECT_EQ(c.rays, 45u);
+  EXPECT_EQ(c.warps, 2u);
+  // The same as the two warps traced by hand: 32 lanes, then 13.
+  const SimtConfig config = simt_config(b.bvh.view(), 32, 64, 32);
+  CoherenceCounters expect;
+  std::vector<Hit> expect_hits(45);
+  {
+    const FlushDenormalsScope ftz;
+    simt_trace_warp(b.bvh.view(), rays.data(), 32, config, expect_hits.data(), expect);
+    simt_trace_warp(b.bvh.view(), rays.data() + 32, 13, config, expect_hits.data() + 32, expect);
+  }
+  EXPECT_EQ(c.node_steps, expect.node_steps);
+  EXPECT_EQ(c.node_lanes, expect.node_lanes);
+  EXPECT_EQ(c.node_lines, expect.node_lines);
+  EXPECT_EQ(c.triangle_lines, expect.triangle_lines);
+  EXPECT_EQ(c.leaf_steps, expect.leaf_steps);
+  EXPECT_EQ(std::memcmp(hits.data(), expect_hits.data(), 45 * sizeof(Hit)), 0);
+  expect_identities(c, 45);
+  EXPECT_DOUBLE_EQ(c.simt_efficiency(), expect.simt_efficiency());
+  // The 19 missing lanes of the partial warp count as idle.
+  CoherenceCounters partial;
+  {
+    const FlushDenormalsScope ftz;
+    simt_trace_warp(b.bvh.view(), rays.data() + 32, 13, config, expect_hits.data() + 32, partial);
+  }
+  EXPECT_LE(partial.simt_efficiency(), 13.0 / 32.0);
+  EXPECT_GT(partial.simt_efficiency(), 0.0);
+  // Nothing to trace is no error.
+  simt->trace(rays.data(), 0, hits.data());
+  EXPECT_EQ(simt->last_counters()->rays, 0u);
+  EXPECT_EQ(simt->last_counters()->simt_efficiency(), 0.0);
+}
+
+TEST(SimtTracer, IdenticalRaysShareEveryStep) {
+  const Batch b = make_batch("voxels", 32, 24);
+  const std::vector<Ray> rays(96, b.rays[b.rays.size() / 2]);
+  auto simt = make_tracer({"simt", ""}, b.scene, b.bvh);
+  std::vector<Hit> hits(rays.size());
+  simt->trace(rays.data(), rays.size(), hits.data());
+  const CoherenceCounters& c = *simt->last_counters();
+  EXPECT_DOUBLE_EQ(c.simt_efficiency(), 1.0);
+  EXPECT_EQ(c.node_lines, c.node_steps);
+  EXPECT_EQ(c.node_fetches, 2 * c.node_steps);
+  // Three warps on SMs 0, 1, 2, in lock step: each L1 misses each distinct sector once (a repeat, e.g. two
+  // triangles sharing a sector, hits), SM 0's miss goes to DRAM, SM 1's and SM 2's then hit in the L2.
+  EXPECT_EQ(c.l1_misses, 3 * c.l2_misses);
+  EXPECT_EQ(c.l2_hits, 2 * c.l2_misses);
+  EXPECT_LE(c.l2_misses, (c.node_fetches + c.triangle_fetches) / 3);
+}
+
+TEST(SimtTracer, CountersAreTheSameForAnyThreadCount) {
+  const Batch b = make_batch("voxels", 256, 192);  // more warps than one chunk of the tracer's pipeline
+  auto simt = make_tracer({"simt", "sms=4,l1_kb=8,l2_mb=0.25"}, b.scene, b.bvh);
+  auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    std::vector<Hit> hits(b.rays.size());
+    simt->trace(b.rays.data(), b.rays.size(), hits.data());
+    return std::make_pair(*simt->last_counters(), hits);
+  };
+  const auto [one, hits_one] = run(1);
+  const auto [two, hits_two] = run(2);
+  EXPECT_EQ(std::memcmp(hits_one.data(), hits_two.data(), hits_one.size() * sizeof(Hit)), 0);
+  EXPECT_EQ(one.node_lines, two.node_lines);
+  EXPECT_EQ(one.triangle_fetches, two.triangle_fetches);
+  EXPECT_EQ(one.l1_hits, two.l1_hits);
+  EXPECT_EQ(one.l2_hits, two.l2_hits);
+  EXPECT_EQ(one.l2_misses, two.l2_misses);
+  EXPECT_EQ(one.modeled_cost, two.modeled_cost);
+  EXPECT_GT(one.l2_hits, 0u);
+  EXPECT_GT(one.l2_misses, 0u);
+}
+
+TEST(SimtTracer, CoherentOrderBeatsScanlineOrder) {
+  // The same rays, tile-major vs scanline (DESIGN.md section 1): compact pixel blocks share more of each warp's
+  // path, so they cannot be less efficient or touch more lines on a scene with locality.
+  const Batch tile = make_batch("voxels", 128, 96, "noopt");
+  const Batch scan = make_batch("voxels", 128, 96, "noopt:order=scanline");
+  auto counters = [](const Batch& b) {
+    auto simt = make_tracer({"simt", ""}, b.scene, b.bvh);
+    std::vector<Hit> hits(b.rays.size());
+    simt->trace(b.rays.data(), b.rays.size(), hits.data());
+    return *simt->last_counters();
+  };
+  const CoherenceCounters t = counters(tile), s = counters(scan);
+  ASSERT_EQ(t.rays, s.rays);
+  EXPECT_GE(t.simt_efficiency(), s.simt_efficiency());
+  EXPECT_LE(t.node_lines, s.node_lines);
+}
+
+TEST(SimtTracer, ParametersAndErrors) {
+  const Batch b = make_batch("cornell", 8, 8);
+  EXPECT_EQ(make_tracer({"simt", ""}, b.scene, b.bvh)->params(),
+            "preset=rtx3060,warp=32,line=64,sms=28,l1_kb=128,l2_mb=3,resident=32");
+  EXPECT_EQ(make_tracer({"simt", "preset=h100,line=128"}, b.scene, b.bvh)->params(),
+            "preset=h100,warp=32,line=128,sms=132,l1_kb=256,l2_mb=50,resident=32");
+  EXPECT_EQ(make_tracer({"cpu", ""}, b.scene, b.bvh)->last_counters(), nullptr);
+  auto error_of = [&](const std::string& params) -> std::string {
+    try {
+      make_tracer({"simt", params}, b.scene, b.bvh);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_NE(error_of("preset=rtx4090").find("rtx3060, h100"), std::string::npos);
+  EXPECT_NE(error_of("warp=0").find("[1, 64]"), std::string::npos);
+  EXPECT_NE(error_of("line=96").find("64, 128"), std::string::npos);
+  EXPECT_NE(error_of("l2_mb=0.001").find("l2_mb"), std::string::npos);
+  EXPECT_NE(error_of("cache=lru").find("unknown parameter 'cache'"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace raycoh
