@@ -72,27 +72,19 @@ void validate(const CacheModelConfig& c) {
 
 // ---- SectoredLruCache ----
 
-SectoredLruCache::SectoredLruCache(uint64_t capacity_bytes, uint32_t ways, uint32_t line_bytes,
-                                   uint32_t sector_bytes) {
+SectoredLruCache::SectoredLruCache(uint64_t capacity_bytes, uint32_t ways, uint32_t line_bytes, uint32_t sector_bytes) {
   RAYCOH_CHECK(is_pow2(line_bytes) && is_pow2(sector_bytes) && line_bytes >= sector_bytes &&
-                   line_bytes / sector_bytes <= 32 && ways >= 1 && capacity_bytes % (uint64_t{line_bytes} * ways) == 0 &&
-                   capacity_bytes >= uint64_t{line_bytes} * ways,
+                   line_bytes / sector_bytes <= 32 && ways >= 1 &&
+                   capacity_bytes % (uint64_t{line_bytes} * ways) == 0 && capacity_bytes >= uint64_t{line_bytes} * ways,
                fmt::format("capacity {} ways {} line {} sector {}", capacity_bytes, ways, line_bytes, sector_bytes));
   ways_ = ways;
   sets_ = static_cast<uint32_t>(capacity_bytes / (uint64_t{line_bytes} * ways));
   sector_shift_ = static_cast<uint32_t>(std::countr_zero(line_bytes / sector_bytes));
-  const size_t slots = size_t{sets_} * ways_;
-  tag_.assign(slots, 0);
-  valid_.assign(slots, 0);
-  prev_.assign(slots, kNone);
-  next_.assign(slots, kNone);
-  head_.assign(sets_, kNone);
-  tail_.assign(sets_, kNone);
-  used_.assign(sets_, 0);
+  lines_.assign(size_t{sets_} * ways_, Line{0, 0, kNone, kNone});
+  set_.assign(sets_, Set{});
   // At most half full, so that linear probing stays short.
-  const uint64_t table = std::bit_ceil(uint64_t{2} * slots);
-  hash_key_.assign(table, 0);
-  hash_slot_.assign(table, kNone);
+  const uint64_t table = std::bit_ceil(uint64_t{2} * lines_.size());
+  hash_.assign(table, HashEntry{});
   hash_mask_ = table - 1;
   hash_shift_ = 64 - static_cast<uint32_t>(std::countr_zero(table));
 }
@@ -104,50 +96,48 @@ uint64_t SectoredLruCache::home(uint64_t line) const {
 
 uint32_t SectoredLruCache::find(uint64_t line) const {
   for (uint64_t i = home(line);; i = (i + 1) & hash_mask_) {
-    if (hash_key_[i] == line + 1) return hash_slot_[i];
-    if (hash_key_[i] == 0) return kNone;
+    if (hash_[i].key == line + 1) return hash_[i].slot;
+    if (hash_[i].key == 0) return kNone;
   }
 }
 
 void SectoredLruCache::hash_insert(uint64_t line, uint32_t slot) {
   uint64_t i = home(line);
-  while (hash_key_[i] != 0) i = (i + 1) & hash_mask_;
-  hash_key_[i] = line + 1;
-  hash_slot_[i] = slot;
+  while (hash_[i].key != 0) i = (i + 1) & hash_mask_;
+  hash_[i] = {line + 1, slot};
 }
 
 // Backward-shift deletion (Knuth, TAOCP vol. 3, algorithm 6.4R): keeps every probe chain unbroken without
 // tombstones, so lookups never slow down over a long replay.
 void SectoredLruCache::hash_erase(uint64_t line) {
   uint64_t i = home(line);
-  while (hash_key_[i] != line + 1) i = (i + 1) & hash_mask_;
+  while (hash_[i].key != line + 1) i = (i + 1) & hash_mask_;
   for (uint64_t j = (i + 1) & hash_mask_;; j = (j + 1) & hash_mask_) {
-    if (hash_key_[j] == 0) break;
-    const uint64_t h = home(hash_key_[j] - 1);
+    if (hash_[j].key == 0) break;
+    const uint64_t h = home(hash_[j].key - 1);
     // Entry j may move into the hole at i unless its home h lies cyclically in (i, j].
     const bool home_in_between = i <= j ? (i < h && h <= j) : (i < h || h <= j);
     if (home_in_between) continue;
-    hash_key_[i] = hash_key_[j];
-    hash_slot_[i] = hash_slot_[j];
+    hash_[i] = hash_[j];
     i = j;
   }
-  hash_key_[i] = 0;
-  hash_slot_[i] = kNone;
+  hash_[i] = HashEntry{};
 }
 
 void SectoredLruCache::unlink(uint32_t set, uint32_t slot) {
-  const uint32_t p = prev_[slot], n = next_[slot];
-  (p == kNone ? head_[set] : next_[p]) = n;
-  (n == kNone ? tail_[set] : prev_[n]) = p;
-  prev_[slot] = next_[slot] = kNone;
+  Line& l = lines_[slot];
+  (l.prev == kNone ? set_[set].head : lines_[l.prev].next) = l.next;
+  (l.next == kNone ? set_[set].tail : lines_[l.next].prev) = l.prev;
+  l.prev = l.next = kNone;
 }
 
 void SectoredLruCache::push_front(uint32_t set, uint32_t slot) {
-  prev_[slot] = kNone;
-  next_[slot] = head_[set];
-  if (head_[set] != kNone) prev_[head_[set]] = slot;
-  head_[set] = slot;
-  if (tail_[set] == kNone) tail_[set] = slot;
+  Set& s = set_[set];
+  lines_[slot].prev = kNone;
+  lines_[slot].next = s.head;
+  if (s.head != kNone) lines_[s.head].prev = slot;
+  s.head = slot;
+  if (s.tail == kNone) s.tail = slot;
 }
 
 bool SectoredLruCache::access(uint64_t sector) {
@@ -156,24 +146,25 @@ bool SectoredLruCache::access(uint64_t sector) {
   const auto set = static_cast<uint32_t>(line % sets_);
   uint32_t slot = find(line);
   if (slot != kNone) {
-    if (head_[set] != slot) {
+    if (set_[set].head != slot) {
       unlink(set, slot);
       push_front(set, slot);
     }
-    if (valid_[slot] & bit) return true;
-    valid_[slot] |= bit;
+    Line& l = lines_[slot];
+    if (l.valid & bit) return true;
+    l.valid |= bit;
     return false;
   }
-  if (used_[set] < ways_) {
-    slot = set * ways_ + used_[set]++;
+  if (set_[set].used < ways_) {
+    slot = set * ways_ + set_[set].used++;
   } else {
-    slot = tail_[set];
-    hash_erase(tag_[slot]);
+    slot = set_[set].tail;
+    hash_erase(lines_[slot].tag);
     unlink(set, slot);
   }
   push_front(set, slot);
-  tag_[slot] = line;
-  valid_[slot] = bit;
+  lines_[slot].tag = line;
+  lines_[slot].valid = bit;
   hash_insert(line, slot);
   return false;
 }

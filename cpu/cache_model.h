@@ -42,10 +42,13 @@
 //
 // Cost weights (cycles) used by the modeled cost in cpu/simt.h: L1 hit, L2 hit and DRAM latencies from the same
 // Accel-Sim configurations (rtx3060: gpgpu_l1_latency 39, gpgpu_l2_rop_latency 187, + dram_latency 254 = 441;
-// h100 from SM80_A100, the closest tuned data-centre part: 34, 200, 200 + 190 = 390). Warp-step weights are
-// issue slots, one per warp instruction, counted from core/traverse.h and rounded: a node step (four 16-byte
-// loads, two slab tests of about 25 operations, ordering and the stack) ~ 70, a triangle test (shear, three
-// edge functions, plane-equation t, division) ~ 70, the leaf-step bookkeeping ~ 10.
+// h100 from SM80_A100, the closest tuned data-centre part: 34, 200, 200 + 190 = 390), of the order Jia et al.
+// measured ("Dissecting the NVIDIA Volta GPU Architecture via Microbenchmarking", 2018, and the Turing T4 report,
+// 2019: L1 hits of about 30 cycles, L2 hits of about 190). Warp-step weights are issue slots, one per warp
+// instruction, counted from core/traverse.h and rounded: a node step (four 16-byte loads, two slab tests of about
+// 25 operations, ordering and the stack) ~ 70, a triangle test (shear, three edge functions, plane-equation t,
+// division) ~ 70, the leaf-step bookkeeping ~ 10. The weights are not tracer parameters: CoherenceCounters keeps
+// every term's count, so a script can re-weigh a result without re-running it.
 #pragma once
 
 #include <cstddef>
@@ -71,11 +74,11 @@ struct CacheLevelConfig {
 };
 
 struct CacheModelConfig {
-  std::string preset;           // "rtx3060", "h100" or "" (hand-made)
-  uint32_t sms = 28;            // [1, 1024]
-  uint32_t resident_warps = 32; // slots per SM, [1, 64]
-  uint32_t line_bytes = 128;    // power of two, >= sector_bytes, <= 32 sectors
-  uint32_t sector_bytes = 32;   // power of two
+  std::string preset;            // "rtx3060", "h100" or "" (hand-made)
+  uint32_t sms = 28;             // [1, 1024]
+  uint32_t resident_warps = 32;  // slots per SM, [1, 64]
+  uint32_t line_bytes = 128;     // power of two, >= sector_bytes, <= 32 sectors
+  uint32_t sector_bytes = 32;    // power of two
   CacheLevelConfig l1;
   CacheLevelConfig l2;
   CostWeights cost;
@@ -109,14 +112,25 @@ class SectoredLruCache {
   void unlink(uint32_t set, uint32_t slot);
   void push_front(uint32_t set, uint32_t slot);
 
+  // Packed so that an access touches few host cache lines: the 50 MB L2 preset alone has 400k lines.
+  struct Line {
+    uint64_t tag;    // line number
+    uint32_t valid;  // valid-sector mask
+    uint32_t prev, next;
+  };
+  struct Set {
+    uint32_t head = kNone, tail = kNone, used = 0;  // MRU slot, LRU slot, slots in use
+  };
+  struct HashEntry {
+    uint64_t key = 0;  // line + 1; 0 = empty
+    uint32_t slot = kNone;
+  };
+
   uint32_t sets_ = 0, ways_ = 0;
-  uint32_t sector_shift_ = 0;       // log2(sectors per line)
-  std::vector<uint64_t> tag_;       // per slot (set * ways + way): line number
-  std::vector<uint32_t> valid_;     // per slot: valid-sector mask
-  std::vector<uint32_t> prev_, next_;
-  std::vector<uint32_t> head_, tail_, used_;  // per set: MRU slot, LRU slot, slots in use
-  std::vector<uint64_t> hash_key_;  // line + 1; 0 = empty
-  std::vector<uint32_t> hash_slot_;
+  uint32_t sector_shift_ = 0;  // log2(sectors per line)
+  std::vector<Line> lines_;    // slot = set * ways + way
+  std::vector<Set> set_;
+  std::vector<HashEntry> hash_;
   uint64_t hash_mask_ = 0;
   uint32_t hash_shift_ = 64;
 };
@@ -170,8 +184,8 @@ class WarpScheduleReplay {
   MemoryHierarchy memory_;
   uint32_t sms_, resident_;
   size_t warp_count_;
-  std::vector<Slot> slots_;       // sm * resident + slot
-  std::vector<size_t> next_warp_; // per SM
+  std::vector<Slot> slots_;        // sm * resident + slot
+  std::vector<size_t> next_warp_;  // per SM
   uint64_t cycles_ = 0;
   bool done_ = false;
 };

@@ -34,6 +34,14 @@ class CpuTracer final : public Tracer {
     });
   }
 
+  void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) override {
+    const BvhView bvh = bvh_;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kRaysPerBlock), [&](const tbb::blocked_range<size_t>& r) {
+      const FlushDenormalsScope ftz;
+      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit(bvh, rays[order[i]]);
+    });
+  }
+
   std::string params() const override { return ""; }
 
  private:

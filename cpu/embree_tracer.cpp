@@ -135,7 +135,22 @@ class EmbreeTracer final : public Tracer {
     embree_check(what);
   }
 
-  void trace(const Ray* rays, size_t count, Hit* hits) override {
+  void trace(const Ray* rays, size_t count, Hit* hits) override { run(RaySource{rays, nullptr}, count, hits); }
+  void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) override {
+    run(RaySource{rays, order}, count, hits);
+  }
+
+  std::string params() const override { return params_; }
+
+ private:
+  // Ray i of the batch: rays[i], or rays[order[i]] when tracing through sorted indices.
+  struct RaySource {
+    const Ray* rays;
+    const uint32_t* order;
+    const Ray& operator[](size_t i) const { return order ? rays[order[i]] : rays[i]; }
+  };
+
+  void run(RaySource rays, size_t count, Hit* hits) {
     const size_t blocks = (count + kRaysPerBlock - 1) / kRaysPerBlock;
     // simple_partitioner: exactly one block per task, so streams are kRaysPerBlock long and packets aligned.
     tbb::parallel_for(
@@ -164,10 +179,7 @@ class EmbreeTracer final : public Tracer {
         tbb::simple_partitioner());
   }
 
-  std::string params() const override { return params_; }
-
- private:
-  void trace_single(const Ray* rays, Hit* hits, size_t begin, size_t end) const {
+  void trace_single(RaySource rays, Hit* hits, size_t begin, size_t end) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (size_t i = begin; i < end; ++i) {
@@ -182,7 +194,7 @@ class EmbreeTracer final : public Tracer {
     }
   }
 
-  void trace_packets(const Ray* rays, Hit* hits, size_t begin, size_t end) const {
+  void trace_packets(RaySource rays, Hit* hits, size_t begin, size_t end) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -224,7 +236,7 @@ class EmbreeTracer final : public Tracer {
     }
   }
 
-  void trace_stream(const Ray* rays, Hit* hits, size_t begin, size_t end, RTCIntersectContextFlags flag) const {
+  void trace_stream(RaySource rays, Hit* hits, size_t begin, size_t end, RTCIntersectContextFlags flag) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = flag;

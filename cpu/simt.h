@@ -41,11 +41,14 @@
 //   same lines from indices alone: line = (index * size) / line_bytes for the first and (index * size + size - 1)
 //   / line_bytes for the last byte.
 //
-// Reproducing it in CUDA. Keep every loop warp-uniform with explicit masks (__ballot_sync(0xffffffff, ...)
-// evaluated by all lanes), never __activemask(): under independent thread scheduling the converged set is not
-// guaranteed, and the rules above need exactly N and L. The node-loop break is
-// `if ((__ballot_sync(full, has_leaf) & N) == N) break;`, the triangle sub-steps iterate j up to the warp's
-// maximum count (__reduce_max_sync) with mask __ballot_sync(full, in_L && j < count). Node transactions with
+// Reproducing it in CUDA (warp_size 32; other sizes are a model only). Keep every loop warp-uniform with explicit
+// masks (__ballot_sync(0xffffffff, ...) evaluated by all 32 lanes; threads past the end of the batch stay in the
+// loops with false predicates instead of returning), never __activemask(): under independent thread scheduling
+// the converged set is not guaranteed, and the rules above need exactly N and L. The node-loop break is
+// `if ((__ballot_sync(full, has_leaf) & N) == N) break;`. Count a step from node_ref / leaf_ref before calling
+// node_step / leaf_step, as simt_trace_warp does, so that the traversal functions stay unchanged: the triangle
+// sub-steps of a leaf step are j = 0 .. the warp's maximum count - 1 (__reduce_max_sync) with mask
+// __ballot_sync(full, in_L && j < count), counted before the lanes run leaf_step. Node transactions with
 // line_bytes >= 64: one line per lane, so `m = __match_any_sync(mask, line)` and the lanes with
 // `lane == __ffs(m) - 1` are the distinct lines (popc of their ballot). Triangle transactions: a lane's range
 // covers line a and, when it straddles, a + 1; count the union exactly with the same leader trick on a, then
@@ -66,6 +69,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/error.h"
 #include "core/traverse.h"
 #include "cpu/cache_model.h"
 #include "cpu/tracer.h"
@@ -140,6 +144,8 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
                             CoherenceCounters& counters, WarpTrace* trace = nullptr,
                             RayCounters* ray_counters = nullptr, std::vector<SimtStep>* steps = nullptr) {
   using namespace simt_detail;
+  RAYCOH_CHECK(lanes <= kMaxWarpSize && config.line_bytes >= 32 && config.sector_bytes >= 16,
+               "simt_trace_warp: more than 64 lanes, or lines/sectors too small for the fetch buffers");
   TraversalState st[kMaxWarpSize];
   RayCounters rc[kMaxWarpSize];
   uint64_t live = 0;  // lanes not done

@@ -12,10 +12,10 @@
 //   l2_mb     float   preset    [0.002, 4096]: shared L2, MiB (16 ways; rounded down to whole sets)
 //   resident  int     32        [1, 64]: warps resident per SM (the schedule's slots)
 //
-// Cost: deterministic for a batch and its order whatever the thread count. Warps are traced in parallel with
-// oneTBB, a chunk at a time, each producing its trace of cache requests; the cache model replays the traces in
-// its fixed global order on one thread, overlapped with tracing the next chunk. Sources: Aila & Laine, HPG 2009
-// (while-while traversal, speculative node walk); the presets' sources are listed in cpu/cache_model.h.
+// Determinism and speed: the counters depend on the batch and its order only, never on the thread count. Warps are
+// traced in parallel with oneTBB, a chunk at a time, each producing its trace of cache requests; the cache model
+// replays the traces in its fixed global order on one thread, overlapped with tracing the next chunk. Sources: Aila &
+// Laine, HPG 2009 (while-while traversal, speculative node walk); the presets' sources are listed in cpu/cache_model.h.
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -130,7 +130,8 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const B
   cache.sms = static_cast<uint32_t>(params.get_int("sms", static_cast<int>(cache.sms), 1, 1024));
   const int l1_kb = params.get_int("l1_kb", static_cast<int>(cache.l1.bytes >> 10), 1, 65536);
   const float l2_mb = params.get_float("l2_mb", static_cast<float>(cache.l2.bytes) / float(1 << 20), 0.002f, 4096.f);
-  cache.resident_warps = static_cast<uint32_t>(params.get_int("resident", static_cast<int>(cache.resident_warps), 1, 64));
+  cache.resident_warps =
+      static_cast<uint32_t>(params.get_int("resident", static_cast<int>(cache.resident_warps), 1, 64));
   params.finish();
 
   cache.l1.bytes = uint64_t(l1_kb) << 10;
@@ -139,8 +140,8 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const B
   cache.l2.bytes = static_cast<uint64_t>(std::llround(double(l2_mb) * double(1 << 20))) / l2_set * l2_set;
   if (cache.l2.bytes == 0)
     throw Error(fmt::format("{}: l2_mb={} is smaller than one set ({} bytes)", params.owner(), l2_mb, l2_set));
-  const SimtConfig simt = simt_config(bvh.view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line),
-                                      cache.sector_bytes);
+  const SimtConfig simt =
+      simt_config(bvh.view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes);
   return std::make_unique<SimtTracer>(bvh, simt, cache, params.canonical());
 }
 

@@ -21,17 +21,16 @@ struct Bvh;
 // cpu/cache_model.h). All fields but modeled_cost are exact integer sums, the same for every thread count.
 // A CUDA counting run that follows cpu/simt.h reproduces everything above the cache-model block exactly.
 struct CoherenceCounters {
-  uint64_t rays = 0;           // rays in the batch
-  uint64_t warps = 0;          // ceil(rays / warp_size); the last one may be partial
+  uint64_t rays = 0;   // rays in the batch
+  uint64_t warps = 0;  // ceil(rays / warp_size); the last one may be partial
   uint32_t warp_size = 32;
   uint32_t line_bytes = 64;    // line size of the *_lines transactions
   uint32_t sector_bytes = 32;  // sector size of the cache model and of *_fetches
 
-  // Warp steps and the lanes active in them.
-  uint64_t node_steps = 0;      // iterations of the warp's node loop
-  uint64_t leaf_steps = 0;      // iterations of the warp's leaf loop
-  uint64_t triangle_steps = 0;  // triangle iterations inside leaf steps
-  uint64_t node_lanes = 0, leaf_lanes = 0, triangle_lanes = 0;  // active lanes summed over those steps
+  // Warp steps: iterations of the warp's node loop, of its leaf loop, and triangle iterations inside leaf steps;
+  // then the active lanes summed over each kind of step.
+  uint64_t node_steps = 0, leaf_steps = 0, triangle_steps = 0;
+  uint64_t node_lanes = 0, leaf_lanes = 0, triangle_lanes = 0;
   // Memory transactions: distinct line_bytes lines among the active lanes' fetches, summed over steps.
   uint64_t node_lines = 0, triangle_lines = 0;
   // Cache-model requests: distinct sector_bytes sectors among the active lanes' fetches, summed over steps
@@ -43,8 +42,8 @@ struct CoherenceCounters {
   // Cache model, in sectors.
   uint64_t l1_hits = 0, l1_misses = 0;
   uint64_t l2_hits = 0, l2_misses = 0;
-  uint64_t dram_bytes = 0;   // l2_misses x sector_bytes
-  double modeled_cost = 0.0; // cycles, whole batch (cpu/simt.h, modeled_cost())
+  uint64_t dram_bytes = 0;    // l2_misses x sector_bytes
+  double modeled_cost = 0.0;  // cycles, whole batch (cpu/simt.h, modeled_cost())
 
   // Fraction of lanes doing useful work: active lanes / (warp_size x steps). Node and leaf steps pooled.
   double simt_efficiency() const {
@@ -79,6 +78,9 @@ class Tracer {
   virtual ~Tracer() = default;
   // Closest hit of rays[i] into hits[i], for all i < count. Not timed inside: the caller times this call.
   virtual void trace(const Ray* rays, size_t count, Hit* hits) = 0;
+  // Indirect fetch through sorted indices: closest hit of rays[order[i]] into hits[i] (lane i of the batch
+  // traces ray order[i]). Tracers that cannot fetch indirectly gather the rays first, inside this timed call.
+  virtual void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits);
   // Canonical, defaulted parameter set ("mode=single").
   virtual std::string params() const = 0;
   // Counters of the last trace() call, for tracers that model coherence (`simt`); nullptr for the others.

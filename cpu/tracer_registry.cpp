@@ -18,6 +18,12 @@ std::unique_ptr<Tracer> make_cpu_tracer(ParamSet& params, const Scene& scene, co
 std::unique_ptr<Tracer> make_embree_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 
+void Tracer::trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
+  std::vector<Ray> gathered(count);
+  for (size_t i = 0; i < count; ++i) gathered[i] = rays[order[i]];
+  trace(gathered.data(), count, hits);
+}
+
 const std::vector<TracerInfo>& tracer_infos() {
   static const std::vector<TracerInfo> infos = {
       {"cpu", "our BVH2 traversal (core/traverse.h) on the CPU, parallel over blocks of rays with oneTBB", "(none)"},

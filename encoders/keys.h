@@ -29,8 +29,9 @@
 //
 // Bit-exactness between CPU and GPU: all arithmetic here is IEEE add, subtract, multiply and divide (correctly
 // rounded on both sides, with no FMA contraction: -ffp-contract=off / --fmad=false) plus exact integer bit work.
-// The one exception is atan2f/acosf for phi and theta: glibc and CUDA's libdevice may differ by an ulp, which
-// moves a key only when phi or theta lies within an ulp of a quantisation boundary. The tests pin the CPU values.
+// The one exception is atan2f/acosf for phi and theta: glibc and CUDA (2 ulp documented for both) may differ by
+// an ulp or two, which moves a key only when phi or theta lies that close to a quantisation boundary (reis,
+// costa). The tests pin the CPU values. Device code must not be built with --use_fast_math.
 #pragma once
 
 #include "core/bvh.h"
@@ -285,9 +286,10 @@ RAYCOH_HD RAYCOH_INLINE Vec3 clamp_to_box(Vec3 p, const Bounds& box) {
 
 // Descends from the root to the leaf that holds p and writes the rank of every cut node on the way into the
 // code: the rank at level l goes to bit offset (field_stride x level_offset[l] + field_index x level_bits[l])
-// from the MSB, so that with the end point (stride 2) origin and end point alternate level by level.
+// from the MSB, so that with the end point (stride 2) origin and end point alternate level by level. The
+// descent stops at the first level that starts at or past bit offset `needed_bits`.
 RAYCOH_HD RAYCOH_INLINE void mlhcc_write_path(const MlhccCuts& cuts, Vec3 p, int field_stride, int field_index,
-                                              uint64_t& code) {
+                                              int needed_bits, uint64_t& code) {
   if (cuts.node_count == 0) return;
   int32_t node = 0;
   for (int depth = 0; depth < kMlhccMaxLevels; ++depth) {
@@ -297,7 +299,7 @@ RAYCOH_HD RAYCOH_INLINE void mlhcc_write_path(const MlhccCuts& cuts, Vec3 p, int
     if (level > 0) {
       const int width = cuts.level_bits[level - 1];
       const int offset = field_stride * cuts.level_offset[level - 1] + field_index * width;
-      if (offset >= 64) return;  // every deeper level lies further right
+      if (offset >= needed_bits) return;  // every deeper level lies further right
       CodeWriter w{code, offset};
       w.put(cuts.cuts[node].rank[c], width);
       code = w.code;
@@ -308,14 +310,17 @@ RAYCOH_HD RAYCOH_INLINE void mlhcc_write_path(const MlhccCuts& cuts, Vec3 p, int
   }
 }
 
-// MLHCC code of a ray: per cut level, the origin's rank then (with_end) the estimated end point's rank.
+// MLHCC code of a ray: per cut level, the origin's rank then (with_end) the estimated end point's rank. Only
+// the top key_bits bits are computed (the descent stops there, which is most of its cost); the rest stay 0.
 RAYCOH_HD RAYCOH_INLINE uint64_t mlhcc_code(Vec3 org, Vec3 dir, float tmax, const Bounds& box, float length_factor,
-                                            const MlhccCuts& cuts, bool with_end) {
+                                            const MlhccCuts& cuts, bool with_end, int key_bits = 64) {
   uint64_t code = 0;
   const int stride = with_end ? 2 : 1;
-  mlhcc_write_path(cuts, clamp_to_box(org, box), stride, 0, code);
-  if (with_end)
-    mlhcc_write_path(cuts, clamp_to_box(estimated_end_point(org, dir, tmax, box, length_factor), box), stride, 1, code);
+  mlhcc_write_path(cuts, clamp_to_box(org, box), stride, 0, key_bits, code);
+  if (with_end) {
+    const Vec3 end = clamp_to_box(estimated_end_point(org, dir, tmax, box, length_factor), box);
+    mlhcc_write_path(cuts, end, stride, 1, key_bits, code);
+  }
   return code;
 }
 

@@ -17,11 +17,12 @@
 //    (ranks=global, kept to measure what the compression buys).
 // 3. Point location. A point, clamped into the scene box (NaN to its low corner), descends from the root into
 //    the child whose box is nearer (distance 0 inside); on a tie (inside both overlapping boxes) into the smaller
-//    box, then child 0. Every cut node on the way contributes its rank. No triangles are read: one node per level.
+//    box, then child 0. Every cut node on the way contributes its rank. No triangles are read: one node per tree level.
 // 4. Code. Level by level from level 1: the origin's rank, then the end point's rank, each in that level's
 //    width, packed from the most significant bit and truncated to 64 bits; a k-bit key is the top k bits. A
 //    level below the leaf where a path ended contributes 0. The end point is o + L d with L estimated exactly as
-//    in twopoint (encoders/twopoint.cpp). `details()` reports the levels, their widths and sizes.
+//    in twopoint (encoders/twopoint.cpp). The descent stops once the key's bits are full, so a 32-bit key costs
+//    only the top few levels. `details()` reports the levels, their widths and sizes.
 //
 // Parameters
 //   bits    int     32          32 | 64: key width (the paper's code length is 32)
@@ -58,8 +59,8 @@ std::unique_ptr<Encoder> make_mlhcc_encoder(ParamSet& params, const EncoderConte
   const std::string details = table->summary();
   return make_key_encoder(
       "mlhcc", box, bits, canonical,
-      [table, cuts = table->view(), box, length, with_end](const Ray& r) {
-        return mlhcc_code(r.org, r.dir, r.tmax, box, length, cuts, with_end);
+      [table, cuts = table->view(), box, length, with_end, bits](const Ray& r) {
+        return mlhcc_code(r.org, r.dir, r.tmax, box, length, cuts, with_end, bits);
       },
       details);
 }

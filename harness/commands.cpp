@@ -1,5 +1,6 @@
 #include "harness/commands.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fmt/format.h>
 
@@ -53,6 +54,10 @@ void run_scene_info(const std::string& spec) {
 
 void run_rays(const RaysOptions& o, const Provenance& provenance) {
   auto generator = make_generator(o.generator);
+  // Checked up front (no scene needed) so a bad name fails before any work; made for the scene below.
+  if (std::none_of(encoder_infos().begin(), encoder_infos().end(),
+                   [&](const EncoderInfo& e) { return e.name == o.encoder.name; }))
+    make_encoder(o.encoder, EncoderContext{});
   if (o.out.empty()) throw Error("--out is required: the CSV file to write the rays to");
   const Scene scene = load_scene(o.scene);
   const Bvh bvh = build_bvh(scene);
@@ -72,7 +77,18 @@ void run_rays(const RaysOptions& o, const Provenance& provenance) {
                                       "normal_x", "normal_y", "normal_z", "material_class", "pdf", "weight_r",
                                       "weight_g", "weight_b"};
   if (batch.has_groups()) columns.insert(columns.end(), {"tile", "group", "group_type"});
-  CsvWriter csv(o.out, columns, CsvWriter::Resume::No);  // a ray dump is one frame: never appended to
+  // Keys in the batch's own order (not sorted), with the quantisation box in a comment line above the header.
+  const auto encoder = make_encoder(o.encoder, EncoderContext{scene.bounds, &bvh});
+  std::vector<uint64_t> keys;
+  std::string comment;
+  if (encoder->key_bits() > 0) {
+    keys.resize(batch.size());
+    encoder->encode(batch, keys.data());
+    columns.push_back("key");
+    comment = fmt::format("encoder={} {}", encoder->name(), encoder->params());  // params end with box=lo..hi
+  }
+  // A ray dump is one frame: never appended to.
+  CsvWriter csv(o.out, columns, CsvWriter::Resume::No, comment);
   for (size_t i = 0; i < batch.size(); ++i) {
     const Ray& r = batch.rays[i];
     const Vec3 n = batch.normal[i], w = batch.weight[i];
@@ -86,6 +102,7 @@ void run_rays(const RaysOptions& o, const Provenance& provenance) {
     if (batch.has_groups())
       row.insert(row.end(), {std::to_string(batch.tile[i]), std::to_string(batch.group[i]),
                              to_string(batch.group_type[i])});
+    if (!keys.empty()) row.push_back(fmt::format("{:0{}x}", keys[i], encoder->key_bits() / 4));
     csv.write_row(row);
   }
   csv.finish();

@@ -14,6 +14,7 @@ void run_scene_info(const std::string& scene_spec);
 struct RaysOptions {
   std::string scene;
   PluginSpec generator{"noopt", ""};
+  PluginSpec encoder{"none", ""};
   int width = 320, height = 240;
   int frame = 0;
   uint32_t seed = 1;

@@ -43,8 +43,10 @@ bool csv_parse_line(const std::string& line, std::vector<std::string>& fields) {
   return !quoted;
 }
 
-CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns, Resume allow_resume)
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns, Resume allow_resume,
+                     const std::string& comment)
     : path_(path), columns_(columns) {
+  RAYCOH_CHECK(comment.empty() || allow_resume == Resume::No, "a commented CSV cannot be resumed");
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
@@ -75,6 +77,7 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& co
   }
   if (!out_) throw Error(fmt::format("--out {}: cannot write {}", path, partial_path()));
   if (!resume) {
+    if (!comment.empty()) out_ << "# " << comment << '\n';
     for (size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << csv_escape(columns[i]);
     out_ << '\n';
     out_.flush();

@@ -17,7 +17,9 @@ class CsvWriter {
   enum class Resume { Yes, No };
   // Opens <path>.partial: with Resume::Yes, resumes it when it exists with exactly these columns; otherwise
   // starts it with the header. Throws raycoh::Error if the file cannot be written.
-  CsvWriter(const std::string& path, const std::vector<std::string>& columns, Resume resume = Resume::Yes);
+  // A non-empty comment (Resume::No only) is written first as "# comment" lines, before the header.
+  CsvWriter(const std::string& path, const std::vector<std::string>& columns, Resume resume = Resume::Yes,
+            const std::string& comment = "");
   void write_row(const std::vector<std::string>& values);
   // Renames <path>.partial to <path>.
   void finish();

@@ -10,6 +10,8 @@
 #include "core/error.h"
 #include "cpu/bvh_build.h"
 #include "cpu/tracer.h"
+#include "encoders/encoder.h"
+#include "encoders/reorder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
@@ -31,11 +33,13 @@ struct Timing {
   double median = 0, min = 0;
 };
 
-Timing time_trace(Tracer& tracer, const std::vector<Ray>& rays, std::vector<Hit>& hits, int repeats) {
+// Times `repeats` calls of fn; reports the median and the fastest.
+template <class Fn>
+Timing time_calls(Fn&& fn, int repeats) {
   std::vector<double> t;
   for (int r = 0; r < repeats; ++r) {
     const auto t0 = Clock::now();
-    tracer.trace(rays.data(), rays.size(), hits.data());
+    fn();
     t.push_back(seconds_since(t0));
   }
   std::sort(t.begin(), t.end());
@@ -62,6 +66,8 @@ void accumulate_row(const CsvWriter& csv, const std::vector<std::string>& row, S
   acc.rays += rays;
   acc.trace_s += number(row[csv.column("trace_ms")]) * 1e-3;
   acc.gen_s += gen_ms * 1e-3;
+  acc.reorder_s += (number(row[csv.column("key_ms")]) + number(row[csv.column("sort_ms")]) +
+                    number(row[csv.column("permute_ms")])) * 1e-3;
   ++acc.frames;
   if (row[csv.column("pass")] != "secondary" || !first_tracer) return;
   res.rays_per_frame = rays;
@@ -100,19 +106,30 @@ void ensure_baseline(std::vector<Method>& methods) {
   std::fprintf(stderr, "adding generator noopt as the baseline of the ratios\n");
 }
 
+std::vector<Method> method_product(const std::vector<PluginSpec>& generators, const std::vector<PluginSpec>& encoders) {
+  std::vector<Method> methods;
+  for (const PluginSpec& g : generators)  // generator-major, so methods sharing a batch are adjacent
+    for (const PluginSpec& e : encoders)
+      methods.push_back({e.name == "none" ? g.text() : g.text() + "+" + e.text(), g, e});
+  return methods;
+}
+
 std::vector<std::string> experiment_columns() {
   return {"scene",        "scene_triangles", "pass",          "method",           "generator",
           "generator_params", "tracer",      "tracer_params", "width",            "height",
           "frame",        "seed",            "rays",          "gen_ms",           "trace_ms",
           "trace_ms_min", "repeats",         "mray_s",        "below_geometric",  "below_shading",
           "non_finite",   "groups_diffuse",  "groups_glossy", "groups_hybrid",    "groups_independent",
-          "groups_world", "hybrid_mean_fallback", "reused_rays"};
+          "groups_world", "hybrid_mean_fallback", "reused_rays", "encoder",          "encoder_params",
+          "permute",      "key_ms",          "sort_ms",       "permute_ms",       "e2e_ms",
+          "e2e_mray_s"};
 }
 
 std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Provenance& provenance) {
   // Every name and parameter is checked before anything is measured.
   std::vector<std::unique_ptr<Generator>> generators;
   for (const Method& m : o.methods) generators.push_back(make_generator(m.generator));
+  const PermuteMode permute = parse_permute_mode(o.permute);
   RAYCOH_CHECK(std::any_of(o.methods.begin(), o.methods.end(), [](const Method& m) { return m.label == "noopt"; }),
                "the methods must contain the noopt baseline");
   check_scene_specs(o.scenes);
@@ -124,8 +141,8 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
   std::map<std::string, const std::vector<std::string>*> done;
   for (const auto& row : csv.resumed_rows()) {
     std::vector<std::string> k;
-    for (const char* c : {"scene", "pass", "method", "generator_params", "tracer", "tracer_params", "width", "height",
-                          "frame", "seed", "repeats", "git_revision"})
+    for (const char* c : {"scene", "pass", "method", "generator_params", "encoder_params", "permute", "tracer",
+                          "tracer_params", "width", "height", "frame", "seed", "repeats", "git_revision"})
       k.push_back(row[csv.column(c)]);
     done[row_key(k)] = &row;
   }
@@ -158,24 +175,33 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
         const std::string p = tracers.back()->params();
         res.tracer_labels.push_back(p.empty() ? spec.name : spec.name + "[" + p + "]");
       }
+      std::vector<std::unique_ptr<Encoder>> encoders;
+      for (const Method& m : o.methods) encoders.push_back(make_encoder(m.encoder, EncoderContext{scene.bounds, &bvh}));
       auto gbuffer_tracer = make_tracer({"cpu", ""}, scene, bvh);
       const std::vector<uint32_t> primary_order =
           make_pixel_order(o.width, o.height, RayOrder::Tile, kPrimaryTile, kPrimaryTile);
 
       std::vector<Hit> hits;
-      RayBatch batch;
+      RayBatch batch, sorted;
+      std::vector<uint32_t> order;
       std::vector<bool> warmed(tracers.size(), false);  // one untimed trace per tracer and scene
       for (int frame = 0; frame < o.frames; ++frame) {
         progress.update(si, o.scenes.size(), frame, o.frames, scene.name);
         // The key of a measurement; rows of an interrupted run with the same key are not measured again.
-        auto key = [&](const std::string& pass, const std::string& label, const std::string& gen_params, size_t ti) {
-          return row_key({scene.name, pass, label, gen_params, o.tracers[ti].name, tracers[ti]->params(),
-                          std::to_string(o.width), std::to_string(o.height), std::to_string(frame),
-                          std::to_string(o.seed), std::to_string(o.repeats), provenance.git_revision});
+        // Reorderings record how they were applied; `none` and the primary pass have nothing to apply.
+        auto permute_text = [&](const Encoder* enc) { return enc && enc->key_bits() > 0 ? o.permute : std::string(); };
+        // The same fields, in the same order, as the resume map reads from a resumed row.
+        auto key = [&](const std::string& pass, const std::string& label, const std::string& gen_params,
+                       const Encoder* enc, size_t ti) {
+          return row_key({scene.name, pass, label, gen_params, enc ? enc->params() : "", permute_text(enc),
+                          o.tracers[ti].name, tracers[ti]->params(), std::to_string(o.width),
+                          std::to_string(o.height), std::to_string(frame), std::to_string(o.seed),
+                          std::to_string(o.repeats), provenance.git_revision});
         };
         auto record = [&](const std::string& pass, const std::string& label, const std::string& gen,
                           const std::string& gen_params, size_t ti, size_t rays, double gen_s, const Timing& t,
-                          const GenerationStats* gs) {
+                          const GenerationStats* gs, const Encoder* enc, const ReorderTimings& rt) {
+          const double e2e_s = gen_s + rt.total_ms() * 1e-3 + t.median;
           auto count = [&](size_t v) { return gs ? std::to_string(v) : std::string(); };
           std::vector<std::string> row = {scene.name,
                                           std::to_string(scene.triangle_count()),
@@ -204,15 +230,23 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
                                           count(gs ? gs->groups[0] : 0),
                                           count(gs ? gs->groups[4] : 0),
                                           count(gs ? gs->hybrid_mean_fallback : 0),
-                                          count(gs ? gs->reused_rays : 0)};
+                                          count(gs ? gs->reused_rays : 0),
+                                          enc ? enc->name() : "",
+                                          enc ? enc->params() : "",
+                                          permute_text(enc),
+                                          fmt::format("{:.4f}", rt.key_ms),
+                                          fmt::format("{:.4f}", rt.sort_ms),
+                                          fmt::format("{:.4f}", rt.permute_ms),
+                                          fmt::format("{:.4f}", e2e_s * 1e3),
+                                          fmt::format("{:.3f}", e2e_s > 0 ? rays / e2e_s * 1e-6 : 0.0)};
           row.insert(row.end(), prov.begin(), prov.end());
           csv.write_row(row);
           accumulate_row(csv, row, res, res.tracer_labels[ti], label, ti == 0, o.frames);
         };
         // Rows already measured by an interrupted run count as measured now.
         auto resumed = [&](const std::string& pass, const std::string& label, const std::string& gen_params,
-                           size_t ti) {
-          const auto it = done.find(key(pass, label, gen_params, ti));
+                           const Encoder* enc, size_t ti) {
+          const auto it = done.find(key(pass, label, gen_params, enc, ti));
           if (it == done.end()) return false;
           accumulate_row(csv, *it->second, res, res.tracer_labels[ti], label, ti == 0, o.frames);
           return true;
@@ -220,15 +254,16 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
 
         bool frame_done = true;
         for (size_t ti = 0; ti < tracers.size() && frame_done; ++ti) {
-          frame_done = done.count(key("primary", "primary", kPrimaryParams, ti)) > 0;
+          frame_done = done.count(key("primary", "primary", kPrimaryParams, nullptr, ti)) > 0;
           for (size_t mi = 0; mi < o.methods.size() && frame_done; ++mi)
-            frame_done = done.count(key("secondary", o.methods[mi].label, generators[mi]->params(), ti)) > 0;
+            frame_done = done.count(key("secondary", o.methods[mi].label, generators[mi]->params(),
+                                        encoders[mi].get(), ti)) > 0;
         }
         if (frame_done) {  // nothing left to measure in this frame: take its rows as they are
           for (size_t ti = 0; ti < tracers.size(); ++ti) {
-            resumed("primary", "primary", kPrimaryParams, ti);
+            resumed("primary", "primary", kPrimaryParams, nullptr, ti);
             for (size_t mi = 0; mi < o.methods.size(); ++mi)
-              resumed("secondary", o.methods[mi].label, generators[mi]->params(), ti);
+              resumed("secondary", o.methods[mi].label, generators[mi]->params(), encoders[mi].get(), ti);
           }
           continue;
         }
@@ -240,29 +275,49 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
         const GBuffer gbuffer = make_gbuffer(scene, primary, hits);
 
         for (size_t ti = 0; ti < tracers.size(); ++ti) {  // primary rays: the coherent bound
-          if (resumed("primary", "primary", kPrimaryParams, ti)) continue;
+          if (resumed("primary", "primary", kPrimaryParams, nullptr, ti)) continue;
           if (!warmed[ti]) tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data());
           warmed[ti] = true;
-          const Timing t = time_trace(*tracers[ti], primary.rays, hits, o.repeats);
-          record("primary", "primary", "primary", kPrimaryParams, ti, primary.rays.size(), 0.0, t, nullptr);
+          const Timing t =
+              time_calls([&] { tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data()); }, o.repeats);
+          record("primary", "primary", "primary", kPrimaryParams, ti, primary.rays.size(), 0.0, t, nullptr, nullptr,
+                 ReorderTimings{});
         }
+        // Methods sharing a generator share its batch within a frame (generated once, timed once).
+        std::string batch_of;
+        double gen_s = 0.0;
+        GenerationStats gs;
         for (size_t mi = 0; mi < o.methods.size(); ++mi) {
           const Method& method = o.methods[mi];
           std::vector<size_t> todo;
           for (size_t ti = 0; ti < tracers.size(); ++ti)
-            if (!resumed("secondary", method.label, generators[mi]->params(), ti)) todo.push_back(ti);
+            if (!resumed("secondary", method.label, generators[mi]->params(), encoders[mi].get(), ti))
+              todo.push_back(ti);
           if (todo.empty()) continue;
-          GenerationStats gs;
-          const auto t_gen = Clock::now();
-          generators[mi]->generate(scene, gbuffer, o.seed, batch, gs);
-          const double gen_s = seconds_since(t_gen);
+          const std::string gen_key = method.generator.name + ":" + generators[mi]->params();
+          if (gen_key != batch_of) {
+            const auto t_gen = Clock::now();
+            generators[mi]->generate(scene, gbuffer, o.seed, batch, gs);
+            gen_s = seconds_since(t_gen);
+            batch_of = gen_key;
+          }
+          ReorderTimings rt;
+          const bool reordered = reorder(*encoders[mi], batch, permute, sorted, order, rt);
+          const bool indirect = reordered && permute == PermuteMode::Indirect;
+          const std::vector<Ray>& rays = reordered && !indirect ? sorted.rays : batch.rays;
           hits.resize(batch.size());
           for (size_t ti : todo) {
-            if (!warmed[ti]) tracers[ti]->trace(batch.rays.data(), batch.size(), hits.data());
+            auto trace_once = [&] {
+              if (indirect)
+                tracers[ti]->trace_indirect(rays.data(), order.data(), rays.size(), hits.data());
+              else
+                tracers[ti]->trace(rays.data(), rays.size(), hits.data());
+            };
+            if (!warmed[ti]) trace_once();
             warmed[ti] = true;
-            const Timing t = time_trace(*tracers[ti], batch.rays, hits, o.repeats);
+            const Timing t = time_calls(trace_once, o.repeats);
             record("secondary", method.label, method.generator.name, generators[mi]->params(), ti, batch.size(),
-                   gen_s, t, &gs);
+                   gen_s, t, &gs, encoders[mi].get(), rt);
           }
         }
       }

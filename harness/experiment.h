@@ -14,10 +14,11 @@
 
 namespace raycoh {
 
-// A way of making the secondary batch: a generator (later also an encoder).
+// A way of making the secondary batch coherent: a generator, optionally followed by a reordering encoder.
 struct Method {
-  std::string label;  // column name in the console tables
+  std::string label;  // row name in the console tables: "ours", "noopt+origin", ...
   PluginSpec generator;
+  PluginSpec encoder{"none", ""};
 };
 
 struct ExperimentOptions {
@@ -28,14 +29,19 @@ struct ExperimentOptions {
   int frames = 4;
   uint32_t seed = 1;
   int repeats = 3;
+  std::string permute = "physical";  // physical | indirect: how a reordering is applied (encoders/permute.h)
   std::string out;
 };
 
 // Sums over frames for one tracer and method.
 struct Accumulated {
-  double rays = 0, trace_s = 0, gen_s = 0;
+  double rays = 0, trace_s = 0, gen_s = 0, reorder_s = 0;  // reorder = key + sort + permute
   int frames = 0;
   double mray_s() const { return trace_s > 0 ? rays / trace_s * 1e-6 : 0.0; }
+  // End to end: generation + reordering + trace.
+  double e2e_s() const { return gen_s + reorder_s + trace_s; }
+  double e2e_mray_s() const { return e2e_s() > 0 ? rays / e2e_s() * 1e-6 : 0.0; }
+  double overhead_share() const { return e2e_s() > 0 ? (gen_s + reorder_s) / e2e_s() : 0.0; }
 };
 
 struct SceneResult {
@@ -56,5 +62,8 @@ std::vector<std::string> experiment_columns();
 
 // Adds plain `noopt` in front unless a method is labelled "noopt".
 void ensure_baseline(std::vector<Method>& methods);
+
+// Every generator with every encoder, labelled "generator" (encoder none) or "generator+encoder".
+std::vector<Method> method_product(const std::vector<PluginSpec>& generators, const std::vector<PluginSpec>& encoders);
 
 }  // namespace raycoh

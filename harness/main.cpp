@@ -51,6 +51,11 @@ int main(int argc, char** argv) {
   table_cmd->add_option("--generators", t_generators, "comma-separated generators, e.g. noopt")->capture_default_str();
   table_cmd->add_option("--tracers", t_tracers, "comma-separated tracers, e.g. cpu,embree:mode=packet16")
       ->capture_default_str();
+  std::string t_encoders = "none";
+  table_cmd->add_option("--encoders", t_encoders, "comma-separated reordering encoders, applied to every generator")
+      ->capture_default_str();
+  table_cmd->add_option("--permute", table.permute, "how a reordering is applied: physical or indirect")
+      ->capture_default_str();
   table_cmd->add_option("--res", t_res, "resolution WxH")->capture_default_str();
   table_cmd->add_option("--frames", table.frames, "frames per scene")->check(CLI::Range(1, 100000))->capture_default_str();
   table_cmd->add_option("--seed", table.seed, "random seed")->capture_default_str();
@@ -78,6 +83,8 @@ int main(int argc, char** argv) {
   auto* rays_cmd = app.add_subcommand("rays", "dump one frame's secondary ray batch as CSV, one row per ray");
   rays_cmd->add_option("--scene", rays.scene, "scene")->required();
   rays_cmd->add_option("--generator", r_generator, "generator")->capture_default_str();
+  std::string r_encoder = "none";
+  rays_cmd->add_option("--encoder", r_encoder, "encoder whose key is written per ray (hex)")->capture_default_str();
   rays_cmd->add_option("--frame", rays.frame, "frame index")->check(CLI::Range(0, 1 << 30))->capture_default_str();
   rays_cmd->add_option("--res", r_res, "resolution WxH")->capture_default_str();
   rays_cmd->add_option("--seed", rays.seed, "random seed")->capture_default_str();
@@ -120,6 +127,7 @@ int main(int argc, char** argv) {
       table.scenes = split_scenes(t_scenes);
       table.generators = split_nonempty("--generators", t_generators);
       table.tracers = split_nonempty("--tracers", t_tracers);
+      table.encoders = split_nonempty("--encoders", t_encoders);
       std::tie(table.width, table.height) = parse_size("--res", t_res, 1, 16384);
       return run_table(table, provenance);
     } else if (sweep_cmd->parsed()) {
@@ -134,6 +142,7 @@ int main(int argc, char** argv) {
       return run_sweep(sweep, provenance);
     } else if (rays_cmd->parsed()) {
       rays.generator = parse_plugin_spec(r_generator);
+      rays.encoder = parse_plugin_spec(r_encoder);
       std::tie(rays.width, rays.height) = parse_size("--res", r_res, 1, 16384);
       run_rays(rays, provenance);
     }

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fmt/format.h>
+#include <set>
 
 #include "core/error.h"
 
@@ -15,12 +16,14 @@ std::string cell(double value, double base) { return fmt::format("{:.2f} ({:.2f}
 void print_generation(const std::vector<SceneResult>& results, const std::vector<Method>& methods) {
   std::printf("\nSecondary-ray generation per frame: time, groups by type (diffuse/glossy/hybrid/independent/world), "
               "rays reusing another pixel's direction, rays below the geometric surface (weight 0)\n\n");
-  std::printf("| scene | method | gen ms | groups d/g/h/i/w | reused | below geometric |\n|---|---|---:|---|---:|---:|\n");
+  std::printf("| scene | generator | gen ms | groups d/g/h/i/w | reused | below geometric |\n|---|---|---:|---|---:|---:|\n");
   for (const SceneResult& r : results) {
+    std::set<std::string> shown;
     for (const Method& m : methods) {
+      if (!shown.insert(m.generator.text()).second) continue;  // one row per generator: encoders share its batch
       const GenerationStats& g = r.generation.at(m.label);
       const double rays = g.rays > 0 ? static_cast<double>(g.rays) : 1.0;
-      std::printf("| %s | %s | %.2f | %zu/%zu/%zu/%zu/%zu | %.1f%% | %.2f%% |\n", r.scene.c_str(), m.label.c_str(),
+      std::printf("| %s | %s | %.2f | %zu/%zu/%zu/%zu/%zu | %.1f%% | %.2f%% |\n", r.scene.c_str(), m.generator.text().c_str(),
                   r.gen_ms.at(m.label), g.groups[1], g.groups[2], g.groups[3], g.groups[0], g.groups[4],
                   100.0 * g.reused_rays / rays, 100.0 * g.below_geometric / rays);
     }
@@ -32,7 +35,7 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
 int run_table(const TableOptions& o, const Provenance& provenance) {
   ExperimentOptions e;
   e.scenes = o.scenes;
-  for (const PluginSpec& g : o.generators) e.methods.push_back({g.text(), g});
+  e.methods = method_product(o.generators, o.encoders);
   ensure_baseline(e.methods);
   e.tracers = o.tracers;
   e.width = o.width;
@@ -40,33 +43,48 @@ int run_table(const TableOptions& o, const Provenance& provenance) {
   e.frames = o.frames;
   e.seed = o.seed;
   e.repeats = o.repeats;
+  e.permute = o.permute;
   e.out = o.out;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<SceneResult> results = run_experiment(e, provenance);
 
-  std::string header = "| scene | tracer | rays/frame | primary |";
-  std::string rule = "|---|---|---:|---:|";
-  for (const Method& m : e.methods) {
-    header += " " + m.label + " |";
+  // The paper's Table 1 layout: methods down, scenes across, one table per tracer.
+  std::string header = "| method |", rule = "|---|";
+  for (const SceneResult& r : results) {
+    header += fmt::format(" {} ({}K tris, {:.0f} rays/frame) |", r.scene, (r.triangles + 500) / 1000, r.rays_per_frame);
     rule += "---:|";
   }
-  std::printf("\nSecondary-ray trace speed, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of %d "
-              "traces per batch\n\n%s\n%s\n",
-              o.width, o.height, o.frames, o.seed, o.repeats, header.c_str(), rule.c_str());
-  for (const SceneResult& r : results) {
-    for (const std::string& tl : r.tracer_labels) {
-      const auto& m = r.by_tracer.at(tl);
-      const double base = m.at("noopt").mray_s();
-      std::string line = fmt::format("| {} | {} | {:.0f} | {} |", r.scene, tl, r.rays_per_frame,
-                                     cell(m.at("primary").mray_s(), base));
-      for (const Method& method : e.methods) line += " " + cell(m.at(method.label).mray_s(), base) + " |";
+  for (const std::string& tl : results.front().tracer_labels) {
+    std::printf("\n### %s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
+                "%d traces\n\n%s\n%s\n",
+                tl.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str(), rule.c_str());
+    std::vector<std::string> rows = {"primary"};
+    for (const Method& m : e.methods) rows.push_back(m.label);
+    for (const std::string& label : rows) {
+      std::string line = "| " + (label == "primary" ? std::string("primary (coherent bound)") : label) + " |";
+      for (const SceneResult& r : results) {
+        const auto& m = r.by_tracer.at(tl);
+        line += " " + cell(m.at(label).mray_s(), m.at("noopt").mray_s()) + " |";
+      }
+      std::printf("%s\n", line.c_str());
+    }
+    std::printf("\n### %s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
+                "overhead share\n\n%s\n%s\n",
+                tl.c_str(), header.c_str(), rule.c_str());
+    for (const Method& method : e.methods) {
+      std::string line = "| " + method.label + " |";
+      for (const SceneResult& r : results) {
+        const auto& m = r.by_tracer.at(tl);
+        const Accumulated& a = m.at(method.label);
+        line += fmt::format(" {}, {:.0f}% |", cell(a.e2e_mray_s(), m.at("noopt").e2e_mray_s()), 100 * a.overhead_share());
+      }
       std::printf("%s\n", line.c_str());
     }
   }
   print_generation(results, e.methods);
-  std::printf("\nWrote %s in %.1f s (%s, %d threads)\n", o.out.c_str(),
+  std::printf("\nWrote %s in %.1f s (%s, %d threads; permute %s)\n", o.out.c_str(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-              provenance.git_revision.c_str(), provenance.threads);
+              provenance.git_revision.c_str(), provenance.threads, o.permute.c_str());
   return 0;
 }
 

@@ -11,11 +11,13 @@ namespace raycoh {
 struct TableOptions {
   std::vector<std::string> scenes{"cornell", "voxels"};
   std::vector<PluginSpec> generators{{"noopt", ""}};
+  std::vector<PluginSpec> encoders{{"none", ""}};
   std::vector<PluginSpec> tracers{{"cpu", ""}, {"embree", ""}};
   int width = 320, height = 240;
   int frames = 4;
   uint32_t seed = 1;
   int repeats = 3;  // timed traces per measurement; the median is reported
+  std::string permute = "physical";
   std::string out = "raycoh-table.csv";
 };
 int run_table(const TableOptions& options, const Provenance& provenance);

@@ -199,6 +199,7 @@ std::vector<uint64_t> keys_of(const std::string& spec, const EncoderContext& ctx
 }
 
 Bounds box_of(Vec3 lo, Vec3 hi) { return Bounds{lo, hi}; }
+Bvh tiny_bvh();
 const Bounds kUnitBox = box_of({0.f, 0.f, 0.f}, {1.f, 1.f, 1.f});
 
 // ---- building blocks ----------------------------------------------------------------------------------------
@@ -330,6 +331,30 @@ TEST(Keys, HandComputedCostaAilaAndTwoPointCodes) {
   // Box [0,8]^3, o = (7,0,0): L = min(2, inf, exit 1) = 1, b on the max face (8191); ax = 7168 = levels 12..10.
   const Bounds box8 = box_of({0, 0, 0}, {8, 8, 8});
   EXPECT_EQ(twopoint_code({7, 0, 0}, {1, 0, 0}, kInf, box8, 0.25f), 0x9249041041041041ull);
+}
+
+// The same hand-worked codes through make_encoder: a 32-bit key is the code's top half.
+TEST(Keys, HandComputedKeysThroughTheEncoders) {
+  const Bvh bvh = tiny_bvh();
+  const EncoderContext ctx{kUnitBox, &bvh};
+  const RayBatch centre = make_batch({ray({0.5f, 0.5f, 0.5f}, {1, 0, 0})});
+  const RayBatch corner = make_batch({ray({0, 0, 0}, {1, 0, 0})});
+  const RayBatch quarter = make_batch({ray({0.75f, 0.25f, 0}, {1, 0, 0})});
+  const RayBatch leaf2 = make_batch({ray({0.6f, 0.5f, 0.5f}, {1, 0, 0})});
+  struct Case {
+    const char* name;
+    const RayBatch& batch;
+    uint64_t code;
+  };
+  for (const Case& c : std::vector<Case>{{"origin", quarter, 0x9800000000000000ull},
+                                         {"reis", centre, 0xE000030000000000ull},
+                                         {"costa", centre, 0xC0E0000000000000ull},
+                                         {"aila", centre, 0xE00E208208208208ull},
+                                         {"twopoint", corner, 0x0040000000000000ull},
+                                         {"mlhcc", leaf2, 0xB000000000000000ull}}) {
+    EXPECT_EQ(keys_of(std::string(c.name) + ":bits=64", ctx, c.batch)[0], c.code) << c.name;
+    EXPECT_EQ(keys_of(std::string(c.name) + ":bits=32", ctx, c.batch)[0], c.code >> 32) << c.name;
+  }
 }
 
 // ---- every encoder against the reference, through make_encoder, 32- and 64-bit keys ------------------------

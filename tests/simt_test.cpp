@@ -3,6 +3,8 @@
 // leaves of different sizes, straddling triangles); a warp of one lane equals closest_hit() with RayCounters
 // on real scenes; the tracer's hits equal the `cpu` tracer's bit for bit; counter identities; batches whose
 // size is not a multiple of 32; determinism across thread counts; the registry's parameters and errors.
+#include "cpu/simt.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -14,7 +16,6 @@
 #include "core/error.h"
 #include "cpu/bvh_build.h"
 #include "cpu/embree_device.h"
-#include "cpu/simt.h"
 #include "cpu/tracer.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
@@ -27,11 +28,11 @@ namespace {
 
 // ---- A hand-built BVH whose traversal is known step by step ----
 //
-//   node 0: [0,1]x[0,2] -> node 1               [1,2]x[0,2] -> node 2
-//   node 1: [0,1]x[0,1] -> leaf {tri 0}         [0,1]x[1,2] -> leaf {tri 1}
-//   node 2: [1,2]x[0,1] -> leaf {tri 2}         [1,2]x[1,2] -> node 3
+//   node 0: [0,1.1]x[0,2] -> node 1             [0.9,2]x[0,2] -> node 2
+//   node 1: [0,1.1]x[0,1] -> leaf {tri 0}       [0,1]x[1,2] -> leaf {tri 1}
+//   node 2: [0.9,2]x[0,1] -> leaf {tri 2}       [1,2]x[1,2] -> node 3
 //   node 3: [1,1.5]x[1,2] -> leaf {tri 3}       [1.5,2]x[1,2] -> leaf {tri 4, tri 5}
-// All boxes span z in [0.5, 1.5]. Rays go +z from z = 0:
+// All boxes span z in [0.5, 1.5]; the overlap around x = 1 lets a ray enter both halves. Rays go +z from z = 0:
 //   ray A at (0.5, 0.5): nodes 0, 1; leaf {0}; hits tri 0 at t = 1.      nodes 2, leaves 1, triangles 1
 //   ray B at (1.75, 1.5): nodes 0, 2, 3; leaf {4, 5}; hits tri 4 at t = 1 (tri 5 lies behind it, at z = 1.2).
 //                                                                         nodes 3, leaves 1, triangles 2
@@ -66,13 +67,13 @@ BvhTriangle triangle_around(float cx, float cy, float z, uint32_t prim) {
 HandBvh hand_bvh() {
   HandBvh b;
   const float z0 = 0.5f, z1 = 1.5f;
-  b.nodes.push_back(node({0, 0, z0}, {1, 2, z1}, 1, {1, 0, z0}, {2, 2, z1}, 2));
-  b.nodes.push_back(node({0, 0, z0}, {1, 1, z1}, make_leaf_ref(0, 1), {0, 1, z0}, {1, 2, z1}, make_leaf_ref(1, 1)));
-  b.nodes.push_back(node({1, 0, z0}, {2, 1, z1}, make_leaf_ref(2, 1), {1, 1, z0}, {2, 2, z1}, 3));
+  b.nodes.push_back(node({0, 0, z0}, {1.1f, 2, z1}, 1, {0.9f, 0, z0}, {2, 2, z1}, 2));
+  b.nodes.push_back(node({0, 0, z0}, {1.1f, 1, z1}, make_leaf_ref(0, 1), {0, 1, z0}, {1, 2, z1}, make_leaf_ref(1, 1)));
+  b.nodes.push_back(node({0.9f, 0, z0}, {2, 1, z1}, make_leaf_ref(2, 1), {1, 1, z0}, {2, 2, z1}, 3));
   b.nodes.push_back(
       node({1, 1, z0}, {1.5f, 2, z1}, make_leaf_ref(3, 1), {1.5f, 1, z0}, {2, 2, z1}, make_leaf_ref(4, 2)));
-  b.tris = {triangle_around(0.5f, 0.5f, 1.f, 0), triangle_around(0.5f, 1.5f, 1.f, 1),
-            triangle_around(1.5f, 0.5f, 1.f, 2), triangle_around(1.25f, 1.5f, 1.f, 3),
+  b.tris = {triangle_around(0.5f, 0.5f, 1.f, 0),  triangle_around(0.5f, 1.5f, 1.f, 1),
+            triangle_around(1.5f, 0.5f, 1.f, 2),  triangle_around(1.25f, 1.5f, 1.f, 3),
             triangle_around(1.75f, 1.5f, 1.f, 4), triangle_around(1.75f, 1.5f, 1.2f, 5)};
   return b;
 }
@@ -190,7 +191,7 @@ TEST(SimtWarp, DisjointSubtreesAndTheSpeculativeNodeWalk) {
 }
 
 TEST(SimtWarp, LanesHoldingALeafKeepWalkingNodes) {
-  // Ray W runs along x = 1, the shared face of both halves, and hits nothing. Alone, it postpones leaf {tri 0}
+  // Ray W runs along x = 1, inside both halves' boxes, and hits nothing. Alone, it postpones leaf {tri 0}
   // after nodes 0 and 1, tests it, and only then fetches node 2 from its stack. Next to ray B, which holds no
   // leaf after two steps, W fetches node 2 in the third node step while still holding leaf {tri 0}: node 2's
   // child {tri 2} then waits in node_ref and W tests both leaves in two leaf steps.
@@ -283,6 +284,7 @@ TEST_P(SimtOnScene, WarpOfOneIsClosestHitExactly) {
   ASSERT_GT(b.rays.size(), 0u);
   const SimtConfig config = simt_config(b.bvh.view(), 1, 64, 32);
   CoherenceCounters total;
+  total.warp_size = 1;
   for (size_t i = 0; i < b.rays.size(); ++i) {
     RayCounters expect_counters;
     const Hit expect = closest_hit(b.bvh.view(), b.rays[i], expect_counters);

@@ -1,0 +1,181 @@
+// raycoh_bench_simt: the `simt` tracer (cpu/simt.h, cpu/cache_model.h) on real secondary-ray batches, with its
+// coherence counters as benchmark counters, registered at run time per scene, generator and tracer.
+//
+//   simt/<scene>/<generator>/<tracer>   one Tracer::trace call over the batch (wall-clock of the model, not a
+//                                       GPU time); the counters are the point:
+//     eff        SIMT efficiency, node and leaf steps pooled; node_eff, leaf_eff each kind alone
+//     nodes/ray  per-ray node visits (speculative walks included)
+//     nlines/ray node transactions (distinct lines per node step) per ray; tlines/ray the same for triangles
+//     fetch/ray  sectors requested from L1 per ray; l1miss/ray, l2miss/ray in sectors; dram_B/ray bytes
+//     cost/ray   modeled cost (cycles) per ray
+//   Batches: frame 0 of the G-buffer from jittered camera rays (seed 1), secondary rays from the generator, in
+//   its batch order. Generators: noopt (tile order, the default) and noopt:order=scanline.
+//   Tracers: simt (preset rtx3060) and simt:preset=h100.
+//
+// Scenes: the built-in cornell and voxels, then every .glb under $RAYCOH_SCENES or, without it, the shared scenes
+// directory fixed at configure time. Select with --benchmark_filter (a regex on the names above). One scene and
+// its batches are held at a time.
+//
+// Environment: RAYCOH_BENCH_SIZE=WxH (default 480x270, each in [1, 8192]) sets the image size;
+// RAYCOH_BENCH_GENERATORS and RAYCOH_BENCH_TRACERS (comma-separated plugin lists, e.g. "noopt,ours:k=16")
+// replace the default generators and tracers. Each case runs once (the counters are deterministic); use
+// --benchmark_repetitions for timing statistics.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "core/error.h"
+#include "cpu/bvh_build.h"
+#include "cpu/tracer.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+#include "scenes/scene.h"
+
+namespace raycoh {
+namespace {
+
+constexpr uint32_t kSeed = 1;
+
+struct Size {
+  int width = 480, height = 270;
+};
+
+Size bench_size() {
+  Size size;
+  if (const char* env = std::getenv("RAYCOH_BENCH_SIZE"))
+    std::tie(size.width, size.height) = parse_size("RAYCOH_BENCH_SIZE", env, 1, 8192);
+  return size;
+}
+
+std::vector<std::string> plugin_list(const char* env, std::vector<std::string> defaults) {
+  const char* text = std::getenv(env);
+  if (!text) return defaults;
+  std::vector<std::string> out;
+  for (const PluginSpec& spec : split_plugin_list(text)) out.push_back(spec.text());
+  return out;
+}
+
+// The one scene held at a time, its G-buffer and the batches made from it so far (by generator spec).
+struct LoadedScene {
+  std::string spec;
+  Scene scene;
+  Bvh bvh;
+  GBuffer gbuffer;
+  std::map<std::string, std::vector<Ray>> batches;
+};
+std::unique_ptr<LoadedScene> cache;
+
+LoadedScene& loaded(const std::string& spec) {
+  if (cache && cache->spec == spec) return *cache;
+  cache.reset();
+  auto s = std::make_unique<LoadedScene>();
+  s->spec = spec;
+  s->scene = load_scene(spec);
+  s->bvh = build_bvh(s->scene);
+  const Size size = bench_size();
+  const auto order = make_pixel_order(size.width, size.height, RayOrder::Tile, 8, 8);
+  const PrimaryBatch primary = make_primary_rays(s->scene.camera, size.width, size.height, order, kSeed, 0, true);
+  std::vector<Hit> hits(primary.rays.size());
+  make_tracer({"cpu", ""}, s->scene, s->bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
+  s->gbuffer = make_gbuffer(s->scene, primary, hits);
+  cache = std::move(s);
+  return *cache;
+}
+
+const std::vector<Ray>& batch(LoadedScene& s, const std::string& generator) {
+  auto it = s.batches.find(generator);
+  if (it != s.batches.end()) return it->second;
+  RayBatch b;
+  GenerationStats stats;
+  make_generator(parse_plugin_spec(generator))->generate(s.scene, s.gbuffer, kSeed, b, stats);
+  return s.batches[generator] = std::move(b.rays);
+}
+
+void bm_simt(benchmark::State& state, const std::string& scene_spec, const std::string& generator,
+             const std::string& tracer_spec) {
+  try {
+    LoadedScene& s = loaded(scene_spec);
+    const std::vector<Ray>& rays = batch(s, generator);
+    auto tracer = make_tracer(parse_plugin_spec(tracer_spec), s.scene, s.bvh);
+    std::vector<Hit> hits(rays.size());
+    for (auto _ : state) {
+      tracer->trace(rays.data(), rays.size(), hits.data());
+      benchmark::ClobberMemory();
+    }
+    const CoherenceCounters& c = *tracer->last_counters();
+    state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(rays.size()));
+    state.counters["rays"] = static_cast<double>(c.rays);
+    state.counters["eff"] = c.simt_efficiency();
+    state.counters["node_eff"] = c.node_simt_efficiency();
+    state.counters["leaf_eff"] = c.leaf_simt_efficiency();
+    state.counters["nodes/ray"] = c.per_ray(c.nodes);
+    state.counters["nlines/ray"] = c.per_ray(c.node_lines);
+    state.counters["tlines/ray"] = c.per_ray(c.triangle_lines);
+    state.counters["fetch/ray"] = c.fetches_per_ray();
+    state.counters["l1miss/ray"] = c.l1_misses_per_ray();
+    state.counters["l2miss/ray"] = c.l2_misses_per_ray();
+    state.counters["dram_B/ray"] = c.dram_bytes_per_ray();
+    state.counters["cost/ray"] = c.cost_per_ray();
+  } catch (const Error& e) {
+    state.SkipWithError(e.what());
+  }
+}
+
+std::vector<std::pair<std::string, std::string>> bench_scenes() {  // (name, spec)
+  std::vector<std::pair<std::string, std::string>> scenes = {{"cornell", "cornell"}, {"voxels", "voxels"}};
+  std::filesystem::path dir;
+  if (const char* env = std::getenv("RAYCOH_SCENES"))
+    dir = env;
+  else
+    dir = RAYCOH_SHARED_SCENES;
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  if (std::filesystem::is_directory(dir, ec))
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir, ec))
+      if (entry.path().extension() == ".glb") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) scenes.emplace_back(f.stem().string(), f.string());
+  return scenes;
+}
+
+void register_benchmarks() {
+  const auto generators = plugin_list("RAYCOH_BENCH_GENERATORS", {"noopt", "noopt:order=scanline"});
+  const auto tracers = plugin_list("RAYCOH_BENCH_TRACERS", {"simt", "simt:preset=h100"});
+  for (const auto& [name, spec] : bench_scenes())
+    for (const std::string& generator : generators)
+      for (const std::string& tracer : tracers)
+        benchmark::RegisterBenchmark(("simt/" + name + "/" + generator + "/" + tracer).c_str(), bm_simt, spec,
+                                     generator, tracer)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime()
+            ->Iterations(1);
+}
+
+}  // namespace
+}  // namespace raycoh
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  try {
+    const raycoh::Size size = raycoh::bench_size();
+    benchmark::AddCustomContext("image", std::to_string(size.width) + "x" + std::to_string(size.height));
+    raycoh::register_benchmarks();
+  } catch (const raycoh::Error& e) {
+    std::fprintf(stderr, "raycoh_bench_simt: error: %s\n", e.what());
+    return 2;
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  raycoh::cache.reset();  // before static destruction, while Embree's device is still alive
+  return 0;
+}

@@ -1,0 +1,92 @@
+// Rendering and image-quality experiments (DESIGN.md section 5): `render`, `quality` (the paper's Table 2
+// layout), `converge` (error against time, equal-time error and equal-error time) and `compare`. CSV schemas
+// are in results/README.md; methods in quality.cpp's doc block.
+//
+// Defaults are small enough for a 2-core machine (160x120, 32 frames, 512-frame references). Every value is
+// validated before anything is rendered; errors are raycoh::Error naming the option (e.g. "--frames 0: ...").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/params.h"
+#include "harness/provenance.h"
+#include "shading/image.h"
+
+namespace raycoh {
+
+// Settings every rendering command shares.
+struct RenderCommon {
+  PluginSpec tracer{"cpu", ""};
+  int width = 160, height = 120;  // --res, each in [1, 16384] ([11, 16384] where SSIM is computed)
+  uint32_t seed = 1;              // --seed
+  int max_depth = 5;              // --max-depth [1, 64]: scattering events per path
+  int rr_depth = 3;               // --rr-depth [1, 64]: Russian roulette from this bounce on
+  ToneMap tone_map;               // --tone-map aces|clamp, --exposure (0, 1e6]: PNG output, PSNR and SSIM
+};
+
+// `raycoh render --scene S --generator G --frames N --out img.exr [--crop x,y,w,h]...`
+struct RenderOptions {
+  RenderCommon common;
+  std::string scene = "cornell";
+  PluginSpec generator{"noopt", ""};
+  int frames = 32;                 // --frames [1, 1 << 20]
+  std::string out = "render.exr";  // .exr (float), .png (tone-mapped 8-bit) or .pfm
+  std::vector<Crop> crops;         // each written as <out stem>-crop<i><out extension>
+};
+int run_render(const RenderOptions& options, const Provenance& provenance);
+
+// `raycoh quality --scenes ... --generators noopt,ours --frames 128 --ref-frames 4096`
+struct QualityOptions {
+  RenderCommon common;
+  std::vector<std::string> scenes{"cornell"};
+  std::vector<PluginSpec> generators{{"noopt", ""}, {"ours", ""}};
+  int frames = 32;        // --frames [1, 1 << 20]: frames per render
+  int ref_frames = 512;   // --ref-frames [1, 1 << 20]: NoOpt frames of the reference
+  int bias_renders = 4;   // --bias-renders [1, 256]: independent renders per generator (seeds seed .. seed+R-1)
+  std::string cache_dir;  // --cache: reference cache folder ("" = $RAYCOH_CACHE or results/cache)
+  std::string reference;  // --reference: use this .exr/.pfm as the reference (one scene only) instead of the cache
+  std::string out = "raycoh-quality.csv";
+  std::string image_dir;  // --images: where renders and crops go ("" = <out stem>-images)
+  std::vector<Crop> crops;
+};
+int run_quality(const QualityOptions& options, const Provenance& provenance);
+
+// `raycoh converge --scene S --generators noopt,ours --time 60s`
+struct ConvergeOptions {
+  RenderCommon common;
+  std::string scene = "cornell";
+  std::vector<PluginSpec> generators{{"noopt", ""}, {"ours", ""}};  // the first is the baseline of the ratios
+  double time_s = 10;           // --time (0, 1e6] seconds of rendering (frame wall time) per generator
+  int max_frames = 1 << 20;     // --max-frames [1, 1 << 20]: stop a generator earlier
+  int ref_frames = 512;
+  std::string cache_dir;
+  std::string reference;
+  std::string out = "raycoh-converge.csv";  // per-frame rows; ratios go to <out stem>-summary.csv
+};
+int run_converge(const ConvergeOptions& options, const Provenance& provenance);
+
+// `raycoh compare test.exr reference.exr`: prints every metric of shading/metrics.h.
+struct CompareOptions {
+  std::string test, reference;
+  ToneMap tone_map;
+};
+int run_compare(const CompareOptions& options);
+
+// "60s", "1.5m", "500ms", "2h" or a plain number of seconds; throws raycoh::Error naming `what` unless finite
+// and > 0.
+double parse_duration(const std::string& what, const std::string& text);
+
+// The equal-time / equal-error reading of error curves (public for tests). A curve is a list of (time, error)
+// points with increasing time, one per frame.
+struct CurvePoint {
+  double time = 0, error = 0;
+};
+// Error at time t, interpolated linearly in (log time, log error) between the frames around t (exact for a
+// power law such as error ~ 1/time); NaN before the first frame or after the last.
+double error_at_time(const std::vector<CurvePoint>& curve, double t);
+// First time the curve reaches error e, interpolated the same way between the last frame above e and the first
+// at or below it; the first frame's time if that one is already below; NaN if never reached.
+double time_to_error(const std::vector<CurvePoint>& curve, double e);
+
+}  // namespace raycoh

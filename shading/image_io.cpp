@@ -1,0 +1,128 @@
+// Image files by extension: .pfm here through image.cpp, .exr and .png through OpenImageIO. This is the one file
+// that includes OpenImageIO (STYLE.md: one adapter per third-party API). OIIO bundles its own fmt and defines
+// FMT_EXCEPTIONS 0 when its headers come first, so nothing of fmt is included here (ECOSYSTEM.md).
+//
+// Built with RAYCOH_IMAGE_IO=1 (CMake option RAYCOH_IMAGE_IO, default ON). Without it OIIO is not linked, .pfm
+// still works, and .exr/.png are a raycoh::Error naming the option.
+//
+//   .exr  32-bit float RGB, zip compression (lossless: a written reference reads back bit for bit)
+//   .png  8-bit sRGB after tone mapping (shading/image.h ToneMap), values rounded to nearest
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "shading/image.h"
+
+#if RAYCOH_IMAGE_IO
+#include <OpenImageIO/imageio.h>
+#endif
+
+namespace raycoh {
+
+namespace {
+
+std::string extension_of(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+[[noreturn]] void no_image_io(const std::string& path) {
+  throw Error(path + ": EXR and PNG need a build with -DRAYCOH_IMAGE_IO=ON (OpenImageIO); this build reads and "
+                     "writes only .pfm");
+}
+
+#if RAYCOH_IMAGE_IO
+void write_oiio(const Image& image, const std::string& path, bool png, const ToneMap& tm) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error(path + ": cannot write: " + OIIO::geterror());
+  const OIIO::TypeDesc type = png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+  OIIO::ImageSpec spec(image.width, image.height, 3, type);
+  if (!png) spec.attribute("compression", "zip");
+  std::vector<unsigned char> bytes;
+  const void* data = image.rgb.data();
+  if (png) {
+    bytes.resize(image.rgb.size());
+    for (size_t i = 0; i < bytes.size(); ++i)
+      bytes[i] = static_cast<unsigned char>(std::lround(255.f * tone_map_channel(image.rgb[i], tm)));
+    data = bytes.data();
+  }
+  if (!out->open(path, spec) || !out->write_image(type, data) || !out->close())
+    throw Error(path + ": cannot write: " + out->geterror());
+}
+
+Image read_oiio(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path + ": cannot read: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1)
+    throw Error(path + ": unsupported image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                ", " + std::to_string(spec.nchannels) + " channels)");
+  const int channels = std::min(spec.nchannels, 3);
+  std::vector<float> data(static_cast<size_t>(spec.width) * spec.height * channels);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))
+    throw Error(path + ": cannot read pixels: " + in->geterror());
+  in->close();
+  Image img(spec.width, spec.height);
+  for (size_t p = 0; p < img.pixels(); ++p) {
+    const float* s = &data[p * channels];
+    img.set(p, channels >= 3 ? Vec3{s[0], s[1], s[2]} : Vec3(s[0]));
+  }
+  return img;
+}
+#endif
+
+}  // namespace
+
+bool image_io_available() { return RAYCOH_IMAGE_IO != 0; }
+
+void check_output_image_path(const std::string& what, const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext != ".pfm" && ext != ".exr" && ext != ".png")
+    throw Error(what + " " + path + ": unknown image extension '" + ext + "'; valid: .exr, .png, .pfm");
+  if (ext != ".pfm" && !image_io_available()) no_image_io(what + " " + path);
+}
+
+void write_image(const Image& image, const std::string& path, [[maybe_unused]] const ToneMap& tm) {
+  check_output_image_path("image", path);
+  const std::string ext = extension_of(path);
+  if (image.empty()) throw Error(path + ": cannot write an empty image");
+  const std::filesystem::path target(path);
+  std::error_code ec;
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), ec);
+  // Same folder and extension (OIIO picks the format by extension), renamed when complete.
+  std::string tmp_name = target.stem().string();
+  tmp_name.insert(tmp_name.begin(), '.');  // not "." + string: GCC 12 warns falsely on that (PR 105329)
+  tmp_name += ".tmp" + std::to_string(::getpid()) + ext;
+  const std::filesystem::path tmp = target.parent_path() / tmp_name;
+  if (ext == ".pfm") {
+    write_pfm(image, tmp.string());
+  } else {
+#if RAYCOH_IMAGE_IO
+    write_oiio(image, tmp.string(), ext == ".png", tm);
+#endif
+  }
+  std::filesystem::rename(tmp, target, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(path + ": cannot write (rename failed)");
+  }
+}
+
+Image read_image(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw Error(path + ": no such image file");
+  const std::string ext = extension_of(path);
+  if (ext == ".pfm") return read_pfm(path);
+  if (ext != ".exr") throw Error(path + ": cannot read '" + ext + "' images; valid: .exr, .pfm");
+#if RAYCOH_IMAGE_IO
+  return read_oiio(path);
+#else
+  no_image_io(path);
+#endif
+}
+
+}  // namespace raycoh
