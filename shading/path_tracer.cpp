@@ -6,7 +6,12 @@
 //      disc) when it misses.
 //   2. At every path vertex with a non-delta BSDF (diffuse, emissive, glossy, specular: core/bsdf.h):
 //      next-event estimation, one shadow ray per light kind, all of a bounce's shadow rays in one batch traced
-//      closest-hit with tmax just short of the light (the tracer interface has no any-hit query):
+//      closest-hit with tmax just short of the light (the tracer interface has no any-hit query). A shadow ray
+//      that hits a thin-walled transmissive surface (a window pane) goes on behind it, attenuated by the
+//      pane's straight-through transmittance (1 - F) x base colour, in another batch: thin-walled refraction
+//      does not bend light, so this is the same path BSDF sampling finds through the pane, and without it a
+//      scene lit through glass (Sibenik) would get no sunlight. At most max_depth - 1 - b panes are crossed
+//      from the vertex of bounce b, so that both strategies cover the same path lengths. Lights:
 //        emitters  one emissive triangle chosen with probability proportional to its power, area x luminance of
 //                  its emission, then a uniform point on it (Shirley's square-root map). Emission is one-sided:
 //                  the front side of the triangle's winding, as in pbrt and Mitsuba.
@@ -19,7 +24,8 @@
 //   4. A BSDF-sampled ray that hits an emitter's front face, or misses into the sun's cone, adds that light
 //      weighted by multiple importance sampling with the power heuristic (beta = 2) against the NEE pdf of the
 //      same light (Veach, "Robust Monte Carlo Methods for Light Transport Simulation", PhD thesis 1997, ch. 9);
-//      after a delta lobe the weight is 1. A ray that misses always adds the sky (weight 1: the sky's only
+//      after a delta lobe the weight is 1. Straight passes through thin panes keep the MIS state (pdf and
+//      distance) of the scattering event before them, as NEE sees through them. A ray that misses always adds the sky (weight 1: the sky's only
 //      strategy). Both strategies cover exactly the same path lengths (up to max_depth scattering events), so
 //      the estimator is unbiased for NoOpt. With a reusing generator (ours), the first bounce's MIS weight uses
 //      the pdf the generator reports for each pixel — each pixel's own marginal pdf for diffuse groups, so
@@ -83,20 +89,27 @@ bool sun_on(const Environment& env) {
   return env.enabled && max_component(env.sun_radiance) > 0.f && env.sun_cos_half_angle < 1.f;
 }
 
+// How the light a ray finds is weighted (MIS state): the pdf and delta flag of the direction chosen at the
+// last scattering event that was not a straight pass through a thin pane, and the distance travelled since that
+// event before this ray's origin (the light pdf of an emitter is measured from there).
+struct MisState {
+  float pdf = 0.f;
+  uint8_t delta = 1;  // a camera ray: nothing else could have found the light
+  float dist = 0.f;
+};
+
 // Rays of one batch with what shading needs next to each.
 struct Wave {
-  PrimaryBatch rays;           // rays + the slot each belongs to (make_gbuffer reads this type)
+  PrimaryBatch rays;  // rays + the slot each belongs to (make_gbuffer reads this type)
   std::vector<uint32_t> pixel;
-  std::vector<Vec3> beta;      // path throughput including this ray's f cos / pdf
-  std::vector<float> pdf;      // solid-angle pdf of the direction (for MIS); ignored when delta
-  std::vector<uint8_t> delta;  // the direction came from a delta lobe
+  std::vector<Vec3> beta;  // path throughput including this ray's f cos / pdf
+  std::vector<MisState> mis;
   void resize(size_t n) {
     rays.rays.resize(n);
     rays.pixel.resize(n);
     pixel.resize(n);
     beta.resize(n);
-    pdf.resize(n);
-    delta.resize(n);
+    mis.resize(n);
   }
 };
 
@@ -105,8 +118,29 @@ struct Vertices {
   std::vector<ShadingPoint> sp;
   std::vector<uint32_t> pixel;
   std::vector<Vec3> beta;
+  std::vector<MisState> mis;  // of the ray that arrived here
   size_t size() const { return sp.size(); }
 };
+
+// Shading points of a batch's hits in batch order: make_gbuffer on a one-row "image" whose pixel i is ray i.
+GBuffer shade_hits(const Scene& scene, PrimaryBatch& rays, const std::vector<Hit>& hits, uint32_t frame) {
+  const size_t n = rays.rays.size();
+  rays.width = static_cast<int>(n);
+  rays.height = 1;
+  rays.frame = frame;
+  rays.pixel.resize(n);
+  std::iota(rays.pixel.begin(), rays.pixel.end(), 0u);
+  return make_gbuffer(scene, rays, hits);
+}
+
+bool is_thin_pane(const Material& m) { return m.cls == MaterialClass::Transmissive && m.thin_walled; }
+
+// Fraction of light a thin pane lets through straight, seen along wo from the side of ns (core/bsdf.h's
+// thin-walled dielectric: transmitted with probability 1 - F and weight base colour).
+Vec3 pane_transmittance(const Material& m, const ShadingPoint& sp) {
+  const float cos_i = std::clamp(dot(sp.wo, sp.ns), 0.f, 1.f);
+  return m.base_color * (1.f - fresnel_dielectric(cos_i, m.ior));
+}
 
 // Keeps the entries with keep[i] != 0 of every array, in order.
 template <typename... Arrays>
@@ -261,6 +295,7 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
     verts.sp.push_back(gbuffer.points[p]);
     verts.pixel.push_back(p);
     verts.beta.push_back(Vec3(1.f));
+    verts.mis.push_back(MisState{});
   }
 
   Wave wave;
@@ -270,9 +305,9 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
 
     // 2. Next-event estimation: slot 2i for an emitter, 2i + 1 for the sun.
     {
-      std::vector<Ray> shadow(2 * nv);
-      std::vector<Vec3> contrib(2 * nv, Vec3(0.f));
-      std::vector<uint32_t> shadow_pixel(2 * nv);
+      Wave shadow;
+      shadow.resize(2 * nv);
+      std::vector<uint8_t> panes_left(2 * nv, static_cast<uint8_t>(std::min(255, settings_.max_depth - 1 - bounce)));
       keep.assign(2 * nv, 0);
       const bool sun = sun_on(env);
       const float sun_pdf = sun ? sun_cone_pdf(env) : 0.f;
@@ -287,13 +322,13 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
           const DirectionSample e = evaluate_direction(m, sp.ns, sp.ng, sp.wo, dir);
           if (!(max_component(e.weight) > 0.f) || !(e.pdf > 0.f)) return;
           const Vec3 f_cos = e.weight * e.pdf;
-          contrib[slot] = verts.beta[i] * f_cos * radiance_over_pdf * power_heuristic(light_pdf, e.pdf);
-          Ray& r = shadow[slot];
+          shadow.beta[slot] = verts.beta[i] * f_cos * radiance_over_pdf * power_heuristic(light_pdf, e.pdf);
+          Ray& r = shadow.rays.rays[slot];
           r.org = offset_ray_origin(sp.position, dot(dir, sp.ng) >= 0.f ? sp.ng : -sp.ng);
           r.dir = dir;
           r.tmin = 0.f;
           r.tmax = tmax;
-          shadow_pixel[slot] = p;
+          shadow.pixel[slot] = p;
           keep[slot] = 1;
         };
         if (!emitters.empty()) {
@@ -329,11 +364,31 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
           light_ray(2 * i + 1, dir, __builtin_huge_valf(), env.sun_radiance * (1.f / sun_pdf), sun_pdf);
         }
       });
-      compact(keep, shadow, contrib, shadow_pixel);
-      trace(shadow, st.shadow_rays);
-      // Each pixel has at most two shadow rays, in adjacent slots: adding them in batch order keeps the order.
-      for (size_t j = 0; j < shadow.size(); ++j)
-        if (!hits[j].valid()) radiance[shadow_pixel[j]] += contrib[j];
+      compact(keep, shadow.rays.rays, shadow.pixel, shadow.beta, panes_left);
+      // Rounds: unoccluded rays deliver their light; rays stopped by a thin pane go on behind it.
+      while (!shadow.rays.rays.empty()) {
+        trace(shadow.rays.rays, st.shadow_rays);
+        const GBuffer panes = shade_hits(scene, shadow.rays, hits, frame);
+        const size_t n = shadow.rays.rays.size();
+        keep.assign(n, 0);
+        par(n, [&](size_t j) {
+          if (!hits[j].valid()) return;
+          const ShadingPoint& sp = panes.points[j];
+          const Material& m = scene.materials[sp.material];
+          if (!is_thin_pane(m) || panes_left[j] == 0) return;
+          Ray& r = shadow.rays.rays[j];
+          r.tmax -= hits[j].t;
+          if (!(r.tmax > 0.f)) return;
+          r.org = offset_ray_origin(sp.position, -sp.ng);
+          shadow.beta[j] = shadow.beta[j] * pane_transmittance(m, sp);
+          --panes_left[j];
+          keep[j] = max_component(shadow.beta[j]) > 0.f;
+        });
+        // Each pixel has at most two shadow rays, in adjacent slots: adding in batch order keeps the order fixed.
+        for (size_t j = 0; j < n; ++j)
+          if (!hits[j].valid()) radiance[shadow.pixel[j]] += shadow.beta[j];
+        compact(keep, shadow.rays.rays, shadow.pixel, shadow.beta, panes_left);
+      }
     }
 
     // 3. Directions leaving this bounce's vertices.
@@ -347,8 +402,10 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
       par(batch.size(), [&](size_t i) {
         wave.pixel[i] = batch.pixel[i];
         wave.beta[i] = batch.weight[i];
-        wave.pdf[i] = batch.pdf[i];
-        wave.delta[i] = is_delta(batch.material[i]);
+        // A camera ray arrived here, so a pass through a pane keeps the camera's state (delta: weight 1).
+        const bool pass = is_thin_pane(scene.materials[gbuffer.points[batch.pixel[i]].material]) &&
+                          dot(batch.rays[i].dir, gbuffer.points[batch.pixel[i]].ng) < 0.f;
+        wave.mis[i] = pass ? MisState{} : MisState{batch.pdf[i], is_delta(batch.material[i]), 0.f};
       });
     } else {
       wave.resize(nv);
@@ -375,22 +432,17 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
         r.tmax = __builtin_huge_valf();
         wave.pixel[i] = p;
         wave.beta[i] = beta;
-        wave.pdf[i] = s.pdf;
-        wave.delta[i] = (s.flags & kSampleTransmitted) != 0 || is_delta(sp.cls);
+        const bool pass = (s.flags & kSampleTransmitted) != 0 && is_thin_pane(scene.materials[sp.material]);
+        wave.mis[i] = pass ? verts.mis[i] : MisState{s.pdf, is_delta(sp.cls), 0.f};
         keep[i] = 1;
       });
-      compact(keep, wave.rays.rays, wave.pixel, wave.beta, wave.pdf, wave.delta);
+      compact(keep, wave.rays.rays, wave.pixel, wave.beta, wave.mis);
     }
 
     // 4. Trace; light found by the BSDF rays; the hits become the next bounce's vertices.
     const size_t nr = wave.rays.rays.size();
     trace(wave.rays.rays, bounce == 0 ? st.secondary_rays : st.bounce_rays);
-    wave.rays.width = static_cast<int>(nr);
-    wave.rays.height = 1;
-    wave.rays.frame = frame;
-    wave.rays.pixel.resize(nr);
-    std::iota(wave.rays.pixel.begin(), wave.rays.pixel.end(), 0u);
-    const GBuffer next = make_gbuffer(scene, wave.rays, hits);
+    const GBuffer next = shade_hits(scene, wave.rays, hits, frame);
     const bool last = bounce + 1 >= settings_.max_depth;
     keep.assign(nr, 0);
     par(nr, [&](size_t i) {
@@ -401,17 +453,17 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
       if (!hits[i].valid()) {
         light = sky_radiance(env, dir);
         if (in_sun_cone(env, dir))
-          light += env.sun_radiance * (wave.delta[i] ? 1.f : power_heuristic(wave.pdf[i], sun_cone_pdf(env)));
+          light += env.sun_radiance * (wave.mis[i].delta ? 1.f : power_heuristic(wave.mis[i].pdf, sun_cone_pdf(env)));
       } else {
         const ShadingPoint& sp = next.points[i];
         const Vec3 le = emission(sp);
         if (max_component(le) > 0.f) {
           float w = 1.f;
-          if (!wave.delta[i] && !emitters.empty() && emitters.pmf_by_prim[sp.prim] > 0.f) {
-            const float cos_y = dot(sp.ng, sp.wo);
-            const float light_pdf =
-                emitters.pmf_by_prim[sp.prim] / emitters.area_by_prim[sp.prim] * hits[i].t * hits[i].t / cos_y;
-            w = power_heuristic(wave.pdf[i], light_pdf);
+          const MisState& mis = wave.mis[i];
+          if (!mis.delta && !emitters.empty() && emitters.pmf_by_prim[sp.prim] > 0.f) {
+            const float cos_y = dot(sp.ng, sp.wo), dist = mis.dist + hits[i].t;
+            const float light_pdf = emitters.pmf_by_prim[sp.prim] / emitters.area_by_prim[sp.prim] * dist * dist / cos_y;
+            w = power_heuristic(mis.pdf, light_pdf);
           }
           light = le * w;
         }
@@ -422,8 +474,13 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
     verts.sp.resize(nr);
     verts.pixel = wave.pixel;
     verts.beta = wave.beta;
-    par(nr, [&](size_t i) { verts.sp[i] = next.points[i]; });
-    compact(keep, verts.sp, verts.pixel, verts.beta);
+    verts.mis.resize(nr);
+    par(nr, [&](size_t i) {
+      verts.sp[i] = next.points[i];
+      verts.mis[i] = wave.mis[i];
+      verts.mis[i].dist += hits[i].t;
+    });
+    compact(keep, verts.sp, verts.pixel, verts.beta, verts.mis);
   }
 
   // 6. Accumulate; NaN/Inf samples are counted, not added.

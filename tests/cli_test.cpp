@@ -111,6 +111,24 @@ TEST(Cli, SweepPrintsTheTileByGroupTable) {
   expect_error("sweep --scene cornell --generator noopt", "ours or tile");
 }
 
+TEST(Cli, TableWithEncodersReportsTraceOnlyAndEndToEnd) {
+  const auto out = temp_dir("cli_enc") / "e.csv";
+  const CommandResult r = run_raycoh("table --scenes cornell --generators noopt,ours --encoders none,origin,mlhcc "
+                                     "--permute indirect --tracers cpu --res 32x24 --frames 1 --repeat 1 --out " +
+                                     out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* s : {"| noopt+origin |", "| ours+mlhcc |", "end to end", "permute indirect"})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+  const auto lines = read_lines(out);
+  EXPECT_EQ(lines.size(), 1u + 1 + 6);  // header, primary, 2 generators x 3 encoders
+  int indirect = 0;
+  for (const auto& l : lines)
+    indirect += l.find(",origin,\"bits=32") != std::string::npos && l.find(",indirect,") != std::string::npos;
+  EXPECT_EQ(indirect, 2);
+  expect_error("table --encoders zorder --res 8x8", "valid encoders: none, origin");
+  expect_error("table --encoders origin --permute sideways --res 8x8", "physical");
+}
+
 TEST(Cli, RaysDumpsOneRowPerRay) {
   const auto out = temp_dir("cli_rays") / "rays.csv";
   const CommandResult r = run_raycoh("rays --scene cornell --res 16x16 --out " + out.string());

@@ -1,0 +1,46 @@
+// Reordering applied two ways gives the same hits: physical permutation + trace, and indirect fetch through the
+// sorted indices, for every tracer.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "cpu/bvh_build.h"
+#include "cpu/tracer.h"
+#include "encoders/encoder.h"
+#include "encoders/reorder.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+
+namespace raycoh {
+namespace {
+
+TEST(Indirect, SameHitsAsPhysicalPermutationForEveryTracer) {
+  const Scene scene = load_scene("voxels:size=32");
+  const Bvh bvh = build_bvh(scene);
+  const auto order = make_pixel_order(64, 48, RayOrder::Tile, 8, 8);
+  const PrimaryBatch primary = make_primary_rays(scene.camera, 64, 48, order, 1, 0, true);
+  std::vector<Hit> hits(primary.rays.size());
+  make_tracer({"cpu", ""}, scene, bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
+  RayBatch batch, sorted;
+  GenerationStats stats;
+  make_generator({"noopt", ""})->generate(scene, make_gbuffer(scene, primary, hits), 1, batch, stats);
+  ASSERT_GT(batch.size(), 100u);
+
+  for (const char* enc : {"origin", "twopoint", "mlhcc"}) {
+    auto encoder = make_encoder({enc, ""}, EncoderContext{scene.bounds, &bvh});
+    std::vector<uint32_t> perm;
+    ReorderTimings t;
+    ASSERT_TRUE(reorder(*encoder, batch, PermuteMode::Physical, sorted, perm, t));
+    for (const char* tr : {"cpu", "embree", "embree:mode=packet16", "embree:mode=stream_coherent"}) {
+      auto tracer = make_tracer(parse_plugin_spec(tr), scene, bvh);
+      std::vector<Hit> physical(batch.size()), indirect(batch.size());
+      tracer->trace(sorted.rays.data(), sorted.size(), physical.data());
+      tracer->trace_indirect(batch.rays.data(), perm.data(), batch.size(), indirect.data());
+      EXPECT_EQ(std::memcmp(physical.data(), indirect.data(), physical.size() * sizeof(Hit)), 0) << enc << " " << tr;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace raycoh
