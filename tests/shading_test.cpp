@@ -417,6 +417,41 @@ TEST(PathTracer, ThinGlassOverAUniformSkyIsInvisible) {
   EXPECT_EQ(r.stats.shadow_rays, 0u);  // delta lobes get no next-event estimation
 }
 
+TEST(PathTracer, SunlightReachesAFloorThroughAThinPane) {
+  // The sun-lit floor under a clear thin-walled pane: shadow rays go on through the pane, attenuated by its
+  // straight-through transmittance 1 - F(cos theta). With max depth 2 no light bounces between floor and pane,
+  // so L = a / pi S Omega cos theta (1 - F).
+  Scene s = open_floor({0.5f, 0.5f, 0.5f});
+  Material glass = diffuse(Vec3(1.f));
+  glass.transmission = 1.f;
+  glass.roughness = 0.f;
+  glass.cls = classify_material(glass);
+  s.materials.push_back(glass);
+  const float e = 1000.f;
+  add_quad(s, {-e, 0.5f, -e}, {e, 0.5f, -e}, {e, 0.5f, e}, {-e, 0.5f, e}, {0.f, 1.f, 0.f}, 1);
+  s.camera.eye = {0.f, 0.25f, 0.f};
+  s.camera.target = {0.f, 0.f, -0.5f};
+  finalize_scene(s);
+  s.env.sky_zenith = s.env.sky_horizon = Vec3(0.f);
+  s.env.sun_radiance = Vec3(1000.f);
+  const double cos_sun = s.env.sun_dir.y;
+  const double omega = 2.0 * M_PI * (1.0 - static_cast<double>(s.env.sun_cos_half_angle));
+  const double expected = 0.5 / M_PI * 1000.0 * omega * cos_sun *
+                          (1.0 - fresnel_dielectric(static_cast<float>(cos_sun), glass.ior));
+  RenderSettings rs = small(20, 16);
+  rs.max_depth = 2;
+  const Rendered r = render(s, "noopt", rs, 8);
+  double sum = 0;
+  for (size_t p = 0; p < r.image.pixels(); ++p) sum += r.image.at(p).y;
+  EXPECT_NEAR(sum / static_cast<double>(r.image.pixels()), expected, 3e-3 * expected);
+  // Without a pane to cross (max depth 1), the pane blocks the sun: NEE and BSDF sampling agree on that too.
+  rs.max_depth = 1;
+  const Rendered blocked = render(s, "noopt", rs, 2);
+  double bsum = 0;
+  for (size_t p = 0; p < blocked.image.pixels(); ++p) bsum += blocked.image.at(p).y;
+  EXPECT_LT(bsum / static_cast<double>(blocked.image.pixels()), 1e-3 * expected);
+}
+
 TEST(PathTracer, ClosedEmittingBoxConvergesToTheGeometricSeries) {
   // Inside a closed box whose walls all emit Le = 1 and reflect with albedo a, a path of at most D scattering
   // events carries L = sum_{k=0..D} a^k. Exercises emitter NEE, MIS with BSDF hits (the weights must sum to one)
