@@ -62,6 +62,8 @@ void validate(const CacheModelConfig& c) {
   if (c.sms < 1 || c.sms > 1024) throw Error(fmt::format("cache model: sms={} is not in [1, 1024]", c.sms));
   if (c.resident_warps < 1 || c.resident_warps > 64)
     throw Error(fmt::format("cache model: resident_warps={} is not in [1, 64]", c.resident_warps));
+  if (c.block_warps < 1 || c.block_warps > 32)
+    throw Error(fmt::format("cache model: block_warps={} is not in [1, 32]", c.block_warps));
   for (const auto& [name, level] : {std::pair{"L1", c.l1}, std::pair{"L2", c.l2}}) {
     const uint64_t set_bytes = uint64_t{c.line_bytes} * level.ways;
     if (level.ways < 1 || level.bytes < set_bytes || level.bytes % set_bytes != 0)
@@ -192,21 +194,26 @@ void MemoryHierarchy::access(uint32_t sm, uint64_t sector) {
 // ---- WarpScheduleReplay ----
 
 WarpScheduleReplay::WarpScheduleReplay(const CacheModelConfig& c, size_t warp_count)
-    : memory_(c), sms_(c.sms), resident_(c.resident_warps), warp_count_(warp_count) {
+    : memory_(c), sms_(c.sms), resident_(c.resident_warps), block_(c.block_warps), warp_count_(warp_count) {
   slots_.assign(size_t{sms_} * resident_, Slot{});
-  next_warp_.resize(sms_);
-  for (uint32_t s = 0; s < sms_; ++s) next_warp_[s] = s;
+  next_.assign(sms_, 0);
   done_ = warp_count_ == 0;
+}
+
+// Block b = k / block_ of this SM is the batch's block sm + b * sms; warp k % block_ inside it.
+size_t WarpScheduleReplay::warp_of(uint32_t sm, size_t k) const {
+  return ((k / block_) * sms_ + sm) * block_ + k % block_;
 }
 
 bool WarpScheduleReplay::refill(std::vector<WarpTrace>& traces, size_t ready) {
   for (uint32_t s = 0; s < sms_; ++s) {
     for (uint32_t j = 0; j < resident_; ++j) {
       Slot& slot = slots_[size_t{s} * resident_ + j];
-      while (slot.warp == SIZE_MAX && next_warp_[s] < warp_count_) {
-        const size_t w = next_warp_[s];
+      while (slot.warp == SIZE_MAX) {
+        const size_t w = warp_of(s, next_[s]);
+        if (w >= warp_count_) break;
         if (w >= ready) return false;
-        next_warp_[s] += sms_;
+        ++next_[s];
         if (traces[w].requests() == 0) {
           traces[w] = WarpTrace{};
           continue;

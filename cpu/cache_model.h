@@ -16,7 +16,9 @@
 //     slice hashing, MSHR merging, bandwidth and queueing. The result is a count of where sectors were found,
 //     not a time.
 //
-// The global order (what makes the counters deterministic): warp w runs on SM w % sms. Each SM has
+// The global order (what makes the counters deterministic): thread blocks of `block_warps` consecutive warps
+// are dealt to the SMs round-robin, so warp w runs on SM (w / block_warps) % sms (block_warps = 1: w % sms). Each
+// SM has
 // `resident_warps` slots; at the start of every scheduler cycle each SM fills its empty slots, in slot order,
 // with its next warps in increasing warp order (a warp with no requests is skipped). In a cycle every occupied
 // slot issues its warp's next request, slot by slot and, within a slot, SM by SM (j outer, s inner), so the
@@ -39,6 +41,8 @@
 //   tuned against the hardware in its tested-cfgs SM86_RTX3070 and SM80_A100: an L1 of 4 sets (so
 //   capacity / 512 B ways) and a 16-way L2. resident_warps = 32: the register-limited occupancy of a
 //   64-register traversal kernel (65536 registers / (64 x 32)); the SMs allow 48 (CC 8.6) and 64 (CC 9.0).
+//   block_warps = 2 by default: one 64-thread block per 8x8 tile, as the GPU kernel launches it (DESIGN.md
+//   section 1), which keeps both warps of a tile on one SM and so changes what its L1 shares.
 //
 // Cost weights (cycles) used by the modeled cost in cpu/simt.h: L1 hit, L2 hit and DRAM latencies from the same
 // Accel-Sim configurations (rtx3060: gpgpu_l1_latency 39, gpgpu_l2_rop_latency 187, + dram_latency 254 = 441;
@@ -77,6 +81,7 @@ struct CacheModelConfig {
   std::string preset;            // "rtx3060", "h100" or "" (hand-made)
   uint32_t sms = 28;             // [1, 1024]
   uint32_t resident_warps = 32;  // slots per SM, [1, 64]
+  uint32_t block_warps = 2;      // consecutive warps per thread block, all on one SM, [1, 32]
   uint32_t line_bytes = 128;     // power of two, >= sector_bytes, <= 32 sectors
   uint32_t sector_bytes = 32;    // power of two
   CacheLevelConfig l1;
@@ -182,10 +187,12 @@ class WarpScheduleReplay {
   bool refill(std::vector<WarpTrace>& traces, size_t ready);
 
   MemoryHierarchy memory_;
-  uint32_t sms_, resident_;
+  size_t warp_of(uint32_t sm, size_t k) const;  // the k-th warp SM `sm` runs
+
+  uint32_t sms_, resident_, block_;
   size_t warp_count_;
-  std::vector<Slot> slots_;        // sm * resident + slot
-  std::vector<size_t> next_warp_;  // per SM
+  std::vector<Slot> slots_;   // sm * resident + slot
+  std::vector<size_t> next_;  // per SM: how many of its warps it has taken
   uint64_t cycles_ = 0;
   bool done_ = false;
 };

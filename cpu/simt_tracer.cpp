@@ -7,10 +7,12 @@
 //   preset    string  rtx3060   rtx3060 | h100: SM count, cache sizes and cost weights (cpu/cache_model.h)
 //   warp      int     32        [1, 64]: lanes per warp
 //   line      int     64        64 | 128: bytes per line of the node/triangle transactions
-//   sms       int     preset    [1, 1024]: SMs (warp w runs on SM w % sms)
+//   sms       int     preset    [1, 1024]: SMs
 //   l1_kb     int     preset    [1, 65536]: L1 per SM, KiB (4 sets, ways = l1_kb * 2)
 //   l2_mb     float   preset    [0.002, 4096]: shared L2, MiB (16 ways; rounded down to whole sets)
 //   resident  int     32        [1, 64]: warps resident per SM (the schedule's slots)
+//   block     int     2         [1, 32]: consecutive warps per thread block, kept on one SM (warp w runs on SM
+//                               (w / block) % sms; 2 = one 64-thread block per 8x8 tile)
 //
 // Determinism and speed: the counters depend on the batch and its order only, never on the thread count. Warps are
 // traced in parallel with oneTBB, a chunk at a time, each producing its trace of cache requests; the cache model
@@ -132,6 +134,7 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const B
   const float l2_mb = params.get_float("l2_mb", static_cast<float>(cache.l2.bytes) / float(1 << 20), 0.002f, 4096.f);
   cache.resident_warps =
       static_cast<uint32_t>(params.get_int("resident", static_cast<int>(cache.resident_warps), 1, 64));
+  cache.block_warps = static_cast<uint32_t>(params.get_int("block", static_cast<int>(cache.block_warps), 1, 32));
   params.finish();
 
   cache.l1.bytes = uint64_t(l1_kb) << 10;

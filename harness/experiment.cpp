@@ -69,6 +69,15 @@ void accumulate_row(const CsvWriter& csv, const std::vector<std::string>& row, S
   acc.reorder_s += (number(row[csv.column("key_ms")]) + number(row[csv.column("sort_ms")]) +
                     number(row[csv.column("permute_ms")])) * 1e-3;
   ++acc.frames;
+  if (!row[csv.column("simt_efficiency")].empty()) {
+    acc.has_counters = true;
+    acc.simt_eff_w += rays * number(row[csv.column("simt_efficiency")]);
+    acc.lines_w += rays * number(row[csv.column("lines_per_ray")]);
+    acc.l1_w += rays * number(row[csv.column("l1_misses_per_ray")]);
+    acc.l2_w += rays * number(row[csv.column("l2_misses_per_ray")]);
+    acc.dram_w += rays * number(row[csv.column("dram_bytes_per_ray")]);
+    acc.cost_w += rays * number(row[csv.column("modeled_cost_per_ray")]);
+  }
   if (row[csv.column("pass")] != "secondary" || !first_tracer) return;
   res.rays_per_frame = rays;
   res.gen_ms[label] += gen_ms / frames;
@@ -122,7 +131,8 @@ std::vector<std::string> experiment_columns() {
           "non_finite",   "groups_diffuse",  "groups_glossy", "groups_hybrid",    "groups_independent",
           "groups_world", "hybrid_mean_fallback", "reused_rays", "encoder",          "encoder_params",
           "permute",      "key_ms",          "sort_ms",       "permute_ms",       "e2e_ms",
-          "e2e_mray_s"};
+          "e2e_mray_s",   "simt_efficiency", "node_simt_efficiency", "lines_per_ray", "fetches_per_ray",
+          "l1_misses_per_ray", "l2_misses_per_ray", "dram_bytes_per_ray", "modeled_cost_per_ray"};
 }
 
 std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Provenance& provenance) {
@@ -184,7 +194,16 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
       std::vector<Hit> hits;
       RayBatch batch, sorted;
       std::vector<uint32_t> order;
-      std::vector<bool> warmed(tracers.size(), false);  // one untimed trace per tracer and scene
+      // Timing tracers get one untimed warm-up per scene, then the median of `repeats` calls. Modelling tracers
+      // (counters, deterministic) run once: their wall time is the model's, not a GPU's.
+      std::vector<bool> warmed(tracers.size(), false), models(tracers.size(), false);
+      for (size_t ti = 0; ti < tracers.size(); ++ti) models[ti] = tracers[ti]->last_counters() != nullptr;
+      auto measure = [&](size_t ti, auto&& trace_once) {
+        if (models[ti]) return time_calls(trace_once, 1);
+        if (!warmed[ti]) trace_once();
+        warmed[ti] = true;
+        return time_calls(trace_once, o.repeats);
+      };
       for (int frame = 0; frame < o.frames; ++frame) {
         progress.update(si, o.scenes.size(), frame, o.frames, scene.name);
         // The key of a measurement; rows of an interrupted run with the same key are not measured again.
@@ -196,7 +215,7 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
           return row_key({scene.name, pass, label, gen_params, enc ? enc->params() : "", permute_text(enc),
                           o.tracers[ti].name, tracers[ti]->params(), std::to_string(o.width),
                           std::to_string(o.height), std::to_string(frame), std::to_string(o.seed),
-                          std::to_string(o.repeats), provenance.git_revision});
+                          std::to_string(models[ti] ? 1 : o.repeats), provenance.git_revision});
         };
         auto record = [&](const std::string& pass, const std::string& label, const std::string& gen,
                           const std::string& gen_params, size_t ti, size_t rays, double gen_s, const Timing& t,
@@ -219,7 +238,7 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
                                           fmt::format("{:.4f}", gen_s * 1e3),
                                           fmt::format("{:.4f}", t.median * 1e3),
                                           fmt::format("{:.4f}", t.min * 1e3),
-                                          std::to_string(o.repeats),
+                                          std::to_string(models[ti] ? 1 : o.repeats),
                                           fmt::format("{:.3f}", t.median > 0 ? rays / t.median * 1e-6 : 0.0),
                                           count(gs ? gs->below_geometric : 0),
                                           count(gs ? gs->below_shading : 0),
@@ -239,6 +258,12 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
                                           fmt::format("{:.4f}", rt.permute_ms),
                                           fmt::format("{:.4f}", e2e_s * 1e3),
                                           fmt::format("{:.3f}", e2e_s > 0 ? rays / e2e_s * 1e-6 : 0.0)};
+          const CoherenceCounters* c = tracers[ti]->last_counters();
+          for (double v : {c ? c->simt_efficiency() : 0.0, c ? c->node_simt_efficiency() : 0.0,
+                           c ? c->per_ray(c->node_lines + c->triangle_lines) : 0.0, c ? c->fetches_per_ray() : 0.0,
+                           c ? c->l1_misses_per_ray() : 0.0, c ? c->l2_misses_per_ray() : 0.0,
+                           c ? c->dram_bytes_per_ray() : 0.0, c ? c->cost_per_ray() : 0.0})
+            row.push_back(c ? fmt::format("{:.6g}", v) : std::string());
           row.insert(row.end(), prov.begin(), prov.end());
           csv.write_row(row);
           accumulate_row(csv, row, res, res.tracer_labels[ti], label, ti == 0, o.frames);
@@ -276,10 +301,8 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
 
         for (size_t ti = 0; ti < tracers.size(); ++ti) {  // primary rays: the coherent bound
           if (resumed("primary", "primary", kPrimaryParams, nullptr, ti)) continue;
-          if (!warmed[ti]) tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data());
-          warmed[ti] = true;
           const Timing t =
-              time_calls([&] { tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data()); }, o.repeats);
+              measure(ti, [&] { tracers[ti]->trace(primary.rays.data(), primary.rays.size(), hits.data()); });
           record("primary", "primary", "primary", kPrimaryParams, ti, primary.rays.size(), 0.0, t, nullptr, nullptr,
                  ReorderTimings{});
         }
@@ -313,9 +336,7 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
               else
                 tracers[ti]->trace(rays.data(), rays.size(), hits.data());
             };
-            if (!warmed[ti]) trace_once();
-            warmed[ti] = true;
-            const Timing t = time_calls(trace_once, o.repeats);
+            const Timing t = measure(ti, trace_once);
             record("secondary", method.label, method.generator.name, generators[mi]->params(), ti, batch.size(),
                    gen_s, t, &gs, encoders[mi].get(), rt);
           }

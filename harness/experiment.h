@@ -42,6 +42,10 @@ struct Accumulated {
   double e2e_s() const { return gen_s + reorder_s + trace_s; }
   double e2e_mray_s() const { return e2e_s() > 0 ? rays / e2e_s() * 1e-6 : 0.0; }
   double overhead_share() const { return e2e_s() > 0 ? (gen_s + reorder_s) / e2e_s() : 0.0; }
+  // Coherence counters of modelling tracers (`simt`), per ray, weighted by rays over frames.
+  bool has_counters = false;
+  double simt_eff_w = 0, lines_w = 0, l1_w = 0, l2_w = 0, dram_w = 0, cost_w = 0;
+  double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
 };
 
 struct SceneResult {

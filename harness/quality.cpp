@@ -90,6 +90,11 @@ void check_frames(const char* option, int frames) {
     throw Error(fmt::format("{} {}: must be in [1, {}]", option, frames, kMaxFrames));
 }
 
+void check_exposure(const ToneMap& tm) {
+  if (!tm.auto_exposure && (!(tm.exposure > 0.f) || !(tm.exposure <= 1e6f)))
+    throw Error(fmt::format("--exposure {}: must be in (0, 1e6] (or auto)", tm.exposure));
+}
+
 void check_common(const RenderCommon& c, bool needs_ssim) {
   if (c.width < 1 || c.width > 16384 || c.height < 1 || c.height > 16384)
     throw Error(fmt::format("--res {}x{}: width and height must be in [1, 16384]", c.width, c.height));
@@ -98,8 +103,7 @@ void check_common(const RenderCommon& c, bool needs_ssim) {
                             c.height, kSsimWindow, kSsimWindow));
   if (c.max_depth < 1 || c.max_depth > 64) throw Error(fmt::format("--max-depth {}: must be in [1, 64]", c.max_depth));
   if (c.rr_depth < 1 || c.rr_depth > 64) throw Error(fmt::format("--rr-depth {}: must be in [1, 64]", c.rr_depth));
-  if (!(c.tone_map.exposure > 0.f) || !(c.tone_map.exposure <= 1e6f))
-    throw Error(fmt::format("--exposure {}: must be in (0, 1e6]", c.tone_map.exposure));
+  check_exposure(c.tone_map);
   std::vector<std::string> names;
   for (const TracerInfo& t : tracer_infos()) names.push_back(t.name);
   if (std::find(names.begin(), names.end(), c.tracer.name) == names.end())
@@ -309,11 +313,12 @@ int run_render(const RenderOptions& o, const Provenance& provenance) {
   }
   bar.clear();
   const Image image = acc.mean();
-  write_image(image, o.out, o.common.tone_map);
+  const ToneMap tm = resolved(o.common.tone_map, image);
+  write_image(image, o.out, tm);
   const std::string ext = fs::path(o.out).extension().string();
   for (size_t i = 0; i < o.crops.size(); ++i) {
     const std::string path = fmt::format("{}-crop{}{}", stem_path(o.out), i, ext);
-    write_image(crop(image, o.crops[i]), path, o.common.tone_map);
+    write_image(crop(image, o.crops[i]), path, tm);
     std::printf("crop %d,%d,%d,%d -> %s\n", o.crops[i].x, o.crops[i].y, o.crops[i].w, o.crops[i].h, path.c_str());
   }
   std::printf("%s, %s [%s], tracer %s [%s]: %d frames of %dx%d, seed %u, max depth %d\n", ls->scene.name.c_str(),
@@ -352,7 +357,7 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
   const std::vector<std::string> columns = with_provenance(
       {"scene", "scene_spec", "scene_triangles", "method", "generator", "generator_params", "tracer_spec", "tracer",
        "tracer_params", "width", "height", "frames", "ref_frames", "bias_renders", "seed", "ref_seed", "max_depth",
-       "rr_depth", "tone_map", "reference_kind", "reference", "psnr", "psnr_std", "ssim", "rmse", "rel_mse", "mse",
+       "rr_depth", "tone_map", "exposure", "reference_kind", "reference", "psnr", "psnr_std", "ssim", "rmse", "rel_mse", "mse",
        "mse_of_mean", "bias2", "variance", "non_finite_samples", "non_finite_pixels", "ref_non_finite_samples",
        "render_s", "trace_s", "gen_ms", "rays", "mray_s", "below_geometric", "reused_rays"});
   const std::string tone = describe(o.common.tone_map);
@@ -411,14 +416,16 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
       auto ls = load(spec, o.common.tracer);
       const ReferenceImage ref =
           obtain_reference(*ls, spec, o.common, o.ref_frames, o.cache_dir, o.reference);
+      // One display mapping per scene, from the reference, for every generator's metrics and images.
+      const ToneMap tm = resolved(o.common.tone_map, ref.image);
       const std::string scene_file = safe_name(ls->scene.name);
       write_image(ref.image, (fs::path(image_dir) / (scene_file + "-reference" + display_extension())).string(),
-                  o.common.tone_map);
+                  tm);
       for (size_t ci = 0; ci < o.crops.size(); ++ci)
         write_image(crop(ref.image, o.crops[ci]),
                     (fs::path(image_dir) / fmt::format("{}-reference-crop{}{}", scene_file, ci, display_extension()))
                         .string(),
-                    o.common.tone_map);
+                    tm);
 
       for (size_t gi = 0; gi < o.generators.size(); ++gi) {
         const std::string label = o.generators[gi].text();
@@ -442,7 +449,7 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
           }
           non_finite_pixels += acc.pixels_with_non_finite();
           const Image img = acc.mean();
-          const ErrorMetrics m = compare_images(img, ref.image, o.common.tone_map);
+          const ErrorMetrics m = compare_images(img, ref.image, tm);
           psnr_r.push_back(m.psnr);
           ssim_r.push_back(m.ssim);
           rmse_r.push_back(m.rmse);
@@ -451,11 +458,11 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
           for (size_t p = 0; p < img.pixels(); ++p) mean_acc.add(p, img.at(p));
           if (r == 0) {
             const std::string base = fmt::format("{}-{}", scene_file, safe_name(label));
-            write_image(img, (fs::path(image_dir) / (base + display_extension())).string(), o.common.tone_map);
+            write_image(img, (fs::path(image_dir) / (base + display_extension())).string(), tm);
             for (size_t ci = 0; ci < o.crops.size(); ++ci)
               write_image(crop(img, o.crops[ci]),
                           (fs::path(image_dir) / fmt::format("{}-crop{}{}", base, ci, display_extension())).string(),
-                          o.common.tone_map);
+                          tm);
           }
         }
         bar.clear();
@@ -495,6 +502,7 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
                                         std::to_string(o.common.max_depth),
                                         std::to_string(o.common.rr_depth),
                                         tone,
+                                        num(tm.exposure),
                                         ref_kind,
                                         ref.path,
                                         num(mean_of(psnr_r)),
@@ -549,13 +557,14 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
       std::printf(" %.2f |", cell(results[si * o.generators.size() + gi], "psnr"));
     std::printf("\n");
   }
-  std::printf("\n| scene | generator | PSNR | ± | SSIM | RMSE | relMSE | bias² | variance | NaN/Inf | render s | MRay/s |\n"
-              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("\n| scene | generator | exposure | PSNR | ± | SSIM | RMSE | relMSE | bias² | variance | NaN/Inf | "
+              "render s | MRay/s |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& row : results)
-    std::printf("| %s | %s | %.2f | %.2f | %.4f | %.4g | %.4g | %.3g | %.3g | %s | %.1f | %.2f |\n", row[0].c_str(),
-                row[csv.column("method")].c_str(), cell(row, "psnr"), cell(row, "psnr_std"),
-                cell(row, "ssim"), cell(row, "rmse"), cell(row, "rel_mse"), cell(row, "bias2"), cell(row, "variance"),
-                row[csv.column("non_finite_samples")].c_str(), cell(row, "render_s"), cell(row, "mray_s"));
+    std::printf("| %s | %s | %.3g | %.2f | %.2f | %.4f | %.4g | %.4g | %.3g | %.3g | %s | %.1f | %.2f |\n",
+                row[0].c_str(), row[csv.column("method")].c_str(), cell(row, "exposure"), cell(row, "psnr"),
+                cell(row, "psnr_std"), cell(row, "ssim"), cell(row, "rmse"), cell(row, "rel_mse"), cell(row, "bias2"),
+                cell(row, "variance"), row[csv.column("non_finite_samples")].c_str(), cell(row, "render_s"),
+                cell(row, "mray_s"));
   std::printf("\nWrote %s and images in %s/ in %.1f s (%s, %d threads)\n", o.out.c_str(), image_dir.c_str(),
               seconds_since(t_start), provenance.git_revision.c_str(), provenance.threads);
   return 0;
@@ -582,7 +591,8 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   // A convergence curve is one timed measurement: an interrupted run starts again rather than resuming.
   CsvWriter csv(o.out, columns, CsvWriter::Resume::No);
   const std::vector<std::string> prov = provenance_values(provenance);
-  const std::string tone = describe(o.common.tone_map);
+  const ToneMap tm = resolved(o.common.tone_map, ref.image);  // from the reference, the same for every generator
+  const std::string tone = describe(tm);
 
   struct Run {
     std::string label;
@@ -612,7 +622,7 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
         const FrameStats f = run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc);
         run.total.add(f);
         ++run.frames;
-        const ErrorMetrics m = compare_images(run.acc.mean(), ref.image, o.common.tone_map);
+        const ErrorMetrics m = compare_images(run.acc.mean(), ref.image, tm);
         run.by_wall.push_back({run.total.wall_s, m.rel_mse});
         run.by_trace.push_back({run.total.trace_s, m.rel_mse});
         std::vector<std::string> row = {ls->scene.name,
@@ -678,7 +688,7 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   std::printf("| generator | frames | final relMSE | final PSNR |\n|---|---:|---:|---:|\n");
   for (const Run& r : runs)
     std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
-                psnr(r.acc.mean(), ref.image, o.common.tone_map));
+                psnr(r.acc.mean(), ref.image, tm));
   std::printf("\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
               "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   const Run& base = runs[0];
@@ -708,14 +718,15 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
 }
 
 int run_compare(const CompareOptions& o) {
-  if (!(o.tone_map.exposure > 0.f) || !(o.tone_map.exposure <= 1e6f))
-    throw Error(fmt::format("--exposure {}: must be in (0, 1e6]", o.tone_map.exposure));
+  check_exposure(o.tone_map);
   const Image test = read_image_for("test image", o.test);
   const Image ref = read_image_for("reference image", o.reference);
-  const ErrorMetrics m = compare_images(test, ref, o.tone_map);
+  check_same_size(test, ref);
+  const ToneMap tm = resolved(o.tone_map, ref);
+  const ErrorMetrics m = compare_images(test, ref, tm);
   std::printf("test %s vs reference %s (%dx%d)\n", o.test.c_str(), o.reference.c_str(), ref.width, ref.height);
   std::printf("rmse %.6g\nrel_mse %.6g (eps %.2g)\nmse %.6g\npsnr %.4f dB (tone map %s, peak %.1f)\n", m.rmse,
-              m.rel_mse, kRelMseEpsilon, m.mse, m.psnr, describe(o.tone_map).c_str(), kPsnrPeak);
+              m.rel_mse, kRelMseEpsilon, m.mse, m.psnr, describe(tm).c_str(), kPsnrPeak);
   std::printf("ssim %.6f%s\n", m.ssim, std::isnan(m.ssim) ? " (images smaller than the 11x11 SSIM window)" : "");
   std::printf("nan_pixels %llu\ninf_pixels %llu\n", static_cast<unsigned long long>(m.nan_pixels),
               static_cast<unsigned long long>(m.inf_pixels));

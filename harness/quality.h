@@ -22,7 +22,9 @@ struct RenderCommon {
   uint32_t seed = 1;              // --seed
   int max_depth = 5;              // --max-depth [1, 64]: scattering events per path
   int rr_depth = 3;               // --rr-depth [1, 64]: Russian roulette from this bounce on
-  ToneMap tone_map;               // --tone-map aces|clamp, --exposure (0, 1e6]: PNG output, PSNR and SSIM
+  // --tone-map aces|clamp, --exposure auto|(0, 1e6]: PNG output, PSNR and SSIM. Auto exposure (the default) is
+  // resolved on the reference image (quality, converge, compare) or on the rendered image (render).
+  ToneMap tone_map{ToneMapKind::Aces, 1.f, true};
 };
 
 // `raycoh render --scene S --generator G --frames N --out img.exr [--crop x,y,w,h]...`
@@ -69,7 +71,7 @@ int run_converge(const ConvergeOptions& options, const Provenance& provenance);
 // `raycoh compare test.exr reference.exr`: prints every metric of shading/metrics.h.
 struct CompareOptions {
   std::string test, reference;
-  ToneMap tone_map;
+  ToneMap tone_map{ToneMapKind::Aces, 1.f, true};
 };
 int run_compare(const CompareOptions& options);
 

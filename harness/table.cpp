@@ -30,6 +30,28 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
   }
 }
 
+// Modelling tracers (`simt`): coherence counters per ray instead of wall-clock speed. The modeled speedup is
+// cost(noopt) / cost(method), the ranking the cost model gives (cpu/simt.h).
+void print_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
+                    const std::string& header, const std::string& rule) {
+  std::printf("\n### %s: SIMT efficiency, L1 / L2 sector misses per ray, modeled cost per ray (modeled speedup over "
+              "noopt)\n\n%s\n%s\n",
+              tl.c_str(), header.c_str(), rule.c_str());
+  std::vector<std::string> rows = {"primary"};
+  for (const Method& m : methods) rows.push_back(m.label);
+  for (const std::string& label : rows) {
+    std::string line = "| " + (label == "primary" ? std::string("primary (coherent bound)") : label) + " |";
+    for (const SceneResult& r : results) {
+      const auto& m = r.by_tracer.at(tl);
+      const Accumulated& a = m.at(label);
+      const double base = m.at("noopt").per_ray(m.at("noopt").cost_w), cost = a.per_ray(a.cost_w);
+      line += fmt::format(" {:.3f}, {:.2f} / {:.2f}, {:.0f} ({:.2f}x) |", a.per_ray(a.simt_eff_w), a.per_ray(a.l1_w),
+                          a.per_ray(a.l2_w), cost, cost > 0 ? base / cost : 0.0);
+    }
+    std::printf("%s\n", line.c_str());
+  }
+}
+
 }  // namespace
 
 int run_table(const TableOptions& o, const Provenance& provenance) {
@@ -55,6 +77,10 @@ int run_table(const TableOptions& o, const Provenance& provenance) {
     rule += "---:|";
   }
   for (const std::string& tl : results.front().tracer_labels) {
+    if (results.front().by_tracer.at(tl).at("noopt").has_counters) {
+      print_counters(results, e.methods, tl, header, rule);
+      continue;
+    }
     std::printf("\n### %s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
                 "%d traces\n\n%s\n%s\n",
                 tl.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str(), rule.c_str());

@@ -83,7 +83,30 @@ ToneMapKind parse_tone_map(const std::string& name) {
 
 std::string describe(const ToneMap& tm) {
   return fmt::format("{},exposure={},srgb", tm.kind == ToneMapKind::Aces ? "aces(Narkowicz 2015)" : "clamp",
-                     tm.exposure);
+                     tm.auto_exposure ? std::string("auto") : fmt::format("{:.6g}", tm.exposure));
+}
+
+float auto_exposure(const Image& image) {
+  double sum_log = 0;
+  size_t n = 0;
+  for (size_t p = 0; p < image.pixels(); ++p) {
+    const Vec3 c = image.at(p);
+    const double y = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+    if (!(y > 0) || !std::isfinite(y)) continue;
+    sum_log += std::log(y);
+    ++n;
+  }
+  if (n == 0) return 1.f;
+  const double e = kAutoExposureKey / std::exp(sum_log / static_cast<double>(n));
+  return static_cast<float>(std::clamp(e, 1e-6, 1e6));
+}
+
+ToneMap resolved(const ToneMap& tm, const Image& image) {
+  if (!tm.auto_exposure) return tm;
+  ToneMap out = tm;
+  out.auto_exposure = false;
+  out.exposure = auto_exposure(image);
+  return out;
 }
 
 float srgb_oetf(float linear) {

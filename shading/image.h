@@ -8,6 +8,11 @@
 //              The mean divides by the pixel's count of finite samples.
 // ToneMap      what turns linear radiance into a display image in [0, 1]:
 //                exposure    float  default 1   (0, 1e6]: linear scale applied first
+//                auto_exposure  bool  default false: resolved() replaces exposure by the "key value" rule of
+//                            Reinhard et al. ("Photographic Tone Reproduction for Digital Images", SIGGRAPH
+//                            2002): exposure = 0.18 / exp(mean of log luminance) over the pixels with luminance
+//                            > 0 of a given image (black background does not count), so that dark interiors
+//                            (Sibenik lit through its windows) and bright scenes both land at middle grey
 //                kind        aces (default): the ACES filmic curve fitted by Narkowicz ("ACES Filmic Tone
 //                            Mapping Curve", 2015), x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), per channel
 //                            clamp: plain clamp to [0, 1]
@@ -78,11 +83,19 @@ enum class ToneMapKind { Aces, Clamp };
 struct ToneMap {
   ToneMapKind kind = ToneMapKind::Aces;
   float exposure = 1.f;
+  bool auto_exposure = false;
 };
+
+constexpr float kAutoExposureKey = 0.18f;
+// exposure = kAutoExposureKey / log-average luminance of the pixels with luminance > 0 (1 if there are none).
+float auto_exposure(const Image& image);
+// tm with auto exposure replaced by the exposure it gives on `image`; tm itself when it has a fixed exposure.
+ToneMap resolved(const ToneMap& tm, const Image& image);
 
 // "aces" | "clamp"; throws raycoh::Error naming the valid choices.
 ToneMapKind parse_tone_map(const std::string& name);
-// One line for reports and CSV columns, e.g. "aces(Narkowicz 2015),exposure=1,srgb".
+// One line for reports and CSV columns, e.g. "aces(Narkowicz 2015),exposure=1,srgb" ("exposure=auto" before
+// resolving).
 std::string describe(const ToneMap& tm);
 float srgb_oetf(float linear);
 // Display value in [0, 1] of one linear channel value.

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <list>
 #include <random>
@@ -185,12 +186,13 @@ std::vector<WarpTrace> random_warp_traces(size_t warps, uint32_t seed) {
 }
 
 // The documented schedule, written as plainly as possible: per cycle, refill every SM's empty slots with its
-// next non-empty warps (w = s, s + sms, ...), then issue one request per occupied slot, slot-major.
+// next non-empty warps (those with (w / block_warps) % sms = s, in order), then issue one request per occupied
+// slot, slot-major.
 MemoryCounters reference_schedule(const CacheModelConfig& c, const std::vector<WarpTrace>& traces, uint64_t* cycles) {
   MemoryHierarchy h(c);
   std::vector<std::vector<size_t>> queue(c.sms);
   for (size_t w = 0; w < traces.size(); ++w)
-    if (traces[w].requests() > 0) queue[w % c.sms].push_back(w);
+    if (traces[w].requests() > 0) queue[(w / c.block_warps) % c.sms].push_back(w);
   std::vector<size_t> next(c.sms, 0);
   struct Slot {
     bool busy = false;
@@ -221,10 +223,12 @@ MemoryCounters reference_schedule(const CacheModelConfig& c, const std::vector<W
 }
 
 TEST(CacheModel, ReplayFollowsTheDocumentedScheduleAndResumes) {
-  for (auto [sms, resident] : std::vector<std::pair<uint32_t, uint32_t>>{{1, 1}, {3, 2}, {4, 5}}) {
-    SCOPED_TRACE(testing::Message() << sms << " SMs, " << resident << " slots");
-    const CacheModelConfig c = small_config(sms, resident);
-    const std::vector<WarpTrace> original = random_warp_traces(157, sms * 10 + resident);
+  for (auto [sms, resident, block] :
+       std::vector<std::array<uint32_t, 3>>{{1, 1, 1}, {3, 2, 1}, {4, 5, 1}, {3, 2, 2}, {5, 3, 4}}) {
+    SCOPED_TRACE(testing::Message() << sms << " SMs, " << resident << " slots, blocks of " << block);
+    CacheModelConfig c = small_config(sms, resident);
+    c.block_warps = block;
+    const std::vector<WarpTrace> original = random_warp_traces(157, sms * 100 + resident * 10 + block);
     uint64_t expect_cycles = 0;
     const MemoryCounters expect = reference_schedule(c, original, &expect_cycles);
 
@@ -291,6 +295,9 @@ TEST(CacheModel, PresetsAndErrors) {
   EXPECT_THROW(validate(bad), Error);
   bad = a;
   bad.sms = 0;
+  EXPECT_THROW(validate(bad), Error);
+  bad = a;
+  bad.block_warps = 0;
   EXPECT_THROW(validate(bad), Error);
 }
 

@@ -84,6 +84,20 @@ TEST(ToneMap, MonotoneBoundedAndDefinedForNonFinite) {
   EXPECT_THROW(parse_tone_map("filmic"), Error);
 }
 
+TEST(ToneMap, AutoExposureMapsTheLogAverageToMiddleGrey) {
+  Image img(4, 1, Vec3(0.f));  // black pixels (background) do not count
+  img.set(0, Vec3(0.01f));
+  img.set(1, Vec3(1.f));
+  const float e = auto_exposure(img);
+  EXPECT_NEAR(e, 0.18f / 0.1f, 1e-4f);  // log-average of 0.01 and 1 is 0.1
+  const ToneMap tm = resolved(ToneMap{ToneMapKind::Aces, 1.f, true}, img);
+  EXPECT_FALSE(tm.auto_exposure);
+  EXPECT_EQ(tm.exposure, e);
+  EXPECT_EQ(resolved(ToneMap{ToneMapKind::Clamp, 2.f, false}, img).exposure, 2.f);
+  EXPECT_EQ(auto_exposure(Image(3, 3, Vec3(0.f))), 1.f);
+  EXPECT_NE(describe(ToneMap{ToneMapKind::Aces, 1.f, true}).find("exposure=auto"), std::string::npos);
+}
+
 TEST(Crop, ParsesValidatesAndCopies) {
   const Crop c = parse_crop("--crop", "1,2,3,4");
   EXPECT_EQ(c.x, 1);

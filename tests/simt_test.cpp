@@ -329,7 +329,7 @@ TEST_P(SimtOnScene, HitsEqualTheCpuTracerBitForBit) {
   auto cpu = make_tracer({"cpu", ""}, b.scene, b.bvh);
   std::vector<Hit> expect(b.rays.size());
   cpu->trace(b.rays.data(), b.rays.size(), expect.data());
-  for (const std::string params : {"", "warp=13,line=128", "preset=h100,warp=64"}) {
+  for (const std::string params : {"", "warp=13,line=128,block=3", "preset=h100,warp=64"}) {
     SCOPED_TRACE(params);
     auto simt = make_tracer({"simt", params}, b.scene, b.bvh);
     std::vector<Hit> hits(b.rays.size());
@@ -394,7 +394,7 @@ TEST(SimtTracer, BatchNotAMultipleOfTheWarpSize) {
 TEST(SimtTracer, IdenticalRaysShareEveryStep) {
   const Batch b = make_batch("voxels", 32, 24);
   const std::vector<Ray> rays(96, b.rays[b.rays.size() / 2]);
-  auto simt = make_tracer({"simt", ""}, b.scene, b.bvh);
+  auto simt = make_tracer({"simt", "block=1"}, b.scene, b.bvh);  // one warp per block: warps 0, 1, 2 on SMs 0, 1, 2
   std::vector<Hit> hits(rays.size());
   simt->trace(rays.data(), rays.size(), hits.data());
   const CoherenceCounters& c = *simt->last_counters();
@@ -450,9 +450,9 @@ TEST(SimtTracer, CoherentOrderBeatsScanlineOrder) {
 TEST(SimtTracer, ParametersAndErrors) {
   const Batch b = make_batch("cornell", 8, 8);
   EXPECT_EQ(make_tracer({"simt", ""}, b.scene, b.bvh)->params(),
-            "preset=rtx3060,warp=32,line=64,sms=28,l1_kb=128,l2_mb=3,resident=32");
+            "preset=rtx3060,warp=32,line=64,sms=28,l1_kb=128,l2_mb=3,resident=32,block=2");
   EXPECT_EQ(make_tracer({"simt", "preset=h100,line=128"}, b.scene, b.bvh)->params(),
-            "preset=h100,warp=32,line=128,sms=132,l1_kb=256,l2_mb=50,resident=32");
+            "preset=h100,warp=32,line=128,sms=132,l1_kb=256,l2_mb=50,resident=32,block=2");
   EXPECT_EQ(make_tracer({"cpu", ""}, b.scene, b.bvh)->last_counters(), nullptr);
   auto error_of = [&](const std::string& params) -> std::string {
     try {

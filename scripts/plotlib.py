@@ -1,0 +1,76 @@
+"""Shared helpers of the raycoh plot scripts: CSV reading with clear errors, matplotlib without a display.
+
+Column meanings are documented in results/README.md. Every script exits with code 2 and one line
+"<script>: error: <message>" on bad input (missing file, missing column, no rows to plot).
+"""
+import csv
+import math
+import os
+import sys
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402,F401  (re-exported for the scripts)
+
+
+def fail(message):
+    sys.stderr.write(f"{os.path.basename(sys.argv[0])}: error: {message}\n")
+    sys.exit(2)
+
+
+def read_csv(paths, required):
+    """Rows (dicts) of one or more CSV files written by raycoh; every file must have the required columns."""
+    if isinstance(paths, str):
+        paths = [paths]
+    rows = []
+    for path in paths:
+        if not os.path.isfile(path):
+            fail(f"{path}: no such CSV file")
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            if reader.fieldnames is None:
+                fail(f"{path}: empty file (no header)")
+            missing = [c for c in required if c not in reader.fieldnames]
+            if missing:
+                fail(f"{path}: missing column(s) {', '.join(missing)} (see results/README.md)")
+            rows.extend(reader)
+    if not rows:
+        fail(f"{', '.join(paths)}: no data rows")
+    return rows
+
+
+def number(row, column, path_hint=""):
+    text = row.get(column, "")
+    try:
+        return float(text)
+    except ValueError:
+        if text in ("", "nan"):
+            return math.nan
+        fail(f"{path_hint}column {column}: '{text}' is not a number")
+
+
+def parse_params(text):
+    """'tile=8x8,k=16,order=tile' -> {'tile': '8x8', 'k': '16', 'order': 'tile'}."""
+    out = {}
+    for item in filter(None, (text or "").split(",")):
+        key, _, value = item.partition("=")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def tracer_label(row):
+    params = row.get("tracer_params", "")
+    return f"{row['tracer']}[{params}]" if params else row["tracer"]
+
+
+def save(fig, out):
+    directory = os.path.dirname(out)
+    if directory:
+        os.makedirs(directory, exist_ok=True)
+    try:
+        fig.savefig(out, dpi=150, bbox_inches="tight")
+    except (OSError, ValueError) as e:
+        fail(f"{out}: cannot write the figure: {e}")
+    print(f"wrote {out}")

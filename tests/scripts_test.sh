@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# Runs every plot script in scripts/ on small CSV files and PNG images written here, checks that each figure
+# (and the markdown table) is written, and that bad input gives a one-line error and exit code 2.
+# Usage: tests/scripts_test.sh <scripts dir> <work dir>. Needs /usr/bin/python3 with matplotlib (scripts/setup).
+set -euo pipefail
+scripts=$(cd "$1" && pwd)
+work=$2
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+export MPLBACKEND=Agg
+
+/usr/bin/python3 -c "import matplotlib" || { echo "scripts_test: /usr/bin/python3 has no matplotlib (run scripts/setup)"; exit 1; }
+
+# `raycoh table` / `raycoh sweep` rows (the columns the scripts read, plus a few others).
+cat > table.csv <<'CSV'
+scene,pass,method,generator,generator_params,encoder,tracer,tracer_params,frame,rays,trace_ms,e2e_ms,mray_s
+cornell,primary,primary,primary,"order=tile,tile=8x8",,cpu,,0,1000,0.5,0.5,2
+cornell,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,0,900,1.0,1.1,0.9
+cornell,secondary,ours,ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,0,900,0.8,0.9,1.125
+cornell,secondary,noopt+origin,noopt,"order=tile,tile=8x8",origin,cpu,,0,900,0.9,1.3,1.0
+voxels,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,0,800,2.0,2.1,0.4
+voxels,secondary,ours,ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,0,800,1.5,1.6,0.53
+voxels,secondary,noopt+origin,noopt,"order=tile,tile=8x8",origin,cpu,,0,800,1.9,2.5,0.42
+CSV
+cat > sweep.csv <<'CSV'
+scene,pass,method,generator,generator_params,encoder,tracer,tracer_params,frame,rays,trace_ms
+sibenik,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,0,1000,2.0
+sibenik,secondary,"ours:tile=8x8,k=8",ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,0,1000,1.6
+sibenik,secondary,"ours:tile=8x8,k=16",ours,"tile=8x8,k=16,order=tile,seed=0",none,cpu,,0,1000,1.4
+sibenik,secondary,"ours:tile=16x8,k=8",ours,"tile=16x8,k=8,order=tile,seed=0",none,cpu,,0,1000,1.7
+sibenik,secondary,"ours:tile=16x8,k=16",ours,"tile=16x8,k=16,order=tile,seed=0",none,cpu,,0,1000,1.5
+CSV
+cat > converge.csv <<'CSV'
+scene,method,frame,wall_s,trace_s,rel_mse,mse,rmse,psnr,ssim
+cornell,noopt,1,0.1,0.05,1.0,0.1,0.31,15,0.3
+cornell,noopt,2,0.2,0.1,0.5,0.05,0.22,18,0.4
+cornell,noopt,3,0.3,0.15,0.33,0.033,0.18,19.8,0.5
+cornell,ours,1,0.08,0.03,1.1,0.11,0.33,14.8,0.3
+cornell,ours,2,0.16,0.06,0.56,0.056,0.24,17.7,0.4
+cornell,ours,3,0.24,0.09,0.37,0.037,0.19,19.5,0.5
+CSV
+cat > converge-summary.csv <<'CSV'
+scene,method,baseline,metric,clock,horizon_s,error,baseline_error,equal_time_error_ratio,target_error,time_s,baseline_time_s,equal_error_speedup
+cornell,ours,noopt,rel_mse,wall,0.24,0.37,0.41,0.9,0.37,0.24,0.27,1.12
+CSV
+cat > quality.csv <<'CSV'
+scene,method,frames,ref_frames,psnr,psnr_std,ssim,rel_mse,rmse,bias2
+cornell,noopt,32,512,25.1,0.15,0.70,0.05,0.06,0.0002
+cornell,ours,32,512,25.0,0.08,0.70,0.049,0.06,0.00024
+sibenik,noopt,32,512,19.6,0.2,0.6,0.1,0.01,0.000001
+sibenik,ours,32,512,19.5,0.1,0.6,0.1,0.01,0.000001
+CSV
+/usr/bin/python3 - <<'PY'
+import numpy as np
+import matplotlib.image as mpimg
+y, x = np.mgrid[0:48, 0:64]
+for i, name in enumerate(["reference", "noopt", "ours"]):
+    img = np.stack([x / 63.0, y / 47.0, np.full(x.shape, i / 2.0)], axis=-1)
+    mpimg.imsave(f"{name}.png", img)
+PY
+
+check() {  # check <file>: written and not empty
+  [[ -s $1 ]] || { echo "scripts_test: $1 was not written"; exit 1; }
+}
+expect_error() {  # expect_error <text> <command...>: exit code 2 and the text in the one-line error
+  local text=$1; shift
+  local out rc=0
+  out=$("$@" 2>&1) || rc=$?
+  [[ $rc -eq 2 && $out == *"$text"* ]] || { echo "scripts_test: '$*' gave rc $rc, output: $out"; exit 1; }
+}
+
+"$scripts/plot_table.py" table.csv --out fig/table.png --primary && check fig/table.png
+"$scripts/plot_table.py" table.csv --out fig/table_e2e.pdf --speed e2e --tracer cpu && check fig/table_e2e.pdf
+"$scripts/plot_sweep.py" sweep.csv --out fig/sweep.png && check fig/sweep.png
+"$scripts/plot_sweep.py" sweep.csv --out fig/sweep_mray.svg --value mray && check fig/sweep_mray.svg
+"$scripts/plot_converge.py" converge.csv --out fig/converge.png && check fig/converge.png
+"$scripts/plot_converge.py" converge.csv --out fig/converge_psnr.png --metric psnr --clock trace_s && check fig/converge_psnr.png
+"$scripts/plot_quality.py" quality.csv --out fig/quality.png --markdown fig/quality.md && check fig/quality.png
+check fig/quality.md
+grep -q "| ours | 25.00 | 19.50 |" fig/quality.md || { echo "scripts_test: unexpected table:"; cat fig/quality.md; exit 1; }
+"$scripts/montage.py" reference.png noopt.png ours.png --out fig/montage.png && check fig/montage.png
+"$scripts/montage.py" reference.png noopt.png ours.png --crop 8,4,16,12 --labels ref,noopt,ours --out fig/crops.png
+check fig/crops.png
+
+expect_error "no such CSV file" "$scripts/plot_table.py" missing.csv --out fig/x.png
+expect_error "missing column" "$scripts/plot_converge.py" quality.csv --out fig/x.png
+grep -v ",noopt," table.csv > no_baseline.csv
+expect_error "no noopt rows" "$scripts/plot_table.py" no_baseline.csv --out fig/x.png
+expect_error "not inside" "$scripts/montage.py" reference.png --crop 60,40,16,16 --out fig/x.png
+expect_error "no such image file" "$scripts/montage.py" nothing.png --out fig/x.png
+expect_error "nothing to do" "$scripts/plot_quality.py" quality.csv
+echo "scripts_test: all plot scripts wrote their figures"
