@@ -85,6 +85,9 @@ class Tracer {
   virtual std::string params() const = 0;
   // Counters of the last trace() call, for tracers that model coherence (`simt`); nullptr for the others.
   virtual const CoherenceCounters* last_counters() const { return nullptr; }
+  // Device time of the last trace() / trace_indirect() call in milliseconds (the kernel alone, from CUDA events),
+  // for tracers that run on a GPU (`cuda`); -1 for host tracers, whose caller times the call itself.
+  virtual double last_device_ms() const { return -1.0; }
 };
 
 struct TracerInfo {

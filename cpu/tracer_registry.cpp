@@ -17,6 +17,10 @@ namespace raycoh {
 std::unique_ptr<Tracer> make_cpu_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 std::unique_ptr<Tracer> make_embree_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
+#if defined(RAYCOH_HAVE_CUDA)
+// Defined in cuda/cuda_tracer.cpp (CUDA builds only); throws raycoh::Error when there is no CUDA device.
+std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
+#endif
 
 void Tracer::trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
   std::vector<Ray> gathered(count);
@@ -32,6 +36,13 @@ const std::vector<TracerInfo>& tracer_infos() {
       {"simt", "warps of 32 consecutive rays in lock step + L1/L2 cache model: SIMT efficiency, misses, modeled cost",
        "preset=rtx3060|h100 (default rtx3060), warp=[1,64] (32), line=64|128 (64), sms=[1,1024], l1_kb=[1,65536], "
        "l2_mb=[0.002,4096] (preset's), resident=[1,64] (32), block=[1,32] (1)"},
+#if defined(RAYCOH_HAVE_CUDA)
+      {"cuda",
+       "our BVH2 traversal on the GPU: persistent threads (Aila & Laine 2009), kernel time from CUDA events; "
+       "counters=on reproduces simt's warp counters",
+       "kernel=persistent|simple (persistent), block=[32,1024] multiple of 32 (128), counters=off|on (off), "
+       "line=64|128 (64)"},
+#endif
   };
   return infos;
 }
@@ -41,6 +52,13 @@ std::unique_ptr<Tracer> make_tracer(const PluginSpec& spec, const Scene& scene, 
   if (spec.name == "cpu") return make_cpu_tracer(params, scene, bvh);
   if (spec.name == "embree") return make_embree_tracer(params, scene, bvh);
   if (spec.name == "simt") return make_simt_tracer(params, scene, bvh);
+  if (spec.name == "cuda") {
+#if defined(RAYCOH_HAVE_CUDA)
+    return make_cuda_tracer(params, scene, bvh);
+#else
+    throw Error("tracer 'cuda': this build has no CUDA (configure with nvcc available, or -DRAYCOH_CUDA=ON)");
+#endif
+  }
   std::vector<std::string> names;
   for (const TracerInfo& info : tracer_infos()) names.push_back(info.name);
   throw Error(fmt::format("unknown tracer '{}'; valid tracers: {}", spec.name, join(names)));

@@ -1,6 +1,8 @@
 // raycoh command line: list, scenes info, table, rays. User errors print one line and exit with code 2.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fmt/format.h>
 #include <tbb/global_control.h>
@@ -8,6 +10,7 @@
 
 #include "core/error.h"
 #include "harness/commands.h"
+#include "harness/quality.h"
 #include "harness/table.h"
 
 namespace {
@@ -78,6 +81,95 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000))->capture_default_str();
   sweep_cmd->add_option("--out", sweep.out, "CSV file to write")->capture_default_str();
 
+  // Options every rendering command shares (RenderCommon), bound to a subcommand.
+  struct CommonText {
+    std::string tracer = "cpu", res = "160x120", tone_map = "aces", exposure = "auto";
+    std::vector<std::string> crops;
+  };
+  auto add_common = [](CLI::App* cmd, RenderCommon& c, CommonText& t) {
+    cmd->add_option("--tracer", t.tracer, "tracer of every bounce (cpu or embree)")->capture_default_str();
+    cmd->add_option("--res", t.res, "resolution WxH")->capture_default_str();
+    cmd->add_option("--seed", c.seed, "random seed")->capture_default_str();
+    cmd->add_option("--max-depth", c.max_depth, "scattering events per path")->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd->add_option("--rr-depth", c.rr_depth, "Russian roulette from this bounce on")->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    cmd->add_option("--tone-map", t.tone_map, "aces or clamp (PNG output, PSNR and SSIM)")->capture_default_str();
+    cmd->add_option("--exposure", t.exposure, "auto (0.18 / log-average luminance of the reference) or a number")
+        ->capture_default_str();
+  };
+  auto resolve_common = [](RenderCommon& c, const CommonText& t) {
+    c.tracer = parse_plugin_spec(t.tracer);
+    std::tie(c.width, c.height) = parse_size("--res", t.res, 1, 16384);
+    c.tone_map.kind = parse_tone_map(t.tone_map);
+    c.tone_map.auto_exposure = t.exposure == "auto";
+    if (!c.tone_map.auto_exposure) {
+      char* end = nullptr;
+      c.tone_map.exposure = std::strtof(t.exposure.c_str(), &end);
+      if (t.exposure.empty() || *end != '\0' || !(c.tone_map.exposure > 0.f) || !std::isfinite(c.tone_map.exposure))
+        throw Error("--exposure: '" + t.exposure + "' is not valid; expected auto or a positive number");
+    }
+  };
+  auto parse_crops = [](const std::vector<std::string>& texts) {
+    std::vector<Crop> crops;
+    for (const std::string& t : texts) crops.push_back(parse_crop("--crop", t));
+    return crops;
+  };
+
+  RenderOptions render;
+  CommonText render_text;
+  std::string render_generator = "noopt";
+  auto* render_cmd = app.add_subcommand("render", "path-trace a scene with a generator's first bounce; write EXR/PNG/PFM");
+  render_cmd->add_option("--scene", render.scene, "scene")->capture_default_str();
+  render_cmd->add_option("--generator", render_generator, "generator of the first bounce")->capture_default_str();
+  render_cmd->add_option("--frames", render.frames, "frames to accumulate")->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  render_cmd->add_option("--out", render.out, "image file (.exr, .png, .pfm)")->capture_default_str();
+  render_cmd->add_option("--crop", render_text.crops, "x,y,w,h region also written on its own (repeatable)");
+  add_common(render_cmd, render.common, render_text);
+
+  QualityOptions quality;
+  CommonText quality_text;
+  std::string q_scenes = "cornell", q_generators = "noopt,ours";
+  auto* quality_cmd = app.add_subcommand("quality", "image error of each generator against a NoOpt reference (Table 2)");
+  quality_cmd->add_option("--scenes", q_scenes, "comma-separated scenes")->capture_default_str();
+  quality_cmd->add_option("--generators", q_generators, "comma-separated generators")->capture_default_str();
+  quality_cmd->add_option("--frames", quality.frames, "frames per render")->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
+  quality_cmd->add_option("--ref-frames", quality.ref_frames, "NoOpt frames of the reference")
+      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  quality_cmd->add_option("--bias-renders", quality.bias_renders, "independent renders per generator")
+      ->check(CLI::Range(1, 256))->capture_default_str();
+  quality_cmd->add_option("--cache", quality.cache_dir, "reference cache folder (default $RAYCOH_CACHE or results/cache)");
+  quality_cmd->add_option("--reference", quality.reference, "use this .exr/.pfm as the reference (one scene)");
+  quality_cmd->add_option("--out", quality.out, "CSV file to write")->capture_default_str();
+  quality_cmd->add_option("--images", quality.image_dir, "folder for renders and crops (default <out stem>-images)");
+  quality_cmd->add_option("--crop", quality_text.crops, "x,y,w,h hotspot region written per render (repeatable)");
+  add_common(quality_cmd, quality.common, quality_text);
+
+  ConvergeOptions converge;
+  CommonText converge_text;
+  std::string c_generators = "noopt,ours", c_time = "10s";
+  auto* converge_cmd = app.add_subcommand("converge", "error against wall-clock and trace time; equal-time and "
+                                                      "equal-error ratios");
+  converge_cmd->add_option("--scene", converge.scene, "scene")->capture_default_str();
+  converge_cmd->add_option("--generators", c_generators, "comma-separated generators, the first is the baseline")
+      ->capture_default_str();
+  converge_cmd->add_option("--time", c_time, "render time per generator (60s, 1.5m, 500ms)")->capture_default_str();
+  converge_cmd->add_option("--max-frames", converge.max_frames, "stop a generator after this many frames")
+      ->check(CLI::Range(1, 1 << 20));
+  converge_cmd->add_option("--ref-frames", converge.ref_frames, "NoOpt frames of the reference")
+      ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  converge_cmd->add_option("--cache", converge.cache_dir, "reference cache folder");
+  converge_cmd->add_option("--reference", converge.reference, "use this .exr/.pfm as the reference");
+  converge_cmd->add_option("--out", converge.out, "CSV file to write")->capture_default_str();
+  add_common(converge_cmd, converge.common, converge_text);
+
+  CompareOptions compare;
+  auto* compare_cmd = app.add_subcommand("compare", "every error metric between two image files");
+  compare_cmd->add_option("test", compare.test, "image to measure (.exr or .pfm)")->required();
+  compare_cmd->add_option("reference", compare.reference, "reference image (.exr or .pfm)")->required();
+
   RaysOptions rays;
   std::string r_generator = "noopt", r_res = "320x240";
   auto* rays_cmd = app.add_subcommand("rays", "dump one frame's secondary ray batch as CSV, one row per ray");
@@ -140,6 +232,24 @@ int main(int argc, char** argv) {
       sweep.tracers = split_nonempty("--tracers", s_tracers);
       std::tie(sweep.width, sweep.height) = parse_size("--res", s_res, 1, 16384);
       return run_sweep(sweep, provenance);
+    } else if (render_cmd->parsed()) {
+      resolve_common(render.common, render_text);
+      render.generator = parse_plugin_spec(render_generator);
+      render.crops = parse_crops(render_text.crops);
+      return run_render(render, provenance);
+    } else if (quality_cmd->parsed()) {
+      resolve_common(quality.common, quality_text);
+      quality.scenes = split_scenes(q_scenes);
+      quality.generators = split_nonempty("--generators", q_generators);
+      quality.crops = parse_crops(quality_text.crops);
+      return run_quality(quality, provenance);
+    } else if (converge_cmd->parsed()) {
+      resolve_common(converge.common, converge_text);
+      converge.generators = split_nonempty("--generators", c_generators);
+      converge.time_s = parse_duration("--time", c_time);
+      return run_converge(converge, provenance);
+    } else if (compare_cmd->parsed()) {
+      return run_compare(compare);
     } else if (rays_cmd->parsed()) {
       rays.generator = parse_plugin_spec(r_generator);
       rays.encoder = parse_plugin_spec(r_encoder);

@@ -124,7 +124,8 @@ void check_crops(const std::vector<Crop>& crops, int width, int height) {
 }
 
 // Generators made up front, so that a bad name or parameter fails before anything is rendered.
-std::vector<std::unique_ptr<Generator>> make_generators(const std::string& option, const std::vector<PluginSpec>& specs) {
+std::vector<std::unique_ptr<Generator>> make_generators(const std::string& option,
+                                                        const std::vector<PluginSpec>& specs) {
   if (specs.empty()) throw Error(option + ": empty list");
   std::vector<std::unique_ptr<Generator>> out;
   std::vector<std::string> labels;
@@ -173,8 +174,8 @@ struct ReferenceImage {
   uint64_t non_finite = 0;
 };
 
-ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, const RenderCommon& c,
-                                int ref_frames, const std::string& cache_dir, const std::string& explicit_path) {
+ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, const RenderCommon& c, int ref_frames,
+                                const std::string& cache_dir, const std::string& explicit_path) {
   ReferenceImage out;
   if (!explicit_path.empty()) {
     out.image = read_image_for("--reference", explicit_path);
@@ -243,10 +244,14 @@ double parse_duration(const std::string& what, const std::string& text) {
   }
   const std::string unit = end > 0 ? text.substr(end) : std::string();
   double scale = 0;
-  if (unit.empty() || unit == "s") scale = 1;
-  else if (unit == "ms") scale = 1e-3;
-  else if (unit == "m" || unit == "min") scale = 60;
-  else if (unit == "h") scale = 3600;
+  if (unit.empty() || unit == "s")
+    scale = 1;
+  else if (unit == "ms")
+    scale = 1e-3;
+  else if (unit == "m" || unit == "min")
+    scale = 60;
+  else if (unit == "h")
+    scale = 3600;
   if (end == 0 || scale == 0)
     throw Error(fmt::format("{} '{}': expected a duration such as 60s, 1.5m, 500ms or 2h", what, text));
   v *= scale;
@@ -347,38 +352,72 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
   if (o.scenes.empty()) throw Error("--scenes: empty list");
   for (const std::string& s : o.scenes) check_scene_spec("--scenes", s);
   if (!o.reference.empty() && o.scenes.size() != 1)
-    throw Error(fmt::format("--reference {}: an explicit reference image needs exactly one scene (got {})",
-                            o.reference, o.scenes.size()));
+    throw Error(fmt::format("--reference {}: an explicit reference image needs exactly one scene (got {})", o.reference,
+                            o.scenes.size()));
   if (!o.reference.empty() && !fs::is_regular_file(o.reference))
     throw Error(fmt::format("--reference {}: no such image file", o.reference));
   check_crops(o.crops, o.common.width, o.common.height);
   std::vector<std::unique_ptr<Generator>> generators = make_generators("--generators", o.generators);
 
-  const std::vector<std::string> columns = with_provenance(
-      {"scene", "scene_spec", "scene_triangles", "method", "generator", "generator_params", "tracer_spec", "tracer",
-       "tracer_params", "width", "height", "frames", "ref_frames", "bias_renders", "seed", "ref_seed", "max_depth",
-       "rr_depth", "tone_map", "exposure", "reference_kind", "reference", "psnr", "psnr_std", "ssim", "rmse", "rel_mse", "mse",
-       "mse_of_mean", "bias2", "variance", "non_finite_samples", "non_finite_pixels", "ref_non_finite_samples",
-       "render_s", "trace_s", "gen_ms", "rays", "mray_s", "below_geometric", "reused_rays"});
+  const std::vector<std::string> columns = with_provenance({"scene",
+                                                            "scene_spec",
+                                                            "scene_triangles",
+                                                            "method",
+                                                            "generator",
+                                                            "generator_params",
+                                                            "tracer_spec",
+                                                            "tracer",
+                                                            "tracer_params",
+                                                            "width",
+                                                            "height",
+                                                            "frames",
+                                                            "ref_frames",
+                                                            "bias_renders",
+                                                            "seed",
+                                                            "ref_seed",
+                                                            "max_depth",
+                                                            "rr_depth",
+                                                            "tone_map",
+                                                            "exposure",
+                                                            "reference_kind",
+                                                            "reference",
+                                                            "psnr",
+                                                            "psnr_std",
+                                                            "ssim",
+                                                            "rmse",
+                                                            "rel_mse",
+                                                            "mse",
+                                                            "mse_of_mean",
+                                                            "bias2",
+                                                            "variance",
+                                                            "non_finite_samples",
+                                                            "non_finite_pixels",
+                                                            "ref_non_finite_samples",
+                                                            "render_s",
+                                                            "trace_s",
+                                                            "gen_ms",
+                                                            "rays",
+                                                            "mray_s",
+                                                            "below_geometric",
+                                                            "reused_rays"});
   const std::string tone = describe(o.common.tone_map);
   const std::string ref_kind = o.reference.empty() ? "cache" : "file";
   // What a finished row must match to be kept on resume; values of this run, by column.
   auto key_values = [&](const std::string& scene_spec, const std::string& method) {
-    return std::map<std::string, std::string>{
-        {"scene_spec", scene_spec},
-        {"method", method},
-        {"tracer_spec", o.common.tracer.text()},
-        {"width", std::to_string(o.common.width)},
-        {"height", std::to_string(o.common.height)},
-        {"frames", std::to_string(o.frames)},
-        {"ref_frames", std::to_string(o.ref_frames)},
-        {"bias_renders", std::to_string(o.bias_renders)},
-        {"seed", std::to_string(o.common.seed)},
-        {"max_depth", std::to_string(o.common.max_depth)},
-        {"rr_depth", std::to_string(o.common.rr_depth)},
-        {"tone_map", tone},
-        {"reference_kind", ref_kind},
-        {"git_revision", provenance.git_revision}};
+    return std::map<std::string, std::string>{{"scene_spec", scene_spec},
+                                              {"method", method},
+                                              {"tracer_spec", o.common.tracer.text()},
+                                              {"width", std::to_string(o.common.width)},
+                                              {"height", std::to_string(o.common.height)},
+                                              {"frames", std::to_string(o.frames)},
+                                              {"ref_frames", std::to_string(o.ref_frames)},
+                                              {"bias_renders", std::to_string(o.bias_renders)},
+                                              {"seed", std::to_string(o.common.seed)},
+                                              {"max_depth", std::to_string(o.common.max_depth)},
+                                              {"rr_depth", std::to_string(o.common.rr_depth)},
+                                              {"tone_map", tone},
+                                              {"reference_kind", ref_kind},
+                                              {"git_revision", provenance.git_revision}};
   };
   CsvWriter csv(o.out, columns);  // resumes the complete rows of an interrupted run with these columns
   auto matches = [&](const std::vector<std::string>& row, const std::map<std::string, std::string>& key) {
@@ -414,18 +453,16 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
       }
       std::fprintf(stderr, "[%zu/%zu] ", si + 1, o.scenes.size());
       auto ls = load(spec, o.common.tracer);
-      const ReferenceImage ref =
-          obtain_reference(*ls, spec, o.common, o.ref_frames, o.cache_dir, o.reference);
+      const ReferenceImage ref = obtain_reference(*ls, spec, o.common, o.ref_frames, o.cache_dir, o.reference);
       // One display mapping per scene, from the reference, for every generator's metrics and images.
       const ToneMap tm = resolved(o.common.tone_map, ref.image);
       const std::string scene_file = safe_name(ls->scene.name);
-      write_image(ref.image, (fs::path(image_dir) / (scene_file + "-reference" + display_extension())).string(),
-                  tm);
+      write_image(ref.image, (fs::path(image_dir) / (scene_file + "-reference" + display_extension())).string(), tm);
       for (size_t ci = 0; ci < o.crops.size(); ++ci)
-        write_image(crop(ref.image, o.crops[ci]),
-                    (fs::path(image_dir) / fmt::format("{}-reference-crop{}{}", scene_file, ci, display_extension()))
-                        .string(),
-                    tm);
+        write_image(
+            crop(ref.image, o.crops[ci]),
+            (fs::path(image_dir) / fmt::format("{}-reference-crop{}{}", scene_file, ci, display_extension())).string(),
+            tm);
 
       for (size_t gi = 0; gi < o.generators.size(); ++gi) {
         const std::string label = o.generators[gi].text();
@@ -483,47 +520,48 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
         const double bias2 = R > 1 ? (R * mse_of_mean - mse_mean_r) / (R - 1) : std::nan("");
         const double variance = R > 1 ? (mse_mean_r - mse_of_mean) * R / (R - 1) : std::nan("");
         const GenerationStats& gs = total.generation;
-        std::vector<std::string> row = {ls->scene.name,
-                                        spec,
-                                        std::to_string(ls->scene.triangle_count()),
-                                        label,
-                                        o.generators[gi].name,
-                                        generators[gi]->params(),
-                                        o.common.tracer.text(),
-                                        o.common.tracer.name,
-                                        ls->tracer->params(),
-                                        std::to_string(o.common.width),
-                                        std::to_string(o.common.height),
-                                        std::to_string(o.frames),
-                                        std::to_string(o.ref_frames),
-                                        std::to_string(R),
-                                        std::to_string(o.common.seed),
-                                        ref_kind == "file" ? std::string() : std::to_string(o.common.seed + kReferenceSeedOffset),
-                                        std::to_string(o.common.max_depth),
-                                        std::to_string(o.common.rr_depth),
-                                        tone,
-                                        num(tm.exposure),
-                                        ref_kind,
-                                        ref.path,
-                                        num(mean_of(psnr_r)),
-                                        num(psnr_std),
-                                        num(mean_of(ssim_r)),
-                                        num(mean_of(rmse_r)),
-                                        num(mean_of(rel_r)),
-                                        num(mse_mean_r),
-                                        num(mse_of_mean),
-                                        num(bias2),
-                                        num(variance),
-                                        std::to_string(total.non_finite),
-                                        std::to_string(non_finite_pixels),
-                                        std::to_string(ref.non_finite),
-                                        num(total.wall_s),
-                                        num(total.trace_s),
-                                        num(total.gen_s * 1e3 / (static_cast<double>(R) * o.frames)),
-                                        std::to_string(total.rays()),
-                                        num(total.trace_s > 0 ? static_cast<double>(total.rays()) / total.trace_s * 1e-6 : 0.0),
-                                        std::to_string(gs.below_geometric),
-                                        std::to_string(gs.reused_rays)};
+        std::vector<std::string> row = {
+            ls->scene.name,
+            spec,
+            std::to_string(ls->scene.triangle_count()),
+            label,
+            o.generators[gi].name,
+            generators[gi]->params(),
+            o.common.tracer.text(),
+            o.common.tracer.name,
+            ls->tracer->params(),
+            std::to_string(o.common.width),
+            std::to_string(o.common.height),
+            std::to_string(o.frames),
+            std::to_string(o.ref_frames),
+            std::to_string(R),
+            std::to_string(o.common.seed),
+            ref_kind == "file" ? std::string() : std::to_string(o.common.seed + kReferenceSeedOffset),
+            std::to_string(o.common.max_depth),
+            std::to_string(o.common.rr_depth),
+            tone,
+            num(tm.exposure),
+            ref_kind,
+            ref.path,
+            num(mean_of(psnr_r)),
+            num(psnr_std),
+            num(mean_of(ssim_r)),
+            num(mean_of(rmse_r)),
+            num(mean_of(rel_r)),
+            num(mse_mean_r),
+            num(mse_of_mean),
+            num(bias2),
+            num(variance),
+            std::to_string(total.non_finite),
+            std::to_string(non_finite_pixels),
+            std::to_string(ref.non_finite),
+            num(total.wall_s),
+            num(total.trace_s),
+            num(total.gen_s * 1e3 / (static_cast<double>(R) * o.frames)),
+            std::to_string(total.rays()),
+            num(total.trace_s > 0 ? static_cast<double>(total.rays()) / total.trace_s * 1e-6 : 0.0),
+            std::to_string(gs.below_geometric),
+            std::to_string(gs.reused_rays)};
         row.insert(row.end(), prov.begin(), prov.end());
         csv.write_row(row);
         results.push_back(std::move(row));
@@ -544,9 +582,10 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
   auto cell = [&](const std::vector<std::string>& row, const char* col) { return to_double(row[csv.column(col)]); };
   std::vector<std::string> scene_names;
   for (size_t si = 0; si < o.scenes.size(); ++si) scene_names.push_back(results[si * o.generators.size()][0]);
-  std::printf("\nPSNR (dB) after %d frames, mean of %d independent render(s), against a %d-frame NoOpt reference; "
-              "%dx%d, max depth %d; tone map %s, peak 1\n\n| generator |",
-              o.frames, o.bias_renders, o.ref_frames, o.common.width, o.common.height, o.common.max_depth, tone.c_str());
+  std::printf(
+      "\nPSNR (dB) after %d frames, mean of %d independent render(s), against a %d-frame NoOpt reference; "
+      "%dx%d, max depth %d; tone map %s, peak 1\n\n| generator |",
+      o.frames, o.bias_renders, o.ref_frames, o.common.width, o.common.height, o.common.max_depth, tone.c_str());
   for (const std::string& s : scene_names) std::printf(" %s |", s.c_str());
   std::printf("\n|---|");
   for (size_t i = 0; i < scene_names.size(); ++i) std::printf("---:|");
@@ -557,8 +596,9 @@ int run_quality(const QualityOptions& o, const Provenance& provenance) {
       std::printf(" %.2f |", cell(results[si * o.generators.size() + gi], "psnr"));
     std::printf("\n");
   }
-  std::printf("\n| scene | generator | exposure | PSNR | ± | SSIM | RMSE | relMSE | bias² | variance | NaN/Inf | "
-              "render s | MRay/s |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "\n| scene | generator | exposure | PSNR | ± | SSIM | RMSE | relMSE | bias² | variance | NaN/Inf | "
+      "render s | MRay/s |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& row : results)
     std::printf("| %s | %s | %.3g | %.2f | %.2f | %.4f | %.4g | %.4g | %.3g | %.3g | %s | %.1f | %.2f |\n",
                 row[0].c_str(), row[csv.column("method")].c_str(), cell(row, "exposure"), cell(row, "psnr"),
@@ -584,10 +624,34 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   auto ls = load(o.scene, o.common.tracer);
   const ReferenceImage ref = obtain_reference(*ls, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference);
 
-  const std::vector<std::string> columns = with_provenance(
-      {"scene", "scene_spec", "method", "generator", "generator_params", "tracer", "tracer_params", "width", "height",
-       "seed", "ref_frames", "max_depth", "rr_depth", "tone_map", "reference", "frame", "wall_s", "trace_s", "gen_s",
-       "frame_wall_ms", "frame_trace_ms", "rays", "rel_mse", "mse", "rmse", "psnr", "ssim", "non_finite_samples"});
+  const std::vector<std::string> columns = with_provenance({"scene",
+                                                            "scene_spec",
+                                                            "method",
+                                                            "generator",
+                                                            "generator_params",
+                                                            "tracer",
+                                                            "tracer_params",
+                                                            "width",
+                                                            "height",
+                                                            "seed",
+                                                            "ref_frames",
+                                                            "max_depth",
+                                                            "rr_depth",
+                                                            "tone_map",
+                                                            "reference",
+                                                            "frame",
+                                                            "wall_s",
+                                                            "trace_s",
+                                                            "gen_s",
+                                                            "frame_wall_ms",
+                                                            "frame_trace_ms",
+                                                            "rays",
+                                                            "rel_mse",
+                                                            "mse",
+                                                            "rmse",
+                                                            "psnr",
+                                                            "ssim",
+                                                            "non_finite_samples"});
   // A convergence curve is one timed measurement: an interrupted run starts again rather than resuming.
   CsvWriter csv(o.out, columns, CsvWriter::Resume::No);
   const std::vector<std::string> prov = provenance_values(provenance);
@@ -607,7 +671,8 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   for (size_t gi = 0; gi < generators.size(); ++gi) {
     Run run;
     run.label = o.generators[gi].text();
-    run.pt = std::make_unique<PathTracer>(ls->scene, *ls->tracer, *generators[gi], settings_of(o.common, o.common.seed));
+    run.pt =
+        std::make_unique<PathTracer>(ls->scene, *ls->tracer, *generators[gi], settings_of(o.common, o.common.seed));
     run.acc = Accumulator(o.common.width, o.common.height);
     runs.push_back(std::move(run));
   }
@@ -661,15 +726,16 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
       // Progress in hundredths of the whole time budget (the bar counts them as its steps).
       double done = 0;
       for (const Run& r : runs) done += std::min(r.total.wall_s, o.time_s);
-      bar.update(0, 1, static_cast<int>(100 * done / (o.time_s * static_cast<double>(runs.size()))), 100,
-                 fmt::format("{}: {:.0f} of {:.0f} s", ls->scene.name, done, o.time_s * static_cast<double>(runs.size())));
+      bar.update(
+          0, 1, static_cast<int>(100 * done / (o.time_s * static_cast<double>(runs.size()))), 100,
+          fmt::format("{}: {:.0f} of {:.0f} s", ls->scene.name, done, o.time_s * static_cast<double>(runs.size())));
     }
   } catch (const Error& e) {
     bar.clear();
     csv.discard_if_empty();
     if (csv.rows() == 0) throw;
-    throw Error(fmt::format("{} ({} rows measured before this are kept in {})", e.what(), csv.rows(),
-                            csv.partial_path()));
+    throw Error(
+        fmt::format("{} ({} rows measured before this are kept in {})", e.what(), csv.rows(), csv.partial_path()));
   }
   bar.clear();
   csv.finish();
@@ -681,16 +747,18 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
                                      "baseline_error", "equal_time_error_ratio", "target_error", "time_s",
                                      "baseline_time_s", "equal_error_speedup", "frames", "baseline_frames"}),
                     CsvWriter::Resume::No);
-  std::printf("\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
-              "baseline %s\n\n",
-              ls->scene.name.c_str(), o.common.width, o.common.height, o.time_s, o.ref_frames, ref.kind.c_str(),
-              kRelMseEpsilon, runs[0].label.c_str());
+  std::printf(
+      "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
+      "baseline %s\n\n",
+      ls->scene.name.c_str(), o.common.width, o.common.height, o.time_s, o.ref_frames, ref.kind.c_str(), kRelMseEpsilon,
+      runs[0].label.c_str());
   std::printf("| generator | frames | final relMSE | final PSNR |\n|---|---:|---:|---:|\n");
   for (const Run& r : runs)
     std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
                 psnr(r.acc.mean(), ref.image, tm));
-  std::printf("\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
-              "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
+      "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   const Run& base = runs[0];
   for (size_t gi = 1; gi < runs.size(); ++gi) {
     const Run& run = runs[gi];
@@ -702,9 +770,21 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
       const double e = error_at_time(c, horizon), eb = error_at_time(b, horizon);
       const double target = std::max(c.back().error, b.back().error);
       const double t = time_to_error(c, target), tb = time_to_error(b, target);
-      std::vector<std::string> row = {ls->scene.name, run.label, base.label, "rel_mse", clock, num(horizon), num(e),
-                                      num(eb), num(e / eb), num(target), num(t), num(tb), num(tb / t),
-                                      std::to_string(run.frames), std::to_string(base.frames)};
+      std::vector<std::string> row = {ls->scene.name,
+                                      run.label,
+                                      base.label,
+                                      "rel_mse",
+                                      clock,
+                                      num(horizon),
+                                      num(e),
+                                      num(eb),
+                                      num(e / eb),
+                                      num(target),
+                                      num(t),
+                                      num(tb),
+                                      num(tb / t),
+                                      std::to_string(run.frames),
+                                      std::to_string(base.frames)};
       row.insert(row.end(), prov.begin(), prov.end());
       summary.write_row(row);
       std::printf("| %s | %s | %.3g | %.4g | %.4g | %.3f | %.4g | %.3g | %.3g | %.3f |\n", run.label.c_str(), clock,

@@ -59,8 +59,8 @@ struct ConvergeOptions {
   RenderCommon common;
   std::string scene = "cornell";
   std::vector<PluginSpec> generators{{"noopt", ""}, {"ours", ""}};  // the first is the baseline of the ratios
-  double time_s = 10;           // --time (0, 1e6] seconds of rendering (frame wall time) per generator
-  int max_frames = 1 << 20;     // --max-frames [1, 1 << 20]: stop a generator earlier
+  double time_s = 10;        // --time (0, 1e6] seconds of rendering (frame wall time) per generator
+  int max_frames = 1 << 20;  // --max-frames [1, 1 << 20]: stop a generator earlier
   int ref_frames = 512;
   std::string cache_dir;
   std::string reference;

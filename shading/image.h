@@ -73,9 +73,9 @@ class Accumulator {
 
  private:
   int width_ = 0, height_ = 0;
-  std::vector<double> sum_;          // 3 per pixel
-  std::vector<uint32_t> samples_;    // finite samples added
-  std::vector<uint32_t> non_finite_; // samples rejected
+  std::vector<double> sum_;           // 3 per pixel
+  std::vector<uint32_t> samples_;     // finite samples added
+  std::vector<uint32_t> non_finite_;  // samples rejected
 };
 
 enum class ToneMapKind { Aces, Clamp };

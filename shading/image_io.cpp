@@ -7,12 +7,13 @@
 //
 //   .exr  32-bit float RGB, zip compression (lossless: a written reference reads back bit for bit)
 //   .png  8-bit sRGB after tone mapping (shading/image.h ToneMap), values rounded to nearest
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 #include "core/error.h"
 #include "shading/image.h"
@@ -32,8 +33,9 @@ std::string extension_of(const std::string& path) {
 }
 
 [[noreturn]] void no_image_io(const std::string& path) {
-  throw Error(path + ": EXR and PNG need a build with -DRAYCOH_IMAGE_IO=ON (OpenImageIO); this build reads and "
-                     "writes only .pfm");
+  throw Error(path +
+              ": EXR and PNG need a build with -DRAYCOH_IMAGE_IO=ON (OpenImageIO); this build reads and "
+              "writes only .pfm");
 }
 
 #if RAYCOH_IMAGE_IO
@@ -60,8 +62,8 @@ Image read_oiio(const std::string& path) {
   if (!in) throw Error(path + ": cannot read: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1)
-    throw Error(path + ": unsupported image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                ", " + std::to_string(spec.nchannels) + " channels)");
+    throw Error(path + ": unsupported image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
+                std::to_string(spec.nchannels) + " channels)");
   const int channels = std::min(spec.nchannels, 3);
   std::vector<float> data(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))

@@ -105,7 +105,8 @@ void check_same_size(const Image& test, const Image& ref) {
 double mse(const Image& test, const Image& ref) {
   check_same_size(test, ref);
   uint64_t n;
-  const double s = sum_over_finite(test, ref, [](double t, double r) { return (t - r) * (t - r); }, n);
+  const double s = sum_over_finite(
+      test, ref, [](double t, double r) { return (t - r) * (t - r); }, n);
   return mean_over_channels(s, n);
 }
 
@@ -114,8 +115,8 @@ double rmse(const Image& test, const Image& ref) { return std::sqrt(mse(test, re
 double rel_mse(const Image& test, const Image& ref, double eps) {
   check_same_size(test, ref);
   uint64_t n;
-  const double s =
-      sum_over_finite(test, ref, [eps](double t, double r) { return (t - r) * (t - r) / (r * r + eps); }, n);
+  const double s = sum_over_finite(
+      test, ref, [eps](double t, double r) { return (t - r) * (t - r) / (r * r + eps); }, n);
   return mean_over_channels(s, n);
 }
 
@@ -138,14 +139,13 @@ double psnr(const Image& test, const Image& ref, const ToneMap& tm) {
   return psnr_from_mse(mean_over_channels(s, n));
 }
 
-double ssim_gray(const std::vector<double>& a, const std::vector<double>& b, int width, int height,
-                 double data_range) {
+double ssim_gray(const std::vector<double>& a, const std::vector<double>& b, int width, int height, double data_range) {
   if (width < kSsimWindow || height < kSsimWindow)
     throw Error(fmt::format("SSIM needs images of at least {0}x{0} pixels (Gaussian window of {0} taps); got {1}x{2}",
                             kSsimWindow, width, height));
   const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
-  RAYCOH_CHECK(a.size() == n && b.size() == n, fmt::format("{} and {} values for {}x{}", a.size(), b.size(), width,
-                                                           height));
+  RAYCOH_CHECK(a.size() == n && b.size() == n,
+               fmt::format("{} and {} values for {}x{}", a.size(), b.size(), width, height));
   std::vector<double> aa(n), bb(n), ab(n);
   for (size_t i = 0; i < n; ++i) {
     aa[i] = a[i] * a[i];
@@ -162,8 +162,7 @@ double ssim_gray(const std::vector<double>& a, const std::vector<double>& b, int
     for (int x = pad; x < width - pad; ++x) {
       const size_t i = static_cast<size_t>(y) * width + x;
       const double vx = uxx[i] - ux[i] * ux[i], vy = uyy[i] - uy[i] * uy[i], vxy = uxy[i] - ux[i] * uy[i];
-      sum += ((2 * ux[i] * uy[i] + c1) * (2 * vxy + c2)) /
-             ((ux[i] * ux[i] + uy[i] * uy[i] + c1) * (vx + vy + c2));
+      sum += ((2 * ux[i] * uy[i] + c1) * (2 * vxy + c2)) / ((ux[i] * ux[i] + uy[i] * uy[i] + c1) * (vx + vy + c2));
     }
   return sum / (static_cast<double>(width - 2 * pad) * static_cast<double>(height - 2 * pad));
 }
@@ -177,7 +176,8 @@ ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& 
   check_same_size(test, ref);
   ErrorMetrics m;
   uint64_t n = 0;
-  const double sum = sum_over_finite(test, ref, [](double t, double r) { return (t - r) * (t - r); }, n);
+  const double sum = sum_over_finite(
+      test, ref, [](double t, double r) { return (t - r) * (t - r); }, n);
   m.mse = mean_over_channels(sum, n);
   m.pixels_compared = n;
   m.rmse = std::sqrt(m.mse);
@@ -186,8 +186,8 @@ ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& 
   m.ssim = test.width >= kSsimWindow && test.height >= kSsimWindow ? ssim(test, ref, tm) : std::nan("");
   for (size_t p = 0; p < test.pixels(); ++p) {
     const Vec3 t = test.at(p), r = ref.at(p);
-    const bool nan = std::isnan(t.x) || std::isnan(t.y) || std::isnan(t.z) || std::isnan(r.x) || std::isnan(r.y) ||
-                     std::isnan(r.z);
+    const bool nan =
+        std::isnan(t.x) || std::isnan(t.y) || std::isnan(t.z) || std::isnan(r.x) || std::isnan(r.y) || std::isnan(r.z);
     if (nan)
       ++m.nan_pixels;
     else if (!is_finite(t) || !is_finite(r))

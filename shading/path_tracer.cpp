@@ -25,12 +25,12 @@
 //      weighted by multiple importance sampling with the power heuristic (beta = 2) against the NEE pdf of the
 //      same light (Veach, "Robust Monte Carlo Methods for Light Transport Simulation", PhD thesis 1997, ch. 9);
 //      after a delta lobe the weight is 1. Straight passes through thin panes keep the MIS state (pdf and
-//      distance) of the scattering event before them, as NEE sees through them. A ray that misses always adds the sky (weight 1: the sky's only
-//      strategy). Both strategies cover exactly the same path lengths (up to max_depth scattering events), so
-//      the estimator is unbiased for NoOpt. With a reusing generator (ours), the first bounce's MIS weight uses
-//      the pdf the generator reports for each pixel — each pixel's own marginal pdf for diffuse groups, so
-//      unbiased there; the hybrid groups' shared direction is not drawn from that pdf (the paper's bias, which
-//      the quality runs measure).
+//      distance) of the scattering event before them, as NEE sees through them. A ray that misses always adds
+//      the sky (weight 1: the sky's only strategy). Both strategies cover exactly the same path lengths (up to
+//      max_depth scattering events), so the estimator is unbiased for NoOpt. With a reusing generator (ours), the first
+//      bounce's MIS weight uses the pdf the generator reports for each pixel — each pixel's own marginal pdf for
+//      diffuse groups, so unbiased there; the hybrid groups' shared direction is not drawn from that pdf (the paper's
+//      bias, which the quality runs measure).
 //   5. Russian roulette from rr_depth on: a path survives with probability min(1, max component of its
 //      throughput) and is divided by it (unbiased).
 //   6. Each pixel's frame sample is added to the Accumulator, which counts NaN/Inf samples instead of adding them.
@@ -64,8 +64,17 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 constexpr int kPrimaryTile = 8;
 constexpr uint32_t kDimsPerBounce = 16;
-enum BounceDim : uint32_t { kEmitterPick = 0, kEmitterU = 1, kEmitterV = 2, kSunU = 3, kSunV = 4, kDirU = 5,
-                            kDirV = 6, kLobe = 7, kRoulette = 8 };
+enum BounceDim : uint32_t {
+  kEmitterPick = 0,
+  kEmitterU = 1,
+  kEmitterV = 2,
+  kSunU = 3,
+  kSunV = 4,
+  kDirU = 5,
+  kDirV = 6,
+  kLobe = 7,
+  kRoulette = 8
+};
 // Shadow rays stop this fraction short of the sampled light point, so that the light itself is not an occluder.
 constexpr float kShadowEpsilon = 1e-4f;
 
@@ -157,43 +166,48 @@ size_t compact(const std::vector<uint8_t>& keep, Arrays&... arrays) {
 
 }  // namespace
 
-// Emissive triangles with a power-proportional discrete distribution.
+// Emissive triangles with a power-proportional discrete distribution. The probability of each triangle is the
+// exact probability that pick() returns it for a uniform number on rng_float's grid of 2^-24 steps, so NEE and
+// the MIS weights of BSDF hits use the same number even for triangles too dim to be picked at all (probability
+// 0: then only BSDF sampling finds them, with weight 1).
 struct PathTracer::Emitters {
   std::vector<uint32_t> tris;
-  std::vector<float> cdf;            // inclusive, last = 1
-  std::vector<float> pmf_by_prim;    // probability of picking triangle prim (0 for non-emitters), sized per triangle
+  std::vector<float> cdf;          // inclusive, last = 1
+  std::vector<float> pmf_by_prim;  // probability of picking triangle prim (0 for non-emitters), sized per triangle
   std::vector<float> area_by_prim;
   bool empty() const { return tris.empty(); }
 
   explicit Emitters(const Scene& scene) {
-    std::vector<double> power;
+    std::vector<double> power, area;
     for (uint32_t t : scene.emissive_tris) {
       const uint32_t* idx = &scene.indices[3 * static_cast<size_t>(t)];
       const Vec3 e1 = scene.positions[idx[1]] - scene.positions[idx[0]];
       const Vec3 e2 = scene.positions[idx[2]] - scene.positions[idx[0]];
-      const double area = 0.5 * static_cast<double>(length(cross(e1, e2)));
-      const double p = area * luminance(scene.materials[scene.tri_material[t]].emission);
+      const double a = 0.5 * static_cast<double>(length(cross(e1, e2)));
+      const double p = a * luminance(scene.materials[scene.tri_material[t]].emission);
       if (!(p > 0.0) || !std::isfinite(p)) continue;
       tris.push_back(t);
       power.push_back(p);
+      area.push_back(a);
     }
     if (tris.empty()) return;
     pmf_by_prim.assign(scene.triangle_count(), 0.f);
     area_by_prim.assign(scene.triangle_count(), 0.f);
     const double total = std::accumulate(power.begin(), power.end(), 0.0);
-    double run = 0;
+    constexpr double kGrid = 16777216.0;  // rng_float's values are k / 2^24
+    double run = 0, below = 0;            // below: grid points under the previous cdf entry
     cdf.resize(tris.size());
     for (size_t i = 0; i < tris.size(); ++i) {
       run += power[i];
-      cdf[i] = static_cast<float>(run / total);
-      pmf_by_prim[tris[i]] = static_cast<float>(power[i] / total);
-      const uint32_t* idx = &scene.indices[3 * static_cast<size_t>(tris[i])];
-      area_by_prim[tris[i]] = 0.5f * length(cross(scene.positions[idx[1]] - scene.positions[idx[0]],
-                                                  scene.positions[idx[2]] - scene.positions[idx[0]]));
+      cdf[i] = i + 1 == tris.size() ? 1.f : static_cast<float>(run / total);
+      const double upto = std::ceil(static_cast<double>(cdf[i]) * kGrid);
+      pmf_by_prim[tris[i]] = static_cast<float>((upto - below) / kGrid);
+      area_by_prim[tris[i]] = static_cast<float>(area[i]);
+      below = upto;
     }
-    cdf.back() = 1.f;
   }
 
+  // The first triangle whose cdf entry exceeds u (u in [0, 1)).
   size_t pick(float u) const {
     const size_t i = static_cast<size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
     return std::min(i, tris.size() - 1);
@@ -226,7 +240,9 @@ Vec3 sky_radiance(const Environment& env, Vec3 d) {
   return env.sky_horizon * (1.f - t) + env.sky_zenith * t;
 }
 
-bool in_sun_cone(const Environment& env, Vec3 d) { return sun_on(env) && dot(d, env.sun_dir) >= env.sun_cos_half_angle; }
+bool in_sun_cone(const Environment& env, Vec3 d) {
+  return sun_on(env) && dot(d, env.sun_dir) >= env.sun_cos_half_angle;
+}
 
 Vec3 environment_radiance(const Environment& env, Vec3 d) {
   return sky_radiance(env, d) + (in_sun_cone(env, d) ? env.sun_radiance : Vec3(0.f));
@@ -280,8 +296,8 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
   };
 
   // 1. Camera rays.
-  const PrimaryBatch primary = make_primary_rays(scene.camera, settings_.width, settings_.height, primary_order_,
-                                                 seed, frame, true);
+  const PrimaryBatch primary =
+      make_primary_rays(scene.camera, settings_.width, settings_.height, primary_order_, seed, frame, true);
   trace(primary.rays, st.primary_rays);
   const GBuffer gbuffer = make_gbuffer(scene, primary, hits);
   Vertices verts;
@@ -414,10 +430,10 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
       par(nv, [&](size_t i) {
         const ShadingPoint& sp = verts.sp[i];
         const uint32_t p = verts.pixel[i];
-        const DirectionSample s =
-            sample_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, sp.front_face,
-                             rng_float(seed, frame, p, dim(bounce, kDirU)), rng_float(seed, frame, p, dim(bounce, kDirV)),
-                             rng_float(seed, frame, p, dim(bounce, kLobe)));
+        const DirectionSample s = sample_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo,
+                                                   sp.front_face, rng_float(seed, frame, p, dim(bounce, kDirU)),
+                                                   rng_float(seed, frame, p, dim(bounce, kDirV)),
+                                                   rng_float(seed, frame, p, dim(bounce, kLobe)));
         Vec3 beta = verts.beta[i] * s.weight;
         if (!(max_component(beta) > 0.f)) return;
         if (roulette) {
@@ -462,7 +478,8 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
           const MisState& mis = wave.mis[i];
           if (!mis.delta && !emitters.empty() && emitters.pmf_by_prim[sp.prim] > 0.f) {
             const float cos_y = dot(sp.ng, sp.wo), dist = mis.dist + hits[i].t;
-            const float light_pdf = emitters.pmf_by_prim[sp.prim] / emitters.area_by_prim[sp.prim] * dist * dist / cos_y;
+            const float light_pdf =
+                emitters.pmf_by_prim[sp.prim] / emitters.area_by_prim[sp.prim] * dist * dist / cos_y;
             w = power_heuristic(mis.pdf, light_pdf);
           }
           light = le * w;

@@ -36,22 +36,22 @@ std::string default_cache_dir();
 std::string scene_fingerprint(const std::string& scene_spec);
 
 struct ReferenceRequest {
-  std::string scene_spec;        // as given to load_scene
-  RenderSettings settings;       // size, seed, depths
-  int frames = 512;              // [1, 1 << 20]
+  std::string scene_spec;   // as given to load_scene
+  RenderSettings settings;  // size, seed, depths
+  int frames = 512;         // [1, 1 << 20]
   PluginSpec tracer{"cpu", ""};
-  std::string cache_dir;         // empty: default_cache_dir()
-  std::string revision;          // empty: renderer_revision(); tests set it to check invalidation
+  std::string cache_dir;  // empty: default_cache_dir()
+  std::string revision;   // empty: renderer_revision(); tests set it to check invalidation
   // Called after every rendered frame (done, total), e.g. for a progress bar; may be empty.
   std::function<void(int, int)> progress;
 };
 
 struct Reference {
   Image image;
-  std::string path;        // the cached image file
+  std::string path;  // the cached image file
   bool from_cache = false;
-  double render_s = 0;     // 0 when read from the cache
-  uint64_t non_finite = 0; // NaN/Inf frame samples left out while rendering it
+  double render_s = 0;      // 0 when read from the cache
+  uint64_t non_finite = 0;  // NaN/Inf frame samples left out while rendering it
 };
 
 // Canonical JSON text of the request's key.

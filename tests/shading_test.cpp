@@ -3,11 +3,11 @@
 // a closed emitting box), convergence and determinism on the built-in Cornell box, the reference cache's
 // invalidation, and the quality commands' validation, CSV and resume.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <tbb/global_control.h>
 
 #include "core/error.h"
 #include "cpu/bvh_build.h"
@@ -79,7 +79,7 @@ TEST(ToneMap, MonotoneBoundedAndDefinedForNonFinite) {
     }
   }
   EXPECT_EQ(srgb_oetf(1.f), 1.f);
-  EXPECT_NEAR(srgb_oetf(0.5f), 0.735357f, 1e-5f);  // IEC 61966-2-1
+  EXPECT_NEAR(srgb_oetf(0.5f), 0.735357f, 1e-5f);   // IEC 61966-2-1
   EXPECT_NEAR(srgb_oetf(0.002f), 0.02584f, 1e-6f);  // linear segment
   EXPECT_THROW(parse_tone_map("filmic"), Error);
 }
@@ -104,7 +104,10 @@ TEST(Crop, ParsesValidatesAndCopies) {
   EXPECT_EQ(c.h, 4);
   EXPECT_NE(error_of([] { parse_crop("--crop", "1,2,3"); }).find("--crop"), std::string::npos);
   EXPECT_NE(error_of([] { parse_crop("--crop", "a,2,3,4"); }).find("--crop"), std::string::npos);
-  EXPECT_NE(error_of([] { check_crop("--crop", {8, 0, 4, 4}, 10, 10); }).find("not inside the 10x10"), std::string::npos);
+  EXPECT_NE(error_of([] {
+              check_crop("--crop", {8, 0, 4, 4}, 10, 10);
+            }).find("not inside the 10x10"),
+            std::string::npos);
   EXPECT_NE(error_of([] { check_crop("--crop", {0, 0, 0, 4}, 10, 10); }).find("at least 1"), std::string::npos);
   EXPECT_NO_THROW(check_crop("--crop", {6, 6, 4, 4}, 10, 10));
   Image img(4, 3);
@@ -134,7 +137,8 @@ TEST(ImageFiles, PfmRoundTripIsBitExactAndBadFilesAreErrors) {
   ASSERT_EQ(back.height, 5);
   EXPECT_EQ(std::memcmp(back.rgb.data(), img.rgb.data(), img.rgb.size() * sizeof(float)), 0);
 
-  EXPECT_NE(error_of([&] { read_image((dir / "missing.pfm").string()); }).find("no such image file"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_image((dir / "missing.pfm").string()); }).find("no such image file"),
+            std::string::npos);
   test::write_file(dir / "trunc.pfm", "PF\n4 4\n-1.0\n0123");
   EXPECT_NE(error_of([&] { read_image((dir / "trunc.pfm").string()); }).find("truncated"), std::string::npos);
   test::write_file(dir / "bad.pfm", "P6\n4 4\n255\n");
@@ -148,8 +152,7 @@ TEST(ImageFiles, ExrRoundTripIsBitExactAndPngIsWritten) {
   const fs::path dir = test::temp_dir("exr");
   const Image img = test_pattern(9, 6);
   if (!image_io_available()) {
-    EXPECT_NE(error_of([&] { write_image(img, (dir / "a.exr").string()); }).find("RAYCOH_IMAGE_IO"),
-              std::string::npos);
+    EXPECT_NE(error_of([&] { write_image(img, (dir / "a.exr").string()); }).find("RAYCOH_IMAGE_IO"), std::string::npos);
     GTEST_SKIP() << "built without image I/O";
   }
   write_image(img, (dir / "a.exr").string());
@@ -450,8 +453,8 @@ TEST(PathTracer, SunlightReachesAFloorThroughAThinPane) {
   s.env.sun_radiance = Vec3(1000.f);
   const double cos_sun = s.env.sun_dir.y;
   const double omega = 2.0 * M_PI * (1.0 - static_cast<double>(s.env.sun_cos_half_angle));
-  const double expected = 0.5 / M_PI * 1000.0 * omega * cos_sun *
-                          (1.0 - fresnel_dielectric(static_cast<float>(cos_sun), glass.ior));
+  const double expected =
+      0.5 / M_PI * 1000.0 * omega * cos_sun * (1.0 - fresnel_dielectric(static_cast<float>(cos_sun), glass.ior));
   RenderSettings rs = small(20, 16);
   rs.max_depth = 2;
   const Rendered r = render(s, "noopt", rs, 8);
@@ -679,17 +682,24 @@ TEST(QualityCommands, BadOptionsNameTheOption) {
   EXPECT_NE(render_error([](RenderOptions& o) { o.frames = 0; }).find("--frames"), std::string::npos);
   EXPECT_NE(render_error([](RenderOptions& o) { o.crops = {{150, 100, 20, 30}}; }).find("--crop"), std::string::npos);
   EXPECT_NE(render_error([](RenderOptions& o) { o.out = "img.bmp"; }).find("--out"), std::string::npos);
-  EXPECT_NE(render_error([](RenderOptions& o) { o.generator = {"nosuch", ""}; }).find("valid generators"),
+  EXPECT_NE(render_error([](RenderOptions& o) {
+              o.generator = {"nosuch", ""};
+              o.out = "img.pfm";  // writable in every build
+            }).find("valid generators"),
             std::string::npos);
   EXPECT_NE(quality_error([](QualityOptions& o) { o.ref_frames = -1; }).find("--ref-frames"), std::string::npos);
   EXPECT_NE(quality_error([](QualityOptions& o) { o.common.width = 8; }).find("--res"), std::string::npos);
   EXPECT_NE(quality_error([](QualityOptions& o) { o.reference = "/no/such/reference.exr"; }).find("--reference"),
             std::string::npos);
   EXPECT_NE(quality_error([](QualityOptions& o) { o.scenes = {"nosuchscene"}; }).find("--scenes"), std::string::npos);
-  EXPECT_NE(quality_error([](QualityOptions& o) { o.generators = {{"noopt", ""}, {"noopt", ""}}; }).find("twice"),
+  EXPECT_NE(quality_error([](QualityOptions& o) {
+              o.generators = {{"noopt", ""}, {"noopt", ""}};
+            }).find("twice"),
             std::string::npos);
   EXPECT_NE(converge_error([](ConvergeOptions& o) { o.time_s = 0; }).find("--time"), std::string::npos);
-  EXPECT_NE(converge_error([](ConvergeOptions& o) { o.common.tracer = {"gpu", ""}; }).find("--tracer"),
+  EXPECT_NE(converge_error([](ConvergeOptions& o) {
+              o.common.tracer = {"gpu", ""};
+            }).find("--tracer"),
             std::string::npos);
 
   // A reference of the wrong size: a clear error naming both sizes.
@@ -741,8 +751,8 @@ TEST(QualityCommands, QualityWritesRowsImagesAndResumes) {
   EXPECT_NE(lines[1].find(",noopt,"), std::string::npos);
   EXPECT_NE(lines[2].find(",ours,"), std::string::npos);
   const std::string ext = image_io_available() ? ".png" : ".pfm";
-  for (const char* f : {"cornell-reference", "cornell-noopt", "cornell-ours", "cornell-ours-crop0",
-                        "cornell-reference-crop0"})
+  for (const char* f :
+       {"cornell-reference", "cornell-noopt", "cornell-ours", "cornell-ours-crop0", "cornell-reference-crop0"})
     EXPECT_TRUE(fs::exists(dir / "q-images" / (std::string(f) + ext))) << f;
   EXPECT_FALSE(fs::exists(dir / "q.csv.partial"));
 

@@ -1,0 +1,129 @@
+// Tracer `cuda`: our traversal (core/traverse.h) on the GPU over the shared flat BVH2 (cuda/device_tracer.h).
+// The BVH is uploaded once when the tracer is made; each trace() uploads the rays (and, for trace_indirect, the
+// order: lane i traces rays[order[i]] on the device), runs one kernel and downloads the hits. Its hits equal the
+// `cpu` tracer's bit for bit.
+//
+// Timing runs carry no counter code: last_device_ms() is the kernel time of the last call, from CUDA events
+// (transfers excluded); the harness takes the median over repeated calls after a warm-up, as for every timing
+// tracer. Counting runs (counters=on) run the warp-synchronous counting kernel instead, which follows cpu/simt.h
+// rule by rule: last_counters() then holds the same warp-step, lane, line, fetch and per-ray fields as the `simt`
+// tracer with the same `line` (warp 32, 32-byte sectors), for the same rays in the same order. The cache-model
+// fields (l1_*, l2_*, dram_bytes, modeled_cost) are not produced on the GPU and stay 0: they come from `simt`.
+//
+// Parameters
+//   kernel    string  persistent  persistent | simple: persistent threads fetching 32 consecutive rays per warp
+//                                 from a global atomic counter (Aila & Laine 2009), or one thread per ray
+//   block     int     128         [32, 1024], a multiple of 32: threads per block
+//   counters  string  off         off | on: on = the counting kernel (its time is not a traversal time)
+//   line      int     64          64 | 128: bytes per line of the counted node/triangle transactions (simt's line)
+//
+// Sources: Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while
+// traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles.
+#include <fmt/format.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "cpu/bvh_build.h"
+#include "cpu/simt.h"
+#include "cpu/tracer.h"
+#include "cuda/cuda_trace.h"
+#include "cuda/device_tracer.h"
+
+namespace raycoh {
+namespace {
+
+class CudaTracer final : public Tracer {
+ public:
+  CudaTracer(const Bvh& bvh, const cuda::TraceLaunch& launch, bool counting, const cuda::CountingLayout& layout,
+             std::string params)
+      : device_(bvh.view()), launch_(launch), counting_(counting), layout_(layout), params_(std::move(params)) {
+    counters_.warp_size = 32;
+    counters_.line_bytes = layout_.line_bytes;
+    counters_.sector_bytes = layout_.sector_bytes;
+  }
+
+  void trace(const Ray* rays, size_t count, Hit* hits) override { run(rays, nullptr, count, hits); }
+  void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) override {
+    run(rays, order, count, hits);
+  }
+  std::string params() const override { return params_; }
+  const CoherenceCounters* last_counters() const override { return counting_ ? &counters_ : nullptr; }
+  double last_device_ms() const override { return device_.last_kernel_ms(); }
+
+ private:
+  void run(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
+    if (!counting_) {
+      device_.trace(rays, order, count, hits, launch_);
+      return;
+    }
+    device_.trace_counting(rays, order, count, hits, layout_, launch_.block, warps_);
+    CoherenceCounters total;
+    total.warp_size = 32;
+    total.line_bytes = layout_.line_bytes;
+    total.sector_bytes = layout_.sector_bytes;
+    for (const cuda::WarpCounters& w : warps_) {
+      total.rays += w.rays;
+      total.warps += 1;
+      total.node_steps += w.node_steps;
+      total.leaf_steps += w.leaf_steps;
+      total.triangle_steps += w.triangle_steps;
+      total.node_lanes += w.node_lanes;
+      total.leaf_lanes += w.leaf_lanes;
+      total.triangle_lanes += w.triangle_lanes;
+      total.node_lines += w.node_lines;
+      total.triangle_lines += w.triangle_lines;
+      total.node_fetches += w.node_fetches;
+      total.triangle_fetches += w.triangle_fetches;
+      total.nodes += w.nodes;
+      total.leaves += w.leaves;
+      total.triangles += w.triangles;
+    }
+    RAYCOH_CHECK(total.rays == count, fmt::format("the counting kernel saw {} rays of {}", total.rays, count));
+    RAYCOH_CHECK(total.nodes == total.node_lanes && total.leaves == total.leaf_lanes &&
+                     total.triangles == total.triangle_lanes,
+                 fmt::format("per-ray totals {}/{}/{} differ from the lane sums {}/{}/{}", total.nodes, total.leaves,
+                             total.triangles, total.node_lanes, total.leaf_lanes, total.triangle_lanes));
+    counters_ = total;
+  }
+
+  cuda::DeviceTracer device_;
+  cuda::TraceLaunch launch_;
+  bool counting_;
+  cuda::CountingLayout layout_;
+  std::string params_;
+  std::vector<cuda::WarpCounters> warps_;
+  CoherenceCounters counters_;
+};
+
+}  // namespace
+
+std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene&, const Bvh& bvh) {
+  cuda::TraceLaunch launch;
+  launch.kernel = params.get_choice("kernel", "persistent", {"persistent", "simple"}) == "persistent"
+                      ? cuda::TraceKernel::Persistent
+                      : cuda::TraceKernel::Simple;
+  launch.block = params.get_int("block", 128, 32, 1024);
+  if (launch.block % 32 != 0)
+    throw Error(fmt::format("{}: block={} is not a multiple of 32 (a block holds whole warps)", params.owner(),
+                            launch.block));
+  const bool counting = params.get_choice("counters", "off", {"off", "on"}) == "on";
+  const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line", "64", {"64", "128"})));
+  params.finish();
+  if (cuda::device_count() == 0)
+    throw Error(fmt::format("{}: no CUDA device (this machine has no usable GPU); use the cpu or simt tracer",
+                            params.owner()));
+  // The addresses the simt tracer counts with, so that lines and sectors are the same units (32-byte sectors as
+  // in both cache presets).
+  const SimtConfig simt = simt_config(bvh.view(), 32, line, 32);
+  cuda::CountingLayout layout;
+  layout.line_bytes = simt.line_bytes;
+  layout.sector_bytes = simt.sector_bytes;
+  layout.node_base = simt.node_base;
+  layout.tri_base = simt.tri_base;
+  return std::make_unique<CudaTracer>(bvh, launch, counting, layout, params.canonical());
+}
+
+}  // namespace raycoh

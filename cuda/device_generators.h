@@ -1,0 +1,82 @@
+// Host API of the per-frame ray pipeline on the GPU (implemented in cuda/device_generators.cu): primary rays and
+// the `noopt`, `ours` and `tile` generators, so that generation overheads are measured as GPU overheads. Plain
+// C++ (included by g++-compiled code and tests).
+//
+// Every kernel computes with the shared host/device headers (core/sampling.h, core/bsdf.h, core/rng.h) under the
+// same floating-point rules as the CPU (no FMA contraction, IEEE division and square root, sincos_turns's
+// polynomial instead of two libm sinf), so the batches equal the CPU generators' byte for byte: same rays in the
+// same slots, same pixels, pdfs, weights, normals, classes, tiles, groups and group types, same statistics.
+//
+// How the GPU generators work (the CPU's result, computed in parallel):
+//   primary  one thread per pixel computes its slot in the batch order directly (tile order: pixels of the tile
+//            rows above, of the tiles to the left in its tile row, then row-major inside its clipped tile).
+//   noopt    hit pixels per tile (one block per tile), an exclusive scan over tiles (CUB DeviceScan) for each
+//            tile's first slot, then one block per tile ranks its hit pixels row-major with warp ballots and
+//            writes each ray.
+//   ours     the same tile offsets; one block per tile (W H <= 1024: one thread per pixel) shuffles the pixel
+//   / tile   numbers (the full-period LCG of generators/tiles.h), groups them, and shares the group data through
+//            shared memory: per group, one thread walks the tile's pixels in row-major order to count members,
+//            pick the donor and sum the glossy members' tangent-space directions in the CPU's order (a float sum
+//            is only bit-identical in the same order); per pixel, one thread samples or reuses and writes its ray.
+// Not on the GPU: the G-buffer itself (make_gbuffer runs on the host and is uploaded; it is not part of a
+// generator's overhead) and the `direct` ablation.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+#include "generators/ray_batch.h"
+#include "scenes/scene.h"
+
+namespace raycoh::cuda {
+
+// Primary rays on the device, downloaded into `out`: equal to make_primary_rays(camera, width, height,
+// make_pixel_order(width, height, order, tile_w, tile_h), seed, frame, jitter) byte for byte.
+// kernel_ms (optional) receives the kernel time.
+void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder order, int tile_w, int tile_h,
+                           uint32_t seed, uint32_t frame, bool jitter, PrimaryBatch& out, float* kernel_ms = nullptr);
+
+// sincos_turns (core/sampling.h) evaluated on the device for every u: s[i], c[i] of u[i]. For the tests that pin
+// the CPU and GPU results to the same bits.
+void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
+
+enum class GpuGeneratorKind { NoOpt, Ours, Tile };
+enum class GpuBatchOrder { Tile, Group, Scanline };
+
+// A generator's parameters, read from its canonical parameter set (Generator::params() of the CPU generator of the
+// same name, so that defaults and validation are the CPU's).
+struct GpuGeneratorConfig {
+  GpuGeneratorKind kind = GpuGeneratorKind::NoOpt;
+  int tile_w = 8, tile_h = 8;
+  int k = 8;                                  // ours / tile
+  GpuBatchOrder order = GpuBatchOrder::Tile;  // noopt: tile | scanline; ours / tile: tile | group | scanline
+  uint32_t salt = 0;                          // ours / tile: the `seed` parameter
+};
+// name: noopt | ours | tile; params: that generator's canonical parameters ("tile=8x8,k=8,order=tile,seed=0").
+// Throws raycoh::Error for other generators and for ours / tile tiles of more than 1024 pixels.
+GpuGeneratorConfig gpu_generator_config(const std::string& name, const std::string& params);
+
+// The scene's materials on the device (uploaded once), the G-buffer and batch buffers (grown on demand).
+class DeviceGenerator {
+ public:
+  explicit DeviceGenerator(const Scene& scene);
+  ~DeviceGenerator();
+  DeviceGenerator(const DeviceGenerator&) = delete;
+  DeviceGenerator& operator=(const DeviceGenerator&) = delete;
+
+  // Uploads the G-buffer, generates on the device and downloads the batch and statistics: equal to the CPU
+  // generator's generate(scene, gbuffer, seed, out, stats).
+  void generate(const GBuffer& gbuffer, uint32_t seed, const GpuGeneratorConfig& config, RayBatch& out,
+                GenerationStats& stats);
+  // Device time of the last generate() (every kernel and scan of it, not the transfers), CUDA events.
+  float last_kernel_ms() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace raycoh::cuda

@@ -1,0 +1,230 @@
+// Sort keys, CUB radix sort and ray gather on the GPU (see cuda/device_keys.h). One thread per ray runs the same
+// encoders/keys.h code function the CPU encoder runs (origin_code, reis_code, costa_code, aila_code,
+// twopoint_code, mlhcc_code) and keeps the top `bits` bits; cub::DeviceRadixSort::SortPairs sorts (key, index)
+// pairs over bits [0, bits) only, which is what encoders/radix_sort.h does on the CPU (Merrill & Grimshaw,
+// "High Performance and Scalable Radix Sorting", 2011, is CUB's onesweep predecessor; stable LSD either way).
+// (No fmt here: its consteval format strings do not compile under nvcc 13.)
+#include "cuda/device_keys.h"
+
+#include <cub/device/device_radix_sort.cuh>
+#include <cuda_runtime.h>
+
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/params.h"
+#include "cpu/bvh_build.h"
+#include "cuda/cuda_check.cuh"
+#include "encoders/keys.h"
+#include "encoders/mlhcc_cuts.h"
+
+namespace raycoh::cuda {
+
+namespace {
+
+struct KeyParams {
+  int bits;
+  Bounds box;
+  float length_factor;
+  bool with_end;
+  MlhccCuts cuts;  // device pointers (mlhcc only)
+};
+
+template <GpuKeyKind Kind>
+__device__ __forceinline__ uint64_t code_of(const KeyParams& kp, const Ray& r) {
+  if constexpr (Kind == GpuKeyKind::Origin) return origin_code(r.org, kp.box);
+  if constexpr (Kind == GpuKeyKind::Reis) return reis_code(r.org, r.dir, kp.box);
+  if constexpr (Kind == GpuKeyKind::Costa) return costa_code(r.org, r.dir, kp.box);
+  if constexpr (Kind == GpuKeyKind::Aila) return aila_code(r.org, r.dir, kp.box);
+  if constexpr (Kind == GpuKeyKind::TwoPoint) return twopoint_code(r.org, r.dir, r.tmax, kp.box, kp.length_factor);
+  if constexpr (Kind == GpuKeyKind::Mlhcc)
+    return mlhcc_code(r.org, r.dir, r.tmax, kp.box, kp.length_factor, kp.cuts, kp.with_end, kp.bits);
+  return 0;
+}
+
+template <GpuKeyKind Kind>
+__global__ void key_kernel(KeyParams kp, const Ray* rays, size_t n, uint64_t* keys) {
+  const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
+  if (i < n) keys[i] = key_from_code(code_of<Kind>(kp, rays[i]), kp.bits);
+}
+
+__global__ void iota_kernel(uint32_t* v, size_t n) {
+  const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
+  if (i < n) v[i] = static_cast<uint32_t>(i);
+}
+
+__global__ void gather_kernel(const Ray* in, const uint32_t* order, size_t n, Ray* out) {
+  const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
+  if (i < n) out[i] = in[order[i]];
+}
+
+constexpr int kBlock = 256;
+
+unsigned blocks_for(size_t n) {
+  const size_t blocks = (n + kBlock - 1) / kBlock;
+  if (blocks > 0x7fffffffu) throw Error("cuda: " + std::to_string(n) + " rays are too many for one launch");
+  return static_cast<unsigned>(blocks);
+}
+
+// The parameter text without its ",box=..." (which the encoder appends for the record).
+std::string without_box(const std::string& params) {
+  const size_t at = params.rfind("box=");
+  if (at == std::string::npos) return params;
+  if (at == 0) return "";
+  if (params[at - 1] != ',') return params;
+  return params.substr(0, at - 1);
+}
+
+}  // namespace
+
+GpuKeyConfig gpu_key_config(const std::string& name, const std::string& params, const Bounds& box) {
+  GpuKeyConfig c;
+  c.box = box;
+  ParamSet set("encoder '" + name + "' (GPU)", without_box(params));
+  if (name == "origin") {
+    c.kind = GpuKeyKind::Origin;
+  } else if (name == "reis") {
+    c.kind = GpuKeyKind::Reis;
+  } else if (name == "costa") {
+    c.kind = GpuKeyKind::Costa;
+  } else if (name == "aila") {
+    c.kind = GpuKeyKind::Aila;
+  } else if (name == "twopoint") {
+    c.kind = GpuKeyKind::TwoPoint;
+  } else if (name == "mlhcc") {
+    c.kind = GpuKeyKind::Mlhcc;
+  } else {
+    throw Error("encoder '" + name + "' has no GPU keys; GPU encoders: origin, reis, costa, aila, twopoint, mlhcc");
+  }
+  // The same names, defaults and ranges as the CPU encoders (encoders/*.cpp).
+  c.bits = set.get_choice("bits", "32", {"32", "64"}) == "64" ? 64 : 32;
+  if (c.kind == GpuKeyKind::Mlhcc) c.lambda = set.get_float("lambda", 0.125f, 0.001f, 0.999f);
+  if (c.kind == GpuKeyKind::TwoPoint || c.kind == GpuKeyKind::Mlhcc)
+    c.length_factor = set.get_float("L", 0.25f, 0.f, 16.f);
+  if (c.kind == GpuKeyKind::Mlhcc) {
+    c.with_end = set.get_choice("points", "both", {"both", "origin"}) == "both";
+    c.global_ranks = set.get_choice("ranks", "compressed", {"compressed", "global"}) == "global";
+  }
+  set.finish();
+  return c;
+}
+
+struct DeviceKeys::Impl {
+  GpuKeyConfig config;
+  KeyParams params{};
+  DeviceBuffer<BvhNode> nodes;
+  DeviceBuffer<MlhccNodeCut> cuts;
+  DeviceBuffer<Ray> rays, sorted_rays;
+  DeviceBuffer<uint64_t> keys, sorted_keys;
+  DeviceBuffer<uint32_t> values, order;
+  DeviceBuffer<unsigned char> sort_temp;
+  EventTimer key_timer, sort_timer, permute_timer;
+
+  void launch_keys(const Ray* d_rays, size_t n, uint64_t* d_keys) {
+    if (n == 0) return;
+    const unsigned blocks = blocks_for(n);
+    switch (config.kind) {
+      case GpuKeyKind::Origin: key_kernel<GpuKeyKind::Origin><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
+      case GpuKeyKind::Reis: key_kernel<GpuKeyKind::Reis><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
+      case GpuKeyKind::Costa: key_kernel<GpuKeyKind::Costa><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
+      case GpuKeyKind::Aila: key_kernel<GpuKeyKind::Aila><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
+      case GpuKeyKind::TwoPoint:
+        key_kernel<GpuKeyKind::TwoPoint><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+        break;
+      case GpuKeyKind::Mlhcc: key_kernel<GpuKeyKind::Mlhcc><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
+    }
+    RAYCOH_CUDA_CHECK_LAUNCH();
+  }
+
+  // Sorts (keys, 0..n-1) by the key bits into sorted_keys / order.
+  void launch_sort(size_t n) {
+    if (n == 0) return;
+    if (n > 0x7fffffffu) throw Error("cuda: radix sort of " + std::to_string(n) + " pairs is too large");
+    iota_kernel<<<blocks_for(n), kBlock>>>(values.get(), n);
+    RAYCOH_CUDA_CHECK_LAUNCH();
+    size_t bytes = 0;
+    RAYCOH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys.get(), sorted_keys.get(), values.get(),
+                                                      order.get(), static_cast<int>(n), 0, config.bits));
+    sort_temp.reserve(bytes);
+    RAYCOH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(sort_temp.get(), bytes, keys.get(), sorted_keys.get(),
+                                                      values.get(), order.get(), static_cast<int>(n), 0, config.bits));
+  }
+
+  void reserve(size_t n) {
+    rays.reserve(n);
+    keys.reserve(n);
+    sorted_keys.reserve(n);
+    values.reserve(n);
+    order.reserve(n);
+  }
+};
+
+DeviceKeys::DeviceKeys(const GpuKeyConfig& config, const Bvh* bvh) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.config = config;
+  m.params.bits = config.bits;
+  m.params.box = config.box;
+  m.params.length_factor = config.length_factor;
+  m.params.with_end = config.with_end;
+  if (config.kind == GpuKeyKind::Mlhcc) {
+    if (!bvh) throw Error("encoder 'mlhcc' (GPU): needs the scene's BVH, and none was given");
+    const MlhccCutTable table =
+        build_mlhcc_cuts(*bvh, config.lambda, config.global_ranks ? MlhccRanks::Global : MlhccRanks::Compressed);
+    m.nodes.upload(bvh->nodes.data(), bvh->nodes.size());
+    m.cuts.upload(table.cuts.data(), table.cuts.size());
+    m.params.cuts = table.view();
+    m.params.cuts.nodes = m.nodes.get();
+    m.params.cuts.cuts = m.cuts.get();
+  }
+}
+
+DeviceKeys::~DeviceKeys() = default;
+
+int DeviceKeys::key_bits() const { return impl_->config.bits; }
+
+void DeviceKeys::keys(const Ray* rays, size_t n, uint64_t* keys) {
+  Impl& m = *impl_;
+  m.reserve(n);
+  m.rays.upload(rays, n);
+  m.launch_keys(m.rays.get(), n, m.keys.get());
+  m.keys.download(keys, n);
+}
+
+void DeviceKeys::sort(const uint64_t* keys, size_t n, uint64_t* sorted_keys, uint32_t* order) {
+  Impl& m = *impl_;
+  m.reserve(n);
+  m.keys.upload(keys, n);
+  m.launch_sort(n);
+  m.sorted_keys.download(sorted_keys, n);
+  m.order.download(order, n);
+}
+
+void DeviceKeys::reorder(const Ray* rays, size_t n, uint64_t* sorted_keys, uint32_t* order, Ray* sorted_rays,
+                         GpuReorderTimings& timings) {
+  Impl& m = *impl_;
+  m.reserve(n);
+  if (sorted_rays) m.sorted_rays.reserve(n);
+  m.rays.upload(rays, n);
+  m.key_timer.start();
+  m.launch_keys(m.rays.get(), n, m.keys.get());
+  m.key_timer.stop();
+  m.sort_timer.start();
+  m.launch_sort(n);
+  m.sort_timer.stop();
+  m.permute_timer.start();
+  if (sorted_rays && n > 0) {
+    gather_kernel<<<blocks_for(n), kBlock>>>(m.rays.get(), m.order.get(), n, m.sorted_rays.get());
+    RAYCOH_CUDA_CHECK_LAUNCH();
+  }
+  m.permute_timer.stop();
+  timings.key_ms = m.key_timer.elapsed_ms();
+  timings.sort_ms = m.sort_timer.elapsed_ms();
+  const float permute_ms = m.permute_timer.elapsed_ms();
+  timings.permute_ms = sorted_rays ? permute_ms : 0.f;
+  m.sorted_keys.download(sorted_keys, n);
+  m.order.download(order, n);
+  if (sorted_rays) m.sorted_rays.download(sorted_rays, n);
+}
+
+}  // namespace raycoh::cuda

@@ -1,0 +1,71 @@
+// Host API of the reordering step on the GPU (implemented in cuda/device_keys.cu): sort keys of every key encoder
+// with the host/device code functions of encoders/keys.h, CUB's radix sort of (key, index) pairs over exactly the
+// key's bits, and the physical gather of the rays, each stage timed with CUDA events. Plain C++ (g++-includable).
+//
+// Keys equal the CPU encoders' keys bit for bit for origin, aila, twopoint and mlhcc (IEEE +, -, x, / and integer
+// work only). reis and costa use atan2f / acosf, where CUDA and glibc may differ by an ulp, which moves a key
+// only when phi or theta lies within that ulp of a quantisation boundary (encoders/keys.h): the tests bound how
+// many keys that touches. cub::DeviceRadixSort::SortPairs is a stable LSD radix sort like encoders/radix_sort.h,
+// so the same keys give the same order. MLHCC's cuts are built on the host (build_mlhcc_cuts) and uploaded with
+// the BVH nodes when the encoder is made.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "core/ray.h"
+#include "core/vec.h"
+
+namespace raycoh {
+struct Bvh;
+}
+
+namespace raycoh::cuda {
+
+enum class GpuKeyKind { Origin, Reis, Costa, Aila, TwoPoint, Mlhcc };
+
+// An encoder's parameters, read from its canonical parameter set (Encoder::params() of the CPU encoder, whose
+// trailing ",box=..." is ignored: the box is given separately).
+struct GpuKeyConfig {
+  GpuKeyKind kind = GpuKeyKind::Origin;
+  int bits = 32;                // key width: 32 | 64
+  Bounds box;                   // the scene bounds positions are quantised in
+  float length_factor = 0.25f;  // twopoint, mlhcc: L
+  float lambda = 0.125f;        // mlhcc
+  bool with_end = true;         // mlhcc: points=both
+  bool global_ranks = false;    // mlhcc: ranks=global
+};
+// Throws raycoh::Error for `none`, unknown encoders and bad parameters.
+GpuKeyConfig gpu_key_config(const std::string& name, const std::string& params, const Bounds& box);
+
+struct GpuReorderTimings {
+  float key_ms = 0.f, sort_ms = 0.f, permute_ms = 0.f;  // CUDA events
+};
+
+// One encoder on the device: its tables (MLHCC cuts and BVH nodes) uploaded once, buffers grown on demand.
+class DeviceKeys {
+ public:
+  // bvh: needed by mlhcc (it must outlive the constructor call only; the cuts are copied to the device).
+  DeviceKeys(const GpuKeyConfig& config, const Bvh* bvh);
+  ~DeviceKeys();
+  DeviceKeys(const DeviceKeys&) = delete;
+  DeviceKeys& operator=(const DeviceKeys&) = delete;
+
+  int key_bits() const;
+  // keys[i] = the key of rays[i] (uploads the rays, downloads the keys).
+  void keys(const Ray* rays, size_t n, uint64_t* keys);
+  // Stable sort of (keys[i], i) by the low key_bits() bits: sorted_keys and order (both n long, downloaded).
+  void sort(const uint64_t* keys, size_t n, uint64_t* sorted_keys, uint32_t* order);
+  // The whole step on the device: keys, sort, and (sorted_rays not null) the gather sorted_rays[i] =
+  // rays[order[i]]; outputs downloaded, each stage timed (transfers excluded).
+  void reorder(const Ray* rays, size_t n, uint64_t* sorted_keys, uint32_t* order, Ray* sorted_rays,
+               GpuReorderTimings& timings);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace raycoh::cuda

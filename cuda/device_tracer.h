@@ -1,0 +1,85 @@
+// Host API of the GPU traversal kernels (implemented in cuda/device_tracer.cu; this header is plain C++ and is
+// included by g++-compiled code such as the `cuda` tracer, cuda/cuda_tracer.cpp).
+//
+// Every kernel runs core/traverse.h unchanged over the flat BVH2 (64-byte nodes holding both children's boxes,
+// Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs", HPG 2009), so hits equal the `cpu`
+// tracer's bit for bit. Kernels:
+//   persistent  Aila & Laine's persistent threads: as many blocks as fit on the GPU at once; each warp takes the
+//               next 32 consecutive rays of the batch from a global atomic counter, traces them (one ray per
+//               lane, while-while loop), and fetches again until the batch is exhausted. A warp always holds 32
+//               consecutive rays, the batch order's unit (DESIGN.md section 1), and load balancing is dynamic.
+//   simple      one thread per ray, ceil(count / block) blocks: the baseline the persistent kernel must beat.
+//   counting    one warp per 32 consecutive rays running the while-while loop warp-synchronously under the rules
+//               of cpu/simt.h, with __ballot_sync / __reduce_*_sync / __shfl_sync, and writing each warp's step
+//               and per-ray counters. Not timed; it must reproduce the `simt` tracer's counters exactly.
+// Indirect tracing: with an order array, lane i traces rays[order[i]] (the order is uploaded with the rays).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/bvh.h"
+#include "core/ray.h"
+
+namespace raycoh::cuda {
+
+enum class TraceKernel { Persistent, Simple };
+
+struct TraceLaunch {
+  TraceKernel kernel = TraceKernel::Persistent;
+  int block = 128;  // threads per block: a multiple of 32 in [32, 1024]
+};
+
+// Byte layout the counting kernel computes lines and sectors from: the fields of cpu/simt.h's SimtConfig with the
+// warp size fixed at 32 (take them from simt_config(), which also checks that sector numbers fit 32 bits).
+struct CountingLayout {
+  uint32_t line_bytes = 64;    // power of two in [32, 4096]
+  uint32_t sector_bytes = 32;  // power of two in [16, 4096]
+  uint64_t node_base = 0;      // byte address of nodes[0]
+  uint64_t tri_base = 0;       // byte address of tris[0]
+};
+
+// The counters of one warp of a counting run: the step and per-ray fields of CoherenceCounters (cpu/tracer.h)
+// that cpu/simt.h's simt_trace_warp accumulates for the same 32 rays.
+struct WarpCounters {
+  uint64_t rays = 0;
+  uint64_t node_steps = 0, leaf_steps = 0, triangle_steps = 0;
+  uint64_t node_lanes = 0, leaf_lanes = 0, triangle_lanes = 0;
+  uint64_t node_lines = 0, triangle_lines = 0;
+  uint64_t node_fetches = 0, triangle_fetches = 0;
+  uint64_t nodes = 0, leaves = 0, triangles = 0;
+};
+
+// The BVH on the device (uploaded once by the constructor) and reusable ray/hit buffers (grown on demand).
+// Throws raycoh::Error on any CUDA error, including "no device".
+class DeviceTracer {
+ public:
+  explicit DeviceTracer(const BvhView& bvh);
+  ~DeviceTracer();
+  DeviceTracer(const DeviceTracer&) = delete;
+  DeviceTracer& operator=(const DeviceTracer&) = delete;
+
+  // Uploads rays (and order, when not null), traces lane i = rays[order ? order[i] : i] into hits[i], downloads
+  // the hits. Only the kernel is timed (CUDA events): last_kernel_ms().
+  void trace(const Ray* rays, const uint32_t* order, size_t count, Hit* hits, const TraceLaunch& launch);
+  // The same on arrays that already live on the device (for a GPU-resident pipeline); returns the kernel ms.
+  float trace_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits, const TraceLaunch& launch);
+
+  // Counting run on host arrays: hits as trace(), plus warps[w] = the counters of lanes [32 w, 32 w + 32)
+  // (warps is resized to ceil(count / 32)). block: threads per block, as above.
+  void trace_counting(const Ray* rays, const uint32_t* order, size_t count, Hit* hits, const CountingLayout& layout,
+                      int block, std::vector<WarpCounters>& warps);
+
+  // Kernel time of the last trace / trace_counting call in milliseconds (CUDA events); -1 before the first.
+  float last_kernel_ms() const;
+  // Blocks the persistent kernel launches with this block size (SMs x resident blocks per SM).
+  int persistent_blocks(int block) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace raycoh::cuda

@@ -1,0 +1,315 @@
+// The `cuda` tracer (cuda/cuda_tracer.cpp, cuda/device_tracer.cu) against the CPU: hits of every kernel and block
+// size, direct and indirect, equal the `cpu` tracer's bit for bit; the counting kernel's per-warp counters equal
+// cpu/simt.h's simt_trace_warp warp by warp, and the tracer's totals equal the `simt` tracer's, on cornell,
+// voxels and sibenik (primary and NoOpt secondary batches, a shuffled indirect order, lines of 64 and 128 bytes,
+// batches that end in a partial warp and hold rejected rays). The registry tests run without a GPU too; the
+// others skip cleanly (GTEST_SKIP) when cuda::device_count() == 0. Label `gpu`.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "cpu/bvh_build.h"
+#include "cpu/simt.h"
+#include "cpu/tracer.h"
+#include "cuda/cuda_trace.h"
+#include "cuda/device_tracer.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+#include "scenes/scene.h"
+#include "tests/test_util.h"
+
+namespace raycoh {
+namespace {
+
+#define SKIP_WITHOUT_GPU() \
+  if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
+
+// One frame of a scene: the primary batch in tile order and the NoOpt secondary batch made from its hits.
+struct SceneFrame {
+  Scene scene;
+  Bvh bvh;
+  PrimaryBatch primary;
+  RayBatch secondary;
+};
+
+std::unique_ptr<SceneFrame> make_frame(const std::string& spec, int width = 256, int height = 192) {
+  auto f = std::make_unique<SceneFrame>();
+  f->scene = load_scene(spec);
+  f->bvh = build_bvh(f->scene);
+  auto cpu = make_tracer({"cpu", ""}, f->scene, f->bvh);
+  f->primary = make_primary_rays(f->scene.camera, width, height, make_pixel_order(width, height, RayOrder::Tile, 8, 8),
+                                 1, 0, true);
+  std::vector<Hit> hits(f->primary.rays.size());
+  cpu->trace(f->primary.rays.data(), hits.size(), hits.data());
+  const GBuffer g = make_gbuffer(f->scene, f->primary, hits);
+  GenerationStats stats;
+  make_generator({"noopt", ""})->generate(f->scene, g, 1, f->secondary, stats);
+  return f;
+}
+
+// cornell, voxels and (when the shared scenes are there) sibenik.
+std::vector<std::string> scene_specs() {
+  std::vector<std::string> specs = {"cornell", "voxels:size=48"};
+  for (const auto& path : test::shared_scene_files())
+    if (path.filename() == "sibenik.glb") specs.push_back(path.string());
+  return specs;
+}
+
+// The secondary rays with stiff cases mixed in (rejected rays: NaN origin, zero direction, empty interval;
+// axis-parallel directions) and a length that ends in a partial warp.
+std::vector<Ray> stiff_batch(const RayBatch& batch) {
+  std::vector<Ray> rays(batch.rays.begin(), batch.rays.end());
+  if (rays.size() > 100) rays.resize(rays.size() - 13);
+  for (size_t i = 0; i < rays.size(); i += 97) rays[i].org.x = std::nanf("");
+  for (size_t i = 5; i < rays.size(); i += 101) rays[i].dir = Vec3{0.f, 0.f, 0.f};
+  for (size_t i = 9; i < rays.size(); i += 103) rays[i].tmax = rays[i].tmin;
+  for (size_t i = 11; i < rays.size(); i += 89) rays[i].dir = Vec3{0.f, i % 2 ? 1.f : -1.f, 0.f};
+  return rays;
+}
+
+// A fixed shuffle of 0..n-1 (indirect tracing).
+std::vector<uint32_t> shuffled_order(size_t n) {
+  std::vector<uint32_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(i);
+  for (size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng_u32(3, 0, static_cast<uint32_t>(i), 0) % i]);
+  return order;
+}
+
+size_t differing_hits(const std::vector<Hit>& a, const std::vector<Hit>& b) {
+  size_t differ = 0;
+  for (size_t i = 0; i < a.size(); ++i) differ += std::memcmp(&a[i], &b[i], sizeof(Hit)) != 0;
+  return differ;
+}
+
+std::vector<Hit> trace_with(Tracer& t, const std::vector<Ray>& rays, const std::vector<uint32_t>* order = nullptr) {
+  std::vector<Hit> hits(order ? order->size() : rays.size());
+  if (order)
+    t.trace_indirect(rays.data(), order->data(), order->size(), hits.data());
+  else
+    t.trace(rays.data(), rays.size(), hits.data());
+  return hits;
+}
+
+// Every field cpu/simt.h defines outside the cache model.
+void expect_same_step_counters(const CoherenceCounters& gpu, const CoherenceCounters& simt, const std::string& what) {
+  SCOPED_TRACE(what);
+  EXPECT_EQ(gpu.rays, simt.rays);
+  EXPECT_EQ(gpu.warps, simt.warps);
+  EXPECT_EQ(gpu.warp_size, simt.warp_size);
+  EXPECT_EQ(gpu.line_bytes, simt.line_bytes);
+  EXPECT_EQ(gpu.sector_bytes, simt.sector_bytes);
+  EXPECT_EQ(gpu.node_steps, simt.node_steps);
+  EXPECT_EQ(gpu.leaf_steps, simt.leaf_steps);
+  EXPECT_EQ(gpu.triangle_steps, simt.triangle_steps);
+  EXPECT_EQ(gpu.node_lanes, simt.node_lanes);
+  EXPECT_EQ(gpu.leaf_lanes, simt.leaf_lanes);
+  EXPECT_EQ(gpu.triangle_lanes, simt.triangle_lanes);
+  EXPECT_EQ(gpu.node_lines, simt.node_lines);
+  EXPECT_EQ(gpu.triangle_lines, simt.triangle_lines);
+  EXPECT_EQ(gpu.node_fetches, simt.node_fetches);
+  EXPECT_EQ(gpu.triangle_fetches, simt.triangle_fetches);
+  EXPECT_EQ(gpu.nodes, simt.nodes);
+  EXPECT_EQ(gpu.leaves, simt.leaves);
+  EXPECT_EQ(gpu.triangles, simt.triangles);
+}
+
+std::string describe(const cuda::WarpCounters& w) {
+  return "rays " + std::to_string(w.rays) + " steps " + std::to_string(w.node_steps) + "/" +
+         std::to_string(w.leaf_steps) + "/" + std::to_string(w.triangle_steps) + " lanes " +
+         std::to_string(w.node_lanes) + "/" + std::to_string(w.leaf_lanes) + "/" + std::to_string(w.triangle_lanes) +
+         " lines " + std::to_string(w.node_lines) + "/" + std::to_string(w.triangle_lines) + " fetches " +
+         std::to_string(w.node_fetches) + "/" + std::to_string(w.triangle_fetches) + " per ray " +
+         std::to_string(w.nodes) + "/" + std::to_string(w.leaves) + "/" + std::to_string(w.triangles);
+}
+
+cuda::WarpCounters to_warp_counters(const CoherenceCounters& c) {
+  cuda::WarpCounters w;
+  w.rays = c.rays;
+  w.node_steps = c.node_steps;
+  w.leaf_steps = c.leaf_steps;
+  w.triangle_steps = c.triangle_steps;
+  w.node_lanes = c.node_lanes;
+  w.leaf_lanes = c.leaf_lanes;
+  w.triangle_lanes = c.triangle_lanes;
+  w.node_lines = c.node_lines;
+  w.triangle_lines = c.triangle_lines;
+  w.node_fetches = c.node_fetches;
+  w.triangle_fetches = c.triangle_fetches;
+  w.nodes = c.nodes;
+  w.leaves = c.leaves;
+  w.triangles = c.triangles;
+  return w;
+}
+
+// The counting kernel against simt_trace_warp, warp by warp (lane i of the batch traces rays[order[i]]).
+void expect_counting_matches_simt(const Bvh& bvh, const std::vector<Ray>& rays, const std::vector<uint32_t>* order,
+                                  uint32_t line, const std::string& what) {
+  SCOPED_TRACE(what + ", line " + std::to_string(line));
+  const SimtConfig simt = simt_config(bvh.view(), 32, line, 32);
+  cuda::CountingLayout layout;
+  layout.line_bytes = simt.line_bytes;
+  layout.sector_bytes = simt.sector_bytes;
+  layout.node_base = simt.node_base;
+  layout.tri_base = simt.tri_base;
+
+  std::vector<Ray> lanes = rays;
+  if (order) {
+    lanes.resize(order->size());
+    for (size_t i = 0; i < order->size(); ++i) lanes[i] = rays[(*order)[i]];
+  }
+  cuda::DeviceTracer device(bvh.view());
+  std::vector<Hit> gpu_hits(lanes.size());
+  std::vector<cuda::WarpCounters> gpu_warps;
+  device.trace_counting(rays.data(), order ? order->data() : nullptr, lanes.size(), gpu_hits.data(), layout, 128,
+                        gpu_warps);
+  EXPECT_GE(device.last_kernel_ms(), 0.f);
+
+  const size_t warps = (lanes.size() + 31) / 32;
+  ASSERT_EQ(gpu_warps.size(), warps);
+  std::vector<Hit> simt_hits(lanes.size());
+  size_t differ = 0;
+  for (size_t w = 0; w < warps; ++w) {
+    const auto n = static_cast<uint32_t>(std::min<size_t>(32, lanes.size() - w * 32));
+    CoherenceCounters c;
+    simt_trace_warp(bvh.view(), lanes.data() + w * 32, n, simt, simt_hits.data() + w * 32, c);
+    const cuda::WarpCounters expected = to_warp_counters(c);
+    if (std::memcmp(&expected, &gpu_warps[w], sizeof(expected)) != 0 && ++differ <= 3)
+      ADD_FAILURE() << "warp " << w << ": gpu " << describe(gpu_warps[w]) << "\n      simt " << describe(expected);
+  }
+  EXPECT_EQ(differ, 0u) << differ << " of " << warps << " warps differ";
+  EXPECT_EQ(differing_hits(gpu_hits, simt_hits), 0u);
+}
+
+// ---- registry and parameters (run with or without a GPU) ----
+
+TEST(GpuTracerRegistry, ListedInCudaBuildsWithItsParameters) {
+  const auto& infos = tracer_infos();
+  const auto it = std::find_if(infos.begin(), infos.end(), [](const TracerInfo& i) { return i.name == "cuda"; });
+  ASSERT_NE(it, infos.end());
+  EXPECT_NE(it->params.find("kernel=persistent|simple"), std::string::npos);
+  EXPECT_NE(it->params.find("counters=off|on"), std::string::npos);
+}
+
+TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
+  const Scene scene = load_scene("cornell");
+  const Bvh bvh = build_bvh(scene);
+  auto message = [&](const std::string& params) {
+    try {
+      make_tracer({"cuda", params}, scene, bvh);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message("block=100").find("multiple of 32"), std::string::npos);
+  EXPECT_NE(message("block=2048").find("block"), std::string::npos);
+  EXPECT_NE(message("kernel=fast").find("persistent"), std::string::npos);
+  EXPECT_NE(message("warp=16").find("warp"), std::string::npos);
+  if (cuda::device_count() == 0) {
+    EXPECT_NE(message("").find("tracer 'cuda': no CUDA device"), std::string::npos) << message("");
+  } else {
+    EXPECT_EQ(message(""), "");
+    auto t = make_tracer({"cuda", ""}, scene, bvh);
+    EXPECT_EQ(t->params(), "kernel=persistent,block=128,counters=off,line=64");
+    EXPECT_EQ(t->last_counters(), nullptr);
+    EXPECT_LT(t->last_device_ms(), 0.0);  // nothing traced yet
+    auto c = make_tracer({"cuda", "counters=on,line=128"}, scene, bvh);
+    ASSERT_NE(c->last_counters(), nullptr);  // a modelling tracer from the start, as the harness asks before tracing
+  }
+}
+
+// ---- hits ----
+
+TEST(GpuTracer, HitsEqualTheCpuTracerForEveryKernelBlockAndOrder) {
+  SKIP_WITHOUT_GPU();
+  for (const std::string& spec : scene_specs()) {
+    SCOPED_TRACE(spec);
+    const auto f = make_frame(spec);
+    auto cpu = make_tracer({"cpu", ""}, f->scene, f->bvh);
+    const std::vector<Ray> primary = f->primary.rays;
+    const std::vector<Ray> secondary = stiff_batch(f->secondary);
+    const std::vector<uint32_t> order = shuffled_order(secondary.size());
+    const std::vector<Hit> cpu_primary = trace_with(*cpu, primary);
+    const std::vector<Hit> cpu_secondary = trace_with(*cpu, secondary);
+    const std::vector<Hit> cpu_indirect = trace_with(*cpu, secondary, &order);
+    for (const char* params : {"kernel=persistent,block=128", "kernel=persistent,block=32", "kernel=persistent,block=1024",
+                               "kernel=simple,block=128", "kernel=simple,block=64", "counters=on"}) {
+      SCOPED_TRACE(params);
+      auto gpu = make_tracer({"cuda", params}, f->scene, f->bvh);
+      EXPECT_EQ(differing_hits(trace_with(*gpu, primary), cpu_primary), 0u);
+      EXPECT_GT(gpu->last_device_ms(), 0.0);
+      EXPECT_EQ(differing_hits(trace_with(*gpu, secondary), cpu_secondary), 0u);
+      EXPECT_EQ(differing_hits(trace_with(*gpu, secondary, &order), cpu_indirect), 0u);
+      // The device buffers grow and shrink between calls: a short batch after a long one, then an empty one.
+      const std::vector<Ray> few(secondary.begin(), secondary.begin() + 33);
+      EXPECT_EQ(differing_hits(trace_with(*gpu, few), std::vector<Hit>(cpu_secondary.begin(), cpu_secondary.begin() + 33)),
+                0u);
+      EXPECT_TRUE(trace_with(*gpu, std::vector<Ray>{}).empty());
+    }
+  }
+}
+
+// The persistent kernel fetches whole warps from one counter: a batch much larger than the resident warps, with
+// a length that is not a multiple of 32, must still be traced exactly once per ray.
+TEST(GpuTracer, PersistentKernelCoversLargeBatchesOnce) {
+  SKIP_WITHOUT_GPU();
+  const auto f = make_frame("cornell", 640, 480);
+  auto cpu = make_tracer({"cpu", ""}, f->scene, f->bvh);
+  std::vector<Ray> rays = f->secondary.rays;
+  while (rays.size() < 1500000) rays.insert(rays.end(), f->secondary.rays.begin(), f->secondary.rays.end());
+  rays.resize(1500007);
+  cuda::DeviceTracer device(f->bvh.view());
+  EXPECT_LT(static_cast<size_t>(device.persistent_blocks(128)) * 128, rays.size());
+  std::vector<Hit> gpu(rays.size());
+  for (size_t i = 0; i < gpu.size(); ++i) gpu[i].t = -1.f;  // a hit the kernel never writes
+  device.trace(rays.data(), nullptr, rays.size(), gpu.data(), cuda::TraceLaunch{});
+  EXPECT_EQ(differing_hits(gpu, trace_with(*cpu, rays)), 0u);
+}
+
+// ---- counters ----
+
+TEST(GpuTracer, CountingKernelEqualsSimtWarpByWarp) {
+  SKIP_WITHOUT_GPU();
+  for (const std::string& spec : scene_specs()) {
+    const auto f = make_frame(spec);
+    const std::vector<Ray> secondary = stiff_batch(f->secondary);
+    const std::vector<uint32_t> order = shuffled_order(secondary.size());
+    for (uint32_t line : {64u, 128u}) {
+      expect_counting_matches_simt(f->bvh, f->primary.rays, nullptr, line, spec + " primary");
+      expect_counting_matches_simt(f->bvh, secondary, nullptr, line, spec + " noopt secondary");
+      expect_counting_matches_simt(f->bvh, secondary, &order, line, spec + " noopt secondary, shuffled indirect");
+    }
+  }
+}
+
+// Through the registry: `cuda:counters=on` and `simt` report the same step, line, fetch and per-ray counters, for
+// direct and indirect tracing; the cache-model fields are the simt tracer's alone.
+TEST(GpuTracer, CudaCountersEqualTheSimtTracer) {
+  SKIP_WITHOUT_GPU();
+  for (const std::string& spec : scene_specs()) {
+    const auto f = make_frame(spec);
+    const std::vector<uint32_t> order = shuffled_order(f->secondary.size());
+    for (const char* line : {"64", "128"}) {
+      auto gpu = make_tracer({"cuda", std::string("counters=on,line=") + line}, f->scene, f->bvh);
+      auto simt = make_tracer({"simt", std::string("line=") + line}, f->scene, f->bvh);
+      const std::vector<Hit> g = trace_with(*gpu, f->secondary.rays), s = trace_with(*simt, f->secondary.rays);
+      EXPECT_EQ(differing_hits(g, s), 0u);
+      expect_same_step_counters(*gpu->last_counters(), *simt->last_counters(), spec + " line " + line);
+      EXPECT_EQ(gpu->last_counters()->l1_hits + gpu->last_counters()->l1_misses, 0u);
+      trace_with(*gpu, f->secondary.rays, &order);
+      trace_with(*simt, f->secondary.rays, &order);
+      expect_same_step_counters(*gpu->last_counters(), *simt->last_counters(), spec + " indirect line " + line);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace raycoh
