@@ -1,6 +1,6 @@
-// Host API of the CUDA closest-hit path (compiled by nvcc; callable from g++ code). The kernel runs the same
-// core/traverse.h traversal as the CPU tracers, so hits must match the `cpu` tracer exactly.
-// The timed, persistent-thread GPU tracer with warp counters builds on this (DESIGN.md section 4).
+// Device discovery and a one-call closest-hit helper (implemented in cuda/cuda_trace.cu; callable from g++ code).
+// The kernels, the persistent-thread tracer and the counting kernel are in cuda/device_tracer.h; the `cuda`
+// tracer (cuda/cuda_tracer.cpp) is what the harness uses. Hits equal the `cpu` tracer's exactly.
 #pragma once
 
 #include <cstddef>
@@ -16,8 +16,9 @@ int device_count();
 // Name and compute capability of device 0, or "" without a GPU.
 std::string device_name();
 
-// Uploads the BVH and rays, traces every ray with one thread each, downloads the hits. kernel_ms receives the
-// kernel time measured with CUDA events (transfers excluded). Throws raycoh::Error on any CUDA error.
+// Uploads the BVH and rays, traces every ray with one thread each (the `simple` kernel), downloads the hits.
+// kernel_ms receives the kernel time measured with CUDA events (transfers excluded). Throws raycoh::Error on any
+// CUDA error.
 void trace_closest(const BvhView& bvh, const Ray* rays, size_t count, Hit* hits, float* kernel_ms);
 
 }  // namespace raycoh::cuda

@@ -144,9 +144,17 @@ int run_sweep(const SweepOptions& o, const Provenance& provenance) {
   const SceneResult& r = results.front();
   for (const std::string& tl : r.tracer_labels) {
     const auto& m = r.by_tracer.at(tl);
-    const double base = m.at("noopt").mray_s();
-    std::printf("\n%s, tracer %s: secondary MRay/s of %s (ratio to noopt %.2f MRay/s); %dx%d, %d frame(s)\n\n",
-                r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, o.width, o.height, o.frames);
+    // A modelling tracer's wall time is the model's: its cells are modeled cost per ray (speedup over noopt).
+    const bool model = m.at("noopt").has_counters;
+    auto value = [&](const Accumulated& a) { return model ? a.per_ray(a.cost_w) : a.mray_s(); };
+    const double base = value(m.at("noopt"));
+    if (model)
+      std::printf("\n%s, tracer %s: modeled cost per ray of %s (modeled speedup over noopt, %.0f per ray); %dx%d, "
+                  "%d frame(s)\n\n",
+                  r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, o.width, o.height, o.frames);
+    else
+      std::printf("\n%s, tracer %s: secondary MRay/s of %s (ratio to noopt %.2f MRay/s); %dx%d, %d frame(s)\n\n",
+                  r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, o.width, o.height, o.frames);
     std::string header = "| (W,H) |", rule = "|---|";
     for (int k : o.groups) {
       header += fmt::format(" K = {} |", k);
@@ -156,7 +164,9 @@ int run_sweep(const SweepOptions& o, const Provenance& provenance) {
     for (size_t ti = 0; ti < o.tiles.size(); ++ti) {
       std::string line = fmt::format("| ({},{}) |", o.tiles[ti].first, o.tiles[ti].second);
       for (const std::string& label : labels[ti])
-        line += label.empty() ? " — |" : " " + cell(m.at(label).mray_s(), base) + " |";
+        line += label.empty() ? " — |"
+                : model       ? fmt::format(" {:.0f} ({:.2f}x) |", value(m.at(label)), base / value(m.at(label)))
+                              : " " + cell(value(m.at(label)), base) + " |";
       std::printf("%s\n", line.c_str());
     }
   }

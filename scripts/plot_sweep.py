@@ -13,7 +13,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from plotlib import fail, number, parse_params, plt, read_csv, save, tracer_label
+from plotlib import cost_time, fail, number, parse_params, plt, read_csv, save, tracer_label
 
 
 def tile_key(tile):
@@ -38,7 +38,7 @@ def main():
     for r in rows:
         if r["pass"] != "secondary" or (a.tracer and r["tracer"] != a.tracer):
             continue
-        t = number(r, "trace_ms")
+        t = cost_time(r)
         if not (t > 0):
             continue
         if r["generator"] == "noopt" and r.get("encoder", "none") in ("", "none"):

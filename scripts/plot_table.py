@@ -3,7 +3,8 @@
 
 For every scene, tracer and method the speed is sum(rays) / sum(time) over the frames of the secondary pass,
 time = trace_ms (--speed trace, the default) or e2e_ms (--speed e2e: generation + reordering + trace), and the
-bar is its ratio to the `noopt` method on the same scene and tracer (1 = no gain). One panel per tracer.
+bar is its ratio to the `noopt` method on the same scene and tracer (1 = no gain). One panel per tracer. For a
+modelling tracer (simt) the ratio is of modeled cost per ray (its wall time is the model's), trace speed only.
 
 usage: plot_table.py table.csv [more.csv ...] --out speedup.png [--speed trace|e2e] [--tracer NAME]
                      [--primary] [--title TEXT]
@@ -13,7 +14,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from plotlib import fail, number, plt, read_csv, save, tracer_label
+from plotlib import cost_time, fail, number, plt, read_csv, save, tracer_label
 
 
 def main():
@@ -34,12 +35,15 @@ def main():
     for r in rows:
         if a.tracer and r["tracer"] != a.tracer:
             continue
+        model = r.get("modeled_cost_per_ray", "") != ""
+        if model and a.speed == "e2e":
+            continue  # a model has no end-to-end time
         if r["pass"] == "primary":
             if not a.primary:
                 continue
-            method, t = "primary", number(r, "trace_ms")
+            method, t = "primary", cost_time(r)
         else:
-            method, t = r["method"], number(r, time_col)
+            method, t = r["method"], cost_time(r, time_col)
         if not (t > 0):
             continue
         key = (tracer_label(r), r["scene"], method)

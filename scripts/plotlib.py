@@ -74,3 +74,12 @@ def save(fig, out):
     except (OSError, ValueError) as e:
         fail(f"{out}: cannot write the figure: {e}")
     print(f"wrote {out}")
+
+
+def cost_time(row, column="trace_ms"):
+    """The 'time' of a row for speed ratios: for a modelling tracer (simt: modeled_cost_per_ray filled in) the
+    modeled cost of the whole batch, since its wall time is the model's own; otherwise the measured column."""
+    cost = row.get("modeled_cost_per_ray", "")
+    if cost not in ("", None):
+        return float(cost) * float(row["rays"])
+    return float(row[column]) if row.get(column, "") not in ("", None) else float("nan")
