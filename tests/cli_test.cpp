@@ -129,6 +129,22 @@ TEST(Cli, TableWithEncodersReportsTraceOnlyAndEndToEnd) {
   expect_error("table --encoders origin --permute sideways --res 8x8", "physical");
 }
 
+TEST(Cli, RenderingCommandsCheckTheirInputs) {
+  expect_error("render --res 0x8", "--res");
+  expect_error("render --generator nope", "valid generators");
+  expect_error("render --out img.tiff --res 8x8 --frames 1", "img.tiff");
+  expect_error("render --crop 0,0,100,100 --res 8x8 --frames 1 --out /tmp/raycoh_crop.pfm", "--crop");
+  expect_error("quality --frames 0", "--frames");
+  expect_error("quality --exposure -1", "--exposure");
+  expect_error("converge --time -5s", "--time");
+  expect_error("converge --time 0", "--time");
+  expect_error("compare /no/such.exr /no/other.exr", "/no/such.exr");
+  const auto out = temp_dir("cli_render") / "r.pfm";
+  const CommandResult r = run_raycoh("render --scene cornell --res 16x12 --frames 2 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(out));
+}
+
 TEST(Cli, RaysDumpsOneRowPerRay) {
   const auto out = temp_dir("cli_rays") / "rays.csv";
   const CommandResult r = run_raycoh("rays --scene cornell --res 16x16 --out " + out.string());
