@@ -35,7 +35,7 @@ const std::vector<TracerInfo>& tracer_infos() {
        "mode=single|packet16|stream_coherent|stream_incoherent (default single), quality=high|medium (default high)"},
       {"simt", "warps of 32 consecutive rays in lock step + L1/L2 cache model: SIMT efficiency, misses, modeled cost",
        "preset=rtx3060|h100 (default rtx3060), warp=[1,64] (32), line=64|128 (64), sms=[1,1024], l1_kb=[1,65536], "
-       "l2_mb=[0.002,4096] (preset's), resident=[1,64] (32), block=[1,32] (1)"},
+       "l2_mb=[0.002,4096] (preset's), resident=[1,64] (32), block=[1,32] (2: two warps per 8x8 tile)"},
 #if defined(RAYCOH_HAVE_CUDA)
       {"cuda",
        "our BVH2 traversal on the GPU: persistent threads (Aila & Laine 2009), kernel time from CUDA events; "

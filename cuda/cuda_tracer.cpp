@@ -82,10 +82,10 @@ class CudaTracer final : public Tracer {
       total.triangles += w.triangles;
     }
     RAYCOH_CHECK(total.rays == count, fmt::format("the counting kernel saw {} rays of {}", total.rays, count));
-    RAYCOH_CHECK(total.nodes == total.node_lanes && total.leaves == total.leaf_lanes &&
-                     total.triangles == total.triangle_lanes,
-                 fmt::format("per-ray totals {}/{}/{} differ from the lane sums {}/{}/{}", total.nodes, total.leaves,
-                             total.triangles, total.node_lanes, total.leaf_lanes, total.triangle_lanes));
+    RAYCOH_CHECK(
+        total.nodes == total.node_lanes && total.leaves == total.leaf_lanes && total.triangles == total.triangle_lanes,
+        fmt::format("per-ray totals {}/{}/{} differ from the lane sums {}/{}/{}", total.nodes, total.leaves,
+                    total.triangles, total.node_lanes, total.leaf_lanes, total.triangle_lanes));
     counters_ = total;
   }
 
@@ -107,14 +107,14 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene&, const B
                       : cuda::TraceKernel::Simple;
   launch.block = params.get_int("block", 128, 32, 1024);
   if (launch.block % 32 != 0)
-    throw Error(fmt::format("{}: block={} is not a multiple of 32 (a block holds whole warps)", params.owner(),
-                            launch.block));
+    throw Error(
+        fmt::format("{}: block={} is not a multiple of 32 (a block holds whole warps)", params.owner(), launch.block));
   const bool counting = params.get_choice("counters", "off", {"off", "on"}) == "on";
   const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line", "64", {"64", "128"})));
   params.finish();
   if (cuda::device_count() == 0)
-    throw Error(fmt::format("{}: no CUDA device (this machine has no usable GPU); use the cpu or simt tracer",
-                            params.owner()));
+    throw Error(
+        fmt::format("{}: no CUDA device (this machine has no usable GPU); use the cpu or simt tracer", params.owner()));
   // The addresses the simt tracer counts with, so that lines and sectors are the same units (32-byte sectors as
   // in both cache presets).
   const SimtConfig simt = simt_config(bvh.view(), 32, line, 32);

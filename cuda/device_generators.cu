@@ -9,12 +9,10 @@
 //   make_primary_rays' per-pixel expression    -> primary_kernel
 // Liu et al., "Generate Coherent Rays Directly" (Eurographics 2024), sections 3.2-3.3, is the method of `ours`.
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
-#include "cuda/device_generators.h"
-
-#include <cub/device/device_scan.cuh>
 #include <cuda_runtime.h>
 
 #include <cmath>
+#include <cub/device/device_scan.cuh>
 #include <string>
 
 #include "core/bsdf.h"
@@ -22,6 +20,7 @@
 #include "core/params.h"
 #include "core/rng.h"
 #include "cuda/cuda_check.cuh"
+#include "cuda/device_generators.h"
 #include "generators/generator.h"
 
 namespace raycoh::cuda {
@@ -535,8 +534,8 @@ GpuGeneratorConfig gpu_generator_config(const std::string& name, const std::stri
   ParamSet set("generator '" + name + "' (GPU)", params);
   if (name == "noopt") {
     c.kind = GpuGeneratorKind::NoOpt;
-    c.order = set.get_choice("order", "tile", {"scanline", "tile"}) == "tile" ? GpuBatchOrder::Tile
-                                                                              : GpuBatchOrder::Scanline;
+    c.order =
+        set.get_choice("order", "tile", {"scanline", "tile"}) == "tile" ? GpuBatchOrder::Tile : GpuBatchOrder::Scanline;
     const auto tile = set.get_size("tile", {8, 8}, 1, 4096);
     c.tile_w = tile.first;
     c.tile_h = tile.second;
@@ -629,9 +628,14 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const GpuGenerat
     m.flags.reserve(pixels);
     m.slots.reserve(pixels);
   }
-  const BatchView view{m.rays.get(),     m.pixel.get(),    m.pdf.get(),
-                       m.weight.get(),   m.normal.get(),   m.material.get(),
-                       grouping ? m.tile.get() : nullptr,  grouping ? m.group.get() : nullptr,
+  const BatchView view{m.rays.get(),
+                       m.pixel.get(),
+                       m.pdf.get(),
+                       m.weight.get(),
+                       m.normal.get(),
+                       m.material.get(),
+                       grouping ? m.tile.get() : nullptr,
+                       grouping ? m.group.get() : nullptr,
                        grouping ? m.group_type.get() : nullptr};
 
   GroupParams gp{};
@@ -672,7 +676,7 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const GpuGenerat
     } else {
       const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
       noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), m.materials.get(), seed, g.frame, grid,
-                                                             m.offsets.get(), view, m.stats.get());
+                                                            m.offsets.get(), view, m.stats.get());
     }
     RAYCOH_CUDA_CHECK_LAUNCH();
   }
@@ -683,8 +687,7 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const GpuGenerat
   if (tiles > 0 && n > 0)
     RAYCOH_CUDA_CHECK(cudaMemcpy(&total, m.offsets.get() + tiles, sizeof(uint32_t), cudaMemcpyDeviceToHost));
   if (total != n)
-    throw Error("cuda: the device counted " + std::to_string(total) + " hit pixels, the G-buffer " +
-                std::to_string(n));
+    throw Error("cuda: the device counted " + std::to_string(total) + " hit pixels, the G-buffer " + std::to_string(n));
 
   out.width = g.width;
   out.height = g.height;

@@ -4,11 +4,9 @@
 // pairs over bits [0, bits) only, which is what encoders/radix_sort.h does on the CPU (Merrill & Grimshaw,
 // "High Performance and Scalable Radix Sorting", 2011, is CUB's onesweep predecessor; stable LSD either way).
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
-#include "cuda/device_keys.h"
-
-#include <cub/device/device_radix_sort.cuh>
 #include <cuda_runtime.h>
 
+#include <cub/device/device_radix_sort.cuh>
 #include <string>
 #include <vector>
 
@@ -16,6 +14,7 @@
 #include "core/params.h"
 #include "cpu/bvh_build.h"
 #include "cuda/cuda_check.cuh"
+#include "cuda/device_keys.h"
 #include "encoders/keys.h"
 #include "encoders/mlhcc_cuts.h"
 
@@ -125,14 +124,24 @@ struct DeviceKeys::Impl {
     if (n == 0) return;
     const unsigned blocks = blocks_for(n);
     switch (config.kind) {
-      case GpuKeyKind::Origin: key_kernel<GpuKeyKind::Origin><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
-      case GpuKeyKind::Reis: key_kernel<GpuKeyKind::Reis><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
-      case GpuKeyKind::Costa: key_kernel<GpuKeyKind::Costa><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
-      case GpuKeyKind::Aila: key_kernel<GpuKeyKind::Aila><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
+      case GpuKeyKind::Origin:
+        key_kernel<GpuKeyKind::Origin><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+        break;
+      case GpuKeyKind::Reis:
+        key_kernel<GpuKeyKind::Reis><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+        break;
+      case GpuKeyKind::Costa:
+        key_kernel<GpuKeyKind::Costa><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+        break;
+      case GpuKeyKind::Aila:
+        key_kernel<GpuKeyKind::Aila><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+        break;
       case GpuKeyKind::TwoPoint:
         key_kernel<GpuKeyKind::TwoPoint><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
         break;
-      case GpuKeyKind::Mlhcc: key_kernel<GpuKeyKind::Mlhcc><<<blocks, kBlock>>>(params, d_rays, n, d_keys); break;
+      case GpuKeyKind::Mlhcc:
+        key_kernel<GpuKeyKind::Mlhcc><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+        break;
     }
     RAYCOH_CUDA_CHECK_LAUNCH();
   }

@@ -15,8 +15,6 @@
 // a unit of lane i counts unless a lower active lane's range covers it (32 __shfl_sync rounds per step). This is
 // one rule for nodes and triangles, for any line and sector size, including triangles straddling two lines.
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
-#include "cuda/device_tracer.h"
-
 #include <cuda_runtime.h>
 
 #include <algorithm>
@@ -25,6 +23,7 @@
 #include "core/error.h"
 #include "core/traverse.h"
 #include "cuda/cuda_check.cuh"
+#include "cuda/device_tracer.h"
 
 namespace raycoh::cuda {
 

@@ -10,6 +10,9 @@
 
 #include "core/error.h"
 #include "harness/commands.h"
+#if defined(RAYCOH_HAVE_CUDA)
+#include "cuda/cuda_trace.h"
+#endif
 #include "harness/quality.h"
 #include "harness/table.h"
 
@@ -28,6 +31,27 @@ std::vector<PluginSpec> split_nonempty(const std::string& option, const std::str
   auto list = split_plugin_list(text);
   if (list.empty()) throw Error(fmt::format("{}: empty list", option));
   return list;
+}
+
+// `auto`: the GPU tracer where a CUDA device exists, else the CPU tracer and the SIMT/cache model.
+std::vector<PluginSpec> expand_auto(const std::vector<PluginSpec>& tracers) {
+  std::vector<PluginSpec> out;
+  for (const PluginSpec& t : tracers) {
+    if (t.name != "auto") {
+      out.push_back(t);
+      continue;
+    }
+    if (!t.params.empty()) throw Error("tracer 'auto' takes no parameters");
+#if defined(RAYCOH_HAVE_CUDA)
+    if (cuda::device_count() > 0) {
+      out.push_back({"cuda", ""});
+      continue;
+    }
+#endif
+    out.push_back({"cpu", ""});
+    out.push_back({"simt", ""});
+  }
+  return out;
 }
 
 }  // namespace
@@ -52,7 +76,7 @@ int main(int argc, char** argv) {
   table_cmd->add_option("--scenes", t_scenes, "comma-separated scenes (built-in names, files or folders)")
       ->capture_default_str();
   table_cmd->add_option("--generators", t_generators, "comma-separated generators, e.g. noopt")->capture_default_str();
-  table_cmd->add_option("--tracers", t_tracers, "comma-separated tracers, e.g. cpu,embree:mode=packet16")
+  table_cmd->add_option("--tracers", t_tracers, "comma-separated tracers, e.g. cpu,embree:mode=packet16,simt; auto = cuda with a GPU, else cpu,simt")
       ->capture_default_str();
   std::string t_encoders = "none";
   table_cmd->add_option("--encoders", t_encoders, "comma-separated reordering encoders, applied to every generator")
@@ -218,7 +242,7 @@ int main(int argc, char** argv) {
     } else if (table_cmd->parsed()) {
       table.scenes = split_scenes(t_scenes);
       table.generators = split_nonempty("--generators", t_generators);
-      table.tracers = split_nonempty("--tracers", t_tracers);
+      table.tracers = expand_auto(split_nonempty("--tracers", t_tracers));
       table.encoders = split_nonempty("--encoders", t_encoders);
       std::tie(table.width, table.height) = parse_size("--res", t_res, 1, 16384);
       return run_table(table, provenance);
@@ -229,7 +253,7 @@ int main(int argc, char** argv) {
       sweep.groups.clear();
       for (const PluginSpec& k : split_nonempty("--groups", s_groups))
         sweep.groups.push_back(parse_int("--groups", k.text(), 1, 65536));
-      sweep.tracers = split_nonempty("--tracers", s_tracers);
+      sweep.tracers = expand_auto(split_nonempty("--tracers", s_tracers));
       std::tie(sweep.width, sweep.height) = parse_size("--res", s_res, 1, 16384);
       return run_sweep(sweep, provenance);
     } else if (render_cmd->parsed()) {

@@ -88,7 +88,8 @@ TEST(SincosTurns, DeviceEqualsHostBitForBit) {
     float hs, hc;
     sincos_turns(u[i], hs, hc);
     if (std::memcmp(&hs, &s[i], 4) != 0 || std::memcmp(&hc, &c[i], 4) != 0) {
-      if (++differ <= 3) ADD_FAILURE() << "u = " << u[i] << ": host " << hs << ", " << hc << " device " << s[i] << ", " << c[i];
+      if (++differ <= 3)
+        ADD_FAILURE() << "u = " << u[i] << ": host " << hs << ", " << hc << " device " << s[i] << ", " << c[i];
     }
   }
   EXPECT_EQ(differ, 0u);
@@ -114,9 +115,9 @@ TEST(GpuPrimary, RaysEqualTheCpuForEveryOrderAndSize) {
                                          {640, 480, RayOrder::Scanline, 8, 8, true}}) {
     SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " tile " + std::to_string(c.tile_w) + "x" +
                  std::to_string(c.tile_h) + (c.order == RayOrder::Tile ? " tile order" : " scanline"));
-    const PrimaryBatch cpu = make_primary_rays(scene.camera, c.width, c.height,
-                                               make_pixel_order(c.width, c.height, c.order, c.tile_w, c.tile_h), 3, 2,
-                                               c.jitter);
+    const PrimaryBatch cpu =
+        make_primary_rays(scene.camera, c.width, c.height,
+                          make_pixel_order(c.width, c.height, c.order, c.tile_w, c.tile_h), 3, 2, c.jitter);
     PrimaryBatch gpu;
     float ms = -1.f;
     cuda::make_primary_rays_gpu(scene.camera, c.width, c.height, c.order, c.tile_w, c.tile_h, 3, 2, c.jitter, gpu, &ms);
@@ -203,11 +204,23 @@ void expect_gpu_generator_matches(const Scene& scene, const GBuffer& g, const st
 }
 
 const std::vector<std::string>& generator_specs() {
-  static const std::vector<std::string> specs = {
-      "noopt",          "noopt:order=scanline", "noopt:tile=16x8",  "noopt:tile=64x64",
-      "ours",           "ours:k=1",             "ours:k=64",        "ours:k=5",
-      "ours:tile=16x8,k=32", "ours:tile=32x32,k=16", "ours:tile=32x32,k=1", "ours:order=group", "ours:order=scanline",
-      "ours:seed=99",   "ours:tile=3x5,k=4",    "tile",             "tile:k=4,order=group"};
+  static const std::vector<std::string> specs = {"noopt",
+                                                 "noopt:order=scanline",
+                                                 "noopt:tile=16x8",
+                                                 "noopt:tile=64x64",
+                                                 "ours",
+                                                 "ours:k=1",
+                                                 "ours:k=64",
+                                                 "ours:k=5",
+                                                 "ours:tile=16x8,k=32",
+                                                 "ours:tile=32x32,k=16",
+                                                 "ours:tile=32x32,k=1",
+                                                 "ours:order=group",
+                                                 "ours:order=scanline",
+                                                 "ours:seed=99",
+                                                 "ours:tile=3x5,k=4",
+                                                 "tile",
+                                                 "tile:k=4,order=group"};
   return specs;
 }
 
@@ -248,7 +261,8 @@ TEST(GpuGenerators, EdgeCasesEqualTheCpu) {
 }
 
 TEST(GpuGenerators, ConfigFollowsTheCpuParametersAndRejectsWhatTheGpuCannotDo) {
-  const cuda::GpuGeneratorConfig ours = cuda::gpu_generator_config("ours", make_generator({"ours", "k=16,tile=16x8"})->params());
+  const cuda::GpuGeneratorConfig ours =
+      cuda::gpu_generator_config("ours", make_generator({"ours", "k=16,tile=16x8"})->params());
   EXPECT_EQ(ours.kind, cuda::GpuGeneratorKind::Ours);
   EXPECT_EQ(ours.tile_w, 16);
   EXPECT_EQ(ours.tile_h, 8);

@@ -130,10 +130,21 @@ void expect_encoder_matches(const Scene& scene, const Bvh& bvh, const RayBatch& 
 }
 
 const std::vector<std::string>& encoder_specs() {
-  static const std::vector<std::string> specs = {
-      "origin",  "origin:bits=64",   "reis",     "reis:bits=64",   "costa",          "costa:bits=64",
-      "aila",    "aila:bits=64",     "twopoint", "twopoint:L=1",   "twopoint:bits=64", "mlhcc",
-      "mlhcc:bits=64", "mlhcc:points=origin", "mlhcc:ranks=global,lambda=0.3"};
+  static const std::vector<std::string> specs = {"origin",
+                                                 "origin:bits=64",
+                                                 "reis",
+                                                 "reis:bits=64",
+                                                 "costa",
+                                                 "costa:bits=64",
+                                                 "aila",
+                                                 "aila:bits=64",
+                                                 "twopoint",
+                                                 "twopoint:L=1",
+                                                 "twopoint:bits=64",
+                                                 "mlhcc",
+                                                 "mlhcc:bits=64",
+                                                 "mlhcc:points=origin",
+                                                 "mlhcc:ranks=global,lambda=0.3"};
   return specs;
 }
 
@@ -165,7 +176,8 @@ TEST(GpuKeys, RadixSortIsStableOverTheKeyBits) {
     const size_t n = 1000003;
     std::vector<uint64_t> keys(n);
     for (size_t i = 0; i < n; ++i) {
-      const uint64_t r = (uint64_t{rng_u32(9, 0, static_cast<uint32_t>(i), 0)} << 32) | rng_u32(9, 0, static_cast<uint32_t>(i), 1);
+      const uint64_t r =
+          (uint64_t{rng_u32(9, 0, static_cast<uint32_t>(i), 0)} << 32) | rng_u32(9, 0, static_cast<uint32_t>(i), 1);
       keys[i] = i % 3 == 0 ? r % 1000 : (bits == 32 ? r & 0xFFFFFFFFull : r);
     }
     std::vector<uint32_t> expected(n);
@@ -181,7 +193,8 @@ TEST(GpuKeys, RadixSortIsStableOverTheKeyBits) {
 
 TEST(GpuKeys, ConfigFollowsTheCpuParameters) {
   const Bounds box{{0, 0, 0}, {1, 2, 3}};
-  const cuda::GpuKeyConfig c = cuda::gpu_key_config("mlhcc", "bits=64,lambda=0.3,L=0.5,points=origin,ranks=global,box=0/0/0..1/2/3", box);
+  const cuda::GpuKeyConfig c =
+      cuda::gpu_key_config("mlhcc", "bits=64,lambda=0.3,L=0.5,points=origin,ranks=global,box=0/0/0..1/2/3", box);
   EXPECT_EQ(c.kind, cuda::GpuKeyKind::Mlhcc);
   EXPECT_EQ(c.bits, 64);
   EXPECT_FLOAT_EQ(c.lambda, 0.3f);

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "cpu/bvh_build.h"
+#include "cpu/embree_device.h"
 #include "cpu/simt.h"
 #include "cpu/tracer.h"
 #include "cuda/cuda_trace.h"
@@ -175,6 +176,7 @@ void expect_counting_matches_simt(const Bvh& bvh, const std::vector<Ray>& rays, 
   const size_t warps = (lanes.size() + 31) / 32;
   ASSERT_EQ(gpu_warps.size(), warps);
   std::vector<Hit> simt_hits(lanes.size());
+  const FlushDenormalsScope ftz;  // the CPU tracers' floating-point mode, which the traversal kernels share
   size_t differ = 0;
   for (size_t w = 0; w < warps; ++w) {
     const auto n = static_cast<uint32_t>(std::min<size_t>(32, lanes.size() - w * 32));
@@ -240,8 +242,9 @@ TEST(GpuTracer, HitsEqualTheCpuTracerForEveryKernelBlockAndOrder) {
     const std::vector<Hit> cpu_primary = trace_with(*cpu, primary);
     const std::vector<Hit> cpu_secondary = trace_with(*cpu, secondary);
     const std::vector<Hit> cpu_indirect = trace_with(*cpu, secondary, &order);
-    for (const char* params : {"kernel=persistent,block=128", "kernel=persistent,block=32", "kernel=persistent,block=1024",
-                               "kernel=simple,block=128", "kernel=simple,block=64", "counters=on"}) {
+    for (const char* params :
+         {"kernel=persistent,block=128", "kernel=persistent,block=32", "kernel=persistent,block=1024",
+          "kernel=simple,block=128", "kernel=simple,block=64", "counters=on"}) {
       SCOPED_TRACE(params);
       auto gpu = make_tracer({"cuda", params}, f->scene, f->bvh);
       EXPECT_EQ(differing_hits(trace_with(*gpu, primary), cpu_primary), 0u);
@@ -250,8 +253,9 @@ TEST(GpuTracer, HitsEqualTheCpuTracerForEveryKernelBlockAndOrder) {
       EXPECT_EQ(differing_hits(trace_with(*gpu, secondary, &order), cpu_indirect), 0u);
       // The device buffers grow and shrink between calls: a short batch after a long one, then an empty one.
       const std::vector<Ray> few(secondary.begin(), secondary.begin() + 33);
-      EXPECT_EQ(differing_hits(trace_with(*gpu, few), std::vector<Hit>(cpu_secondary.begin(), cpu_secondary.begin() + 33)),
-                0u);
+      EXPECT_EQ(
+          differing_hits(trace_with(*gpu, few), std::vector<Hit>(cpu_secondary.begin(), cpu_secondary.begin() + 33)),
+          0u);
       EXPECT_TRUE(trace_with(*gpu, std::vector<Ray>{}).empty());
     }
   }
@@ -268,8 +272,7 @@ TEST(GpuTracer, PersistentKernelCoversLargeBatchesOnce) {
   rays.resize(1500007);
   cuda::DeviceTracer device(f->bvh.view());
   EXPECT_LT(static_cast<size_t>(device.persistent_blocks(128)) * 128, rays.size());
-  std::vector<Hit> gpu(rays.size());
-  for (size_t i = 0; i < gpu.size(); ++i) gpu[i].t = -1.f;  // a hit the kernel never writes
+  std::vector<Hit> gpu(rays.size());  // a slot no warp fetched would keep whatever the fresh device buffer held
   device.trace(rays.data(), nullptr, rays.size(), gpu.data(), cuda::TraceLaunch{});
   EXPECT_EQ(differing_hits(gpu, trace_with(*cpu, rays)), 0u);
 }

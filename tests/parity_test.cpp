@@ -307,7 +307,14 @@ std::string error_of(const std::string& spec, const Scene& scene, const Bvh& bvh
 TEST(TracerRegistry, NamesParametersAndErrors) {
   const Scene scene = box_scene();
   const Bvh bvh = build_bvh(scene);
+#if defined(RAYCOH_HAVE_CUDA)
+  ASSERT_EQ(tracer_infos().size(), 4u);  // + cuda
+  EXPECT_EQ(tracer_infos()[3].name, "cuda");
+  const std::string valid = "cpu, embree, simt, cuda";
+#else
   ASSERT_EQ(tracer_infos().size(), 3u);
+  const std::string valid = "cpu, embree, simt";
+#endif
   EXPECT_EQ(tracer_infos()[0].name, "cpu");
   EXPECT_EQ(tracer_infos()[1].name, "embree");
   EXPECT_EQ(tracer_infos()[2].name, "simt");
@@ -316,7 +323,7 @@ TEST(TracerRegistry, NamesParametersAndErrors) {
   EXPECT_EQ(make_tracer(parse_plugin_spec("embree:quality=medium,mode=packet16"), scene, bvh)->params(),
             "mode=packet16,quality=medium");
 
-  EXPECT_EQ(error_of("optix", scene, bvh), "unknown tracer 'optix'; valid tracers: cpu, embree, simt");
+  EXPECT_EQ(error_of("optix", scene, bvh), "unknown tracer 'optix'; valid tracers: " + valid);
   const std::string bad_mode = error_of("embree:mode=packet8", scene, bvh);
   EXPECT_NE(bad_mode.find("tracer 'embree'"), std::string::npos) << bad_mode;
   EXPECT_NE(bad_mode.find("stream_incoherent"), std::string::npos) << bad_mode;
