@@ -110,7 +110,9 @@ TEST(Ours, EveryPixelOfAFullTileIsInExactlyOneGroupOfK) {
       ++group_size[b.group[i]];
       const uint32_t x = b.pixel[i] % 32, y = b.pixel[i] / 32;
       EXPECT_EQ(b.tile[i], (y / 8) * 4 + x / 8);
-      if (tile_of_group.count(b.group[i])) EXPECT_EQ(tile_of_group[b.group[i]], b.tile[i]);
+      if (tile_of_group.count(b.group[i])) {
+        EXPECT_EQ(tile_of_group[b.group[i]], b.tile[i]);
+      }
       tile_of_group[b.group[i]] = b.tile[i];
     }
     EXPECT_EQ(group_size.size(), 8u * 64 / k);
@@ -215,7 +217,9 @@ TEST(Ours, DiffuseGroupMembersShareTheTangentSpaceDirection) {
     ASSERT_EQ(b.group_type[i], GroupType::Diffuse);
     const Vec3 local = make_frame(g.points[b.pixel[i]].ns).to_local(b.rays[i].dir);
     auto [it, fresh] = local_of_group.emplace(b.group[i], local);
-    if (!fresh) EXPECT_LT(length(it->second - local), 1e-5f);
+    if (!fresh) {
+      EXPECT_LT(length(it->second - local), 1e-5f);
+    }
   }
   // Coplanar members get identical world directions.
   const GBuffer flat = flat_gbuffer(scene, 8, 8, 0);
@@ -223,7 +227,9 @@ TEST(Ours, DiffuseGroupMembersShareTheTangentSpaceDirection) {
   std::map<uint32_t, Vec3> dir_of_group;
   for (size_t i = 0; i < f.size(); ++i) {
     auto [it, fresh] = dir_of_group.emplace(f.group[i], f.rays[i].dir);
-    if (!fresh) EXPECT_EQ(std::memcmp(&it->second, &f.rays[i].dir, sizeof(Vec3)), 0);
+    if (!fresh) {
+      EXPECT_EQ(std::memcmp(&it->second, &f.rays[i].dir, sizeof(Vec3)), 0);
+    }
   }
 }
 
@@ -260,7 +266,9 @@ TEST(Ours, NearlyCancellingGlossyMeanFallsBackToADiffuseDonor) {
   EXPECT_EQ(stats.hybrid_mean_fallback, 1u);
   EXPECT_TRUE(all_finite(b));
   for (size_t i = 0; i < b.size(); ++i)
-    if (b.material[i] == MaterialClass::Diffuse) EXPECT_GT(b.rays[i].dir.z, 0.f);
+    if (b.material[i] == MaterialClass::Diffuse) {
+      EXPECT_GT(b.rays[i].dir.z, 0.f);
+    }
 }
 
 TEST(Ours, ReusedDirectionBelowTheGeometricSurfaceIsKeptWithZeroWeight) {
@@ -371,7 +379,9 @@ TEST(Direct, SharesOneWorldDirectionPerTileAndCountsBackFacingUse) {
   std::map<uint32_t, Vec3> dir_of_tile;
   for (size_t i = 0; i < b.size(); ++i) {
     auto [it, fresh] = dir_of_tile.emplace(b.tile[i], b.rays[i].dir);
-    if (!fresh) EXPECT_EQ(std::memcmp(&it->second, &b.rays[i].dir, sizeof(Vec3)), 0);
+    if (!fresh) {
+      EXPECT_EQ(std::memcmp(&it->second, &b.rays[i].dir, sizeof(Vec3)), 0);
+    }
   }
   EXPECT_EQ(stats.groups[static_cast<int>(GroupType::WorldShared)], 4u);
   EXPECT_GT(stats.below_shading + stats.below_geometric, 0u);
