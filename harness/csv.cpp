@@ -101,6 +101,21 @@ void CsvWriter::write_row(const std::vector<std::string>& values) {
   ++rows_;
 }
 
+void CsvWriter::rewrite_partial() {
+  out_.close();
+  out_.open(partial_path(), std::ios::out | std::ios::trunc);
+  if (!out_) throw Error(fmt::format("--out {}: cannot write {}", path_, partial_path()));
+  std::string text;
+  for (size_t i = 0; i < columns_.size(); ++i) text += (i ? "," : "") + csv_escape(columns_[i]);
+  text += '\n';
+  for (const auto& row : resumed_) {
+    for (size_t i = 0; i < row.size(); ++i) text += (i ? "," : "") + csv_escape(row[i]);
+    text += '\n';
+  }
+  out_ << text;
+  out_.flush();
+}
+
 void CsvWriter::finish() {
   out_.close();
   std::error_code ec;

@@ -23,6 +23,18 @@ class CsvWriter {
   void write_row(const std::vector<std::string>& values);
   // Renames <path>.partial to <path>.
   void finish();
+  // Keeps only the resumed rows `keep` accepts, rewriting <path>.partial without the others; returns how many
+  // were dropped.
+  template <class Pred>
+  size_t keep_resumed_if(Pred keep) {
+    std::vector<std::vector<std::string>> kept;
+    for (auto& row : resumed_)
+      if (keep(row)) kept.push_back(std::move(row));
+    const size_t dropped = resumed_.size() - kept.size();
+    resumed_ = std::move(kept);
+    if (dropped > 0) rewrite_partial();
+    return dropped;
+  }
   // Removes <path>.partial if no row was ever written to it (nothing measured, nothing resumed).
   void discard_if_empty();
   bool is_open() const { return out_.is_open(); }
@@ -35,6 +47,7 @@ class CsvWriter {
   size_t column(const std::string& name) const;
 
  private:
+  void rewrite_partial();
   std::string path_;
   std::ofstream out_;
   std::vector<std::string> columns_;

@@ -157,6 +157,11 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
   for (const auto& c : provenance_columns()) columns.push_back(c);
   CsvWriter csv(o.out, columns);
   const std::vector<std::string> prov = provenance_values(provenance);
+  // Rows of another code revision are never reused, and are not kept either: one file, one revision.
+  const size_t stale = csv.keep_resumed_if(
+      [&](const std::vector<std::string>& row) { return row[csv.column("git_revision")] == provenance.git_revision; });
+  if (stale > 0)
+    std::fprintf(stderr, "resume: dropped %zu rows of another code revision from %s\n", stale, csv.partial_path().c_str());
   std::map<std::string, const std::vector<std::string>*> done;
   for (const auto& row : csv.resumed_rows()) {
     std::vector<std::string> k;

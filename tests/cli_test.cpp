@@ -94,6 +94,21 @@ TEST(Cli, AnInterruptedTableResumesAndSkipsFinishedRows) {
   ASSERT_EQ(resumed.size(), complete.size());
   for (int i = 0; i < 4; ++i) EXPECT_EQ(resumed[i], complete[i]);  // kept as measured, not measured again
   EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+
+  // A row of another code revision is neither reused nor kept.
+  std::string stale = complete[1];
+  const size_t at = stale.find(",Release,");
+  ASSERT_NE(at, std::string::npos) << stale;
+  const size_t rev = stale.rfind(',', at - 1);
+  stale = stale.substr(0, rev + 1) + "0000000old" + stale.substr(at);
+  std::filesystem::remove(out);
+  write_file(out.string() + ".partial", complete[0] + "\n" + stale + "\n");
+  const CommandResult again = run_raycoh(args);
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("dropped 1 rows of another code revision"), std::string::npos) << again.output;
+  const auto fresh = read_lines(out);
+  EXPECT_EQ(fresh.size(), complete.size());
+  for (const auto& line : fresh) EXPECT_EQ(line.find("0000000old"), std::string::npos);
 }
 
 TEST(Cli, SweepPrintsTheTileByGroupTable) {
