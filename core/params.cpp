@@ -38,8 +38,9 @@ const std::string* ParamSet::take(const std::string& key) {
   return it == given_.end() ? nullptr : &it->second;
 }
 
-int ParamSet::get_int(const std::string& key, int def, int lo, int hi) {
-  int value = def;
+template <class Int>
+Int ParamSet::get_integer(const std::string& key, Int def, Int lo, Int hi) {
+  Int value = def;
   if (const std::string* s = take(key)) {
     auto [p, ec] = std::from_chars(s->data(), s->data() + s->size(), value);
     if (ec != std::errc() || p != s->data() + s->size() || value < lo || value > hi)
@@ -49,15 +50,10 @@ int ParamSet::get_int(const std::string& key, int def, int lo, int hi) {
   return value;
 }
 
+int ParamSet::get_int(const std::string& key, int def, int lo, int hi) { return get_integer(key, def, lo, hi); }
+
 unsigned ParamSet::get_uint(const std::string& key, unsigned def, unsigned lo, unsigned hi) {
-  unsigned value = def;
-  if (const std::string* s = take(key)) {
-    auto [p, ec] = std::from_chars(s->data(), s->data() + s->size(), value);
-    if (ec != std::errc() || p != s->data() + s->size() || value < lo || value > hi)
-      throw Error(fmt::format("{}: {}={} is not valid; expected an integer in [{}, {}]", owner_, key, *s, lo, hi));
-  }
-  used_.emplace_back(key, std::to_string(value));
-  return value;
+  return get_integer(key, def, lo, hi);
 }
 
 float ParamSet::get_float(const std::string& key, float def, float lo, float hi) {

@@ -33,6 +33,8 @@ class ParamSet {
 
  private:
   const std::string* take(const std::string& key);
+  template <class Int>
+  Int get_integer(const std::string& key, Int def, Int lo, Int hi);
   std::string owner_;
   std::map<std::string, std::string> given_;
   std::vector<std::pair<std::string, std::string>> used_;

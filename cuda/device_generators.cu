@@ -1,10 +1,9 @@
 // Primary rays and the noopt / ours / tile generators on the GPU (cuda/device_generators.h explains the method;
 // generators/noopt.cpp and generators/tangent_reuse.cpp are the CPU versions these kernels must equal byte for
 // byte). The per-ray math is the shared host/device code (core/bsdf.h sample_direction / diffuse_from_local,
-// core/sampling.h, core/rng.h); what the CPU does in host-only helpers is restated here in device code, line for
-// line, and pinned by the gpu-labelled tests (tests/gpu_generators_test.cpp):
-//   emit_ray (generators/common.cpp)           -> write_ray
-//   make_tile_shuffle / TileShuffle (tiles.h)  -> make_shuffle / Shuffle
+// core/secondary_ray.h, core/tile_shuffle.h, core/sampling.h, core/rng.h); what the CPU does in host-only
+// helpers is restated here in device code, line for line, and pinned by the gpu-labelled tests
+// (tests/gpu_generators_test.cpp):
 //   TileGrid::rect (tiles.cpp)                 -> Grid::rect
 //   make_primary_rays' per-pixel expression    -> primary_kernel
 // Liu et al., "Generate Coherent Rays Directly" (Eurographics 2024), sections 3.2-3.3, is the method of `ours`.
@@ -19,6 +18,8 @@
 #include "core/error.h"
 #include "core/params.h"
 #include "core/rng.h"
+#include "core/secondary_ray.h"
+#include "core/tile_shuffle.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"
@@ -71,29 +72,6 @@ Grid make_grid(int width, int height, int tile_w, int tile_h) {
   return Grid{width, height, tile_w, tile_h, (width + tile_w - 1) / tile_w, (height + tile_h - 1) / tile_h};
 }
 
-// TileShuffle and make_tile_shuffle of generators/tiles.h.
-struct Shuffle {
-  uint32_t a, c, mask, m;
-  __device__ uint32_t operator()(uint32_t i) const {
-    uint32_t s = (a * i + c) & mask;
-    while (s >= m) s = (a * s + c) & mask;
-    return s;
-  }
-};
-
-__device__ Shuffle make_shuffle(uint32_t m, uint32_t seed, uint32_t frame, uint32_t tile) {
-  Shuffle s;
-  s.m = m;
-  uint32_t size = 1;
-  while (size < m) size <<= 1;
-  s.mask = size - 1;
-  s.a = ((rng_u32(seed, frame, tile, kDimTileShuffleA) & s.mask) & ~3u) | 1u;
-  if (size >= 8 && s.a == 1u) s.a = 5u;
-  s.c = (rng_u32(seed, frame, tile, kDimTileShuffleC) & s.mask) | 1u;
-  s.c &= s.mask;
-  return s;
-}
-
 __device__ __forceinline__ bool is_hit(const ShadingPoint& sp) { return sp.prim != kNoHit; }
 __device__ __forceinline__ bool is_diffuse_like(MaterialClass c) {
   return c == MaterialClass::Diffuse || c == MaterialClass::Emissive;
@@ -102,28 +80,18 @@ __device__ __forceinline__ bool is_glossy_like(MaterialClass c) {
   return c == MaterialClass::Glossy || c == MaterialClass::Specular;
 }
 
-// emit_ray of generators/common.cpp: ray `slot` from a shading point and its direction sample; returns the flags.
+// Ray `slot` from a shading point and its direction sample (core/secondary_ray.h, as the CPU's emit_ray);
+// returns the flags.
 __device__ uint32_t write_ray(const BatchView& out, uint32_t slot, const ShadingPoint& sp, uint32_t pixel,
                               const DirectionSample& s) {
-  uint32_t flags = s.flags;
-  Ray ray;
-  if (is_finite(sp.position) && is_finite(sp.ng)) {
-    ray.org = offset_ray_origin(sp.position, dot(s.dir, sp.ng) >= 0.f ? sp.ng : -sp.ng);
-    out.weight[slot] = s.weight;
-  } else {
-    ray.org = Vec3(0.f);
-    out.weight[slot] = Vec3(0.f);
-    flags |= kSampleNonFinite;
-  }
-  ray.dir = s.dir;
-  ray.tmin = 0.f;
-  ray.tmax = __builtin_huge_valf();
-  out.rays[slot] = ray;
+  const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, s);
+  out.rays[slot] = r.ray;
+  out.weight[slot] = r.weight;
+  out.normal[slot] = r.normal;
   out.pixel[slot] = pixel;
   out.pdf[slot] = s.pdf;
-  out.normal[slot] = is_finite(sp.ns) ? sp.ns : s.dir;
   out.material[slot] = sp.cls;
-  return flags;
+  return r.flags;
 }
 
 // Exclusive count of `flag` over the block's threads in thread order, and the block's total. Every thread of the
@@ -346,7 +314,7 @@ __global__ void group_kernel(const ShadingPoint* points, const BsdfParams* mater
   const bool hit = in_tile && is_hit(points[p]);
   const MaterialClass cls = hit ? points[p].cls : MaterialClass::Diffuse;
   if (in_tile) {
-    const Shuffle shuffle = make_shuffle(m, gp.group_seed, gp.frame, static_cast<uint32_t>(t));
+    const TileShuffle shuffle = make_tile_shuffle(m, gp.group_seed, gp.frame, static_cast<uint32_t>(t));
     sh.group_of[i] = (gp.interleaved ? shuffle(i) : i) / gp.k;
     sh.flags[i] = (hit ? kPixelHit : 0u) | (hit && is_diffuse_like(cls) ? kPixelDiffuse : 0u) |
                   (hit && is_glossy_like(cls) ? kPixelGlossy : 0u);

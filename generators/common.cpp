@@ -1,5 +1,5 @@
 // Helpers every generator shares: material parameters, batch writing, statistics.
-#include "core/sampling.h"
+#include "core/secondary_ray.h"
 #include "generators/generator.h"
 
 namespace raycoh {
@@ -24,24 +24,14 @@ std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vec
 }
 
 uint32_t emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s) {
-  uint32_t flags = s.flags;
-  Ray& ray = out.rays[i];
-  if (is_finite(sp.position) && is_finite(sp.ng)) {
-    ray.org = offset_ray_origin(sp.position, dot(s.dir, sp.ng) >= 0.f ? sp.ng : -sp.ng);
-    out.weight[i] = s.weight;
-  } else {
-    ray.org = Vec3(0.f);
-    out.weight[i] = Vec3(0.f);
-    flags |= kSampleNonFinite;
-  }
-  ray.dir = s.dir;
-  ray.tmin = 0.f;
-  ray.tmax = __builtin_huge_valf();
+  const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, s);
+  out.rays[i] = r.ray;
+  out.weight[i] = r.weight;
+  out.normal[i] = r.normal;
   out.pixel[i] = pixel;
   out.pdf[i] = s.pdf;
-  out.normal[i] = is_finite(sp.ns) ? sp.ns : s.dir;
   out.material[i] = sp.cls;
-  return flags;
+  return r.flags;
 }
 
 void tally_ray(uint32_t flags, GenerationStats& stats) {

@@ -17,19 +17,6 @@ void TileGrid::rect(int t, int& x0, int& y0, int& w, int& h) const {
   h = std::min(tile_h, height - y0);
 }
 
-TileShuffle make_tile_shuffle(uint32_t m, uint32_t seed, uint32_t frame, uint32_t tile) {
-  TileShuffle s;
-  s.m = m;
-  uint32_t size = 1;
-  while (size < m) size <<= 1;
-  s.mask = size - 1;
-  s.a = ((rng_u32(seed, frame, tile, kDimTileShuffleA) & s.mask) & ~3u) | 1u;
-  if (size >= 8 && s.a == 1u) s.a = 5u;
-  s.c = (rng_u32(seed, frame, tile, kDimTileShuffleC) & s.mask) | 1u;
-  s.c &= s.mask;  // M = 1: c = 0
-  return s;
-}
-
 std::vector<uint32_t> tile_hit_offsets(const GBuffer& g, const TileGrid& grid) {
   std::vector<uint32_t> offsets(static_cast<size_t>(grid.count()) + 1, 0);
   tbb::parallel_for(0, grid.count(), [&](int t) {

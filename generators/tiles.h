@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/tile_shuffle.h"
 #include "generators/ray_batch.h"
 
 namespace raycoh {
@@ -16,22 +17,6 @@ struct TileGrid {
   // Pixel rectangle of tile t.
   void rect(int t, int& x0, int& y0, int& w, int& h) const;
 };
-
-// Shuffle of the pixel numbers 0..m-1 of one tile: s = (a i + c) mod M on M = the smallest power of two >= m,
-// re-applied while s >= m ("cycle walking"). With a = 1 (mod 4) and c odd, the affine map is a full-period
-// (single-cycle) LCG on [0, M) by the Hull-Dobell theorem, and walking it restricts that single cycle to
-// [0, m), so the shuffle stays a full-period bijection for any m, power of two or not. a and c are drawn from
-// rng(seed, frame, tile, kDimTileShuffleA/C); a = 1 is excluded for M >= 8 because it would only rotate the
-// numbering and leave groups contiguous.
-struct TileShuffle {
-  uint32_t a = 1, c = 0, mask = 0, m = 1;
-  uint32_t operator()(uint32_t i) const {
-    uint32_t s = (a * i + c) & mask;
-    while (s >= m) s = (a * s + c) & mask;
-    return s;
-  }
-};
-TileShuffle make_tile_shuffle(uint32_t m, uint32_t seed, uint32_t frame, uint32_t tile);
 
 // Hit pixels per tile and the batch slot where each tile's rays start in a tile-major batch (size count + 1).
 std::vector<uint32_t> tile_hit_offsets(const GBuffer& gbuffer, const TileGrid& grid);
