@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 
+#include "bench/bench_common.h"
 #include "core/params.h"
 #include "cpu/bvh_build.h"
 #include "cpu/tracer.h"
@@ -27,37 +28,7 @@
 namespace raycoh {
 namespace {
 
-struct Frame {
-  Scene scene;
-  Bvh bvh;
-  GBuffer gbuffer;
-  std::unique_ptr<Tracer> tracer;
-};
-
-std::pair<int, int> bench_size() {
-  if (const char* env = std::getenv("RAYCOH_BENCH_SIZE")) return parse_size("RAYCOH_BENCH_SIZE", env, 1, 16384);
-  return {1920, 1080};
-}
-
-Frame& frame_for(const std::string& spec) {
-  static std::map<std::string, std::unique_ptr<Frame>> cache;
-  auto& slot = cache[spec];
-  if (!slot) {
-    cache.clear();  // one scene in memory at a time
-    auto f = std::make_unique<Frame>();
-    f->scene = load_scene(spec);
-    f->bvh = build_bvh(f->scene);
-    f->tracer = make_tracer({"cpu", ""}, f->scene, f->bvh);
-    const auto [w, h] = bench_size();
-    const PrimaryBatch primary =
-        make_primary_rays(f->scene.camera, w, h, make_pixel_order(w, h, RayOrder::Tile, 8, 8), 1, 0, true);
-    std::vector<Hit> hits(primary.rays.size());
-    f->tracer->trace(primary.rays.data(), primary.rays.size(), hits.data());
-    f->gbuffer = make_gbuffer(f->scene, primary, hits);
-    cache[spec] = std::move(f);
-  }
-  return *cache[spec];
-}
+std::pair<int, int> bench_size() { return bench::image_size({1920, 1080}); }
 
 std::map<std::string, double>& mean_seconds() {  // "kind/scene/generator" -> mean seconds per iteration
   static std::map<std::string, double> m;
@@ -65,7 +36,7 @@ std::map<std::string, double>& mean_seconds() {  // "kind/scene/generator" -> me
 }
 
 void bm_generate(benchmark::State& state, const std::string& name, const std::string& spec, const std::string& gen) {
-  Frame& f = frame_for(spec);
+  bench::Frame& f = bench::frame(spec, bench_size());
   auto generator = make_generator(parse_plugin_spec(gen));
   RayBatch batch;
   GenerationStats stats;
@@ -73,7 +44,7 @@ void bm_generate(benchmark::State& state, const std::string& name, const std::st
   int64_t n = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    generator->generate(f.scene, f.gbuffer, 1, batch, stats);
+    generator->generate(f.scene, f.gbuffer, bench::kSeed, batch, stats);
     total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++n;
   }
@@ -82,16 +53,15 @@ void bm_generate(benchmark::State& state, const std::string& name, const std::st
 }
 
 void bm_trace(benchmark::State& state, const std::string& name, const std::string& spec, const std::string& gen) {
-  Frame& f = frame_for(spec);
-  RayBatch batch;
-  GenerationStats stats;
-  make_generator(parse_plugin_spec(gen))->generate(f.scene, f.gbuffer, 1, batch, stats);
+  bench::Frame& f = bench::frame(spec, bench_size());
+  const RayBatch& batch = f.batch(gen);
+  const auto tracer = make_tracer({"cpu", ""}, f.scene, f.bvh);
   std::vector<Hit> hits(batch.size());
   double total = 0;
   int64_t n = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    f.tracer->trace(batch.rays.data(), batch.size(), hits.data());
+    tracer->trace(batch.rays.data(), batch.size(), hits.data());
     total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++n;
   }
@@ -100,24 +70,15 @@ void bm_trace(benchmark::State& state, const std::string& name, const std::strin
   mean_seconds()["trace/" + name + "/" + gen] = total / static_cast<double>(n);
 }
 
-std::vector<std::pair<std::string, std::string>> bench_scenes() {
-  std::vector<std::pair<std::string, std::string>> scenes = {{"voxels", "voxels:size=128"}};
-  std::filesystem::path dir = RAYCOH_SHARED_SCENES;
-  if (const char* env = std::getenv("RAYCOH_SCENES")) dir = env;
-  for (const char* name : {"sibenik", "country_kitchen"}) {
-    const auto path = dir / name / (std::string(name) + ".glb");
-    if (std::filesystem::exists(path)) scenes.emplace_back(name, path.string());
-  }
-  return scenes;
-}
-
 }  // namespace
 }  // namespace raycoh
 
 int main(int argc, char** argv) {
   using namespace raycoh;
   const std::vector<std::string> generators = {"noopt", "ours", "tile", "direct"};
-  const auto scenes = bench_scenes();
+  std::vector<std::pair<std::string, std::string>> scenes;
+  for (const auto& [name, spec] : bench::scenes({"sibenik", "country_kitchen"}))
+    scenes.emplace_back(name, name == "voxels" ? "voxels:size=128" : spec);
   for (const auto& [name, spec] : scenes) {
     for (const std::string& g : generators)
       benchmark::RegisterBenchmark(("generate/" + name + "/" + g).c_str(), bm_generate, name, spec, g)

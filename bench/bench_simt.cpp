@@ -32,6 +32,7 @@
 #include <tuple>
 #include <vector>
 
+#include "bench/bench_common.h"
 #include "core/error.h"
 #include "cpu/bvh_build.h"
 #include "cpu/tracer.h"
@@ -43,18 +44,7 @@
 namespace raycoh {
 namespace {
 
-constexpr uint32_t kSeed = 1;
-
-struct Size {
-  int width = 480, height = 270;
-};
-
-Size bench_size() {
-  Size size;
-  if (const char* env = std::getenv("RAYCOH_BENCH_SIZE"))
-    std::tie(size.width, size.height) = parse_size("RAYCOH_BENCH_SIZE", env, 1, 8192);
-  return size;
-}
+std::pair<int, int> size() { return bench::image_size({480, 270}); }
 
 std::vector<std::string> plugin_list(const char* env, std::vector<std::string> defaults) {
   const char* text = std::getenv(env);
@@ -64,48 +54,12 @@ std::vector<std::string> plugin_list(const char* env, std::vector<std::string> d
   return out;
 }
 
-// The one scene held at a time, its G-buffer and the batches made from it so far (by generator spec).
-struct LoadedScene {
-  std::string spec;
-  Scene scene;
-  Bvh bvh;
-  GBuffer gbuffer;
-  std::map<std::string, std::vector<Ray>> batches;
-};
-std::unique_ptr<LoadedScene> cache;
-
-LoadedScene& loaded(const std::string& spec) {
-  if (cache && cache->spec == spec) return *cache;
-  cache.reset();
-  auto s = std::make_unique<LoadedScene>();
-  s->spec = spec;
-  s->scene = load_scene(spec);
-  s->bvh = build_bvh(s->scene);
-  const Size size = bench_size();
-  const auto order = make_pixel_order(size.width, size.height, RayOrder::Tile, 8, 8);
-  const PrimaryBatch primary = make_primary_rays(s->scene.camera, size.width, size.height, order, kSeed, 0, true);
-  std::vector<Hit> hits(primary.rays.size());
-  make_tracer({"cpu", ""}, s->scene, s->bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
-  s->gbuffer = make_gbuffer(s->scene, primary, hits);
-  cache = std::move(s);
-  return *cache;
-}
-
-const std::vector<Ray>& batch(LoadedScene& s, const std::string& generator) {
-  auto it = s.batches.find(generator);
-  if (it != s.batches.end()) return it->second;
-  RayBatch b;
-  GenerationStats stats;
-  make_generator(parse_plugin_spec(generator))->generate(s.scene, s.gbuffer, kSeed, b, stats);
-  return s.batches[generator] = std::move(b.rays);
-}
-
 void bm_simt(benchmark::State& state, const std::string& scene_spec, const std::string& generator,
              const std::string& tracer_spec) {
   try {
-    LoadedScene& s = loaded(scene_spec);
-    const std::vector<Ray>& rays = batch(s, generator);
-    auto tracer = make_tracer(parse_plugin_spec(tracer_spec), s.scene, s.bvh);
+    bench::Frame& f = bench::frame(scene_spec, size());
+    const std::vector<Ray>& rays = f.batch(generator).rays;
+    auto tracer = make_tracer(parse_plugin_spec(tracer_spec), f.scene, f.bvh);
     std::vector<Hit> hits(rays.size());
     for (auto _ : state) {
       tracer->trace(rays.data(), rays.size(), hits.data());
@@ -130,27 +84,10 @@ void bm_simt(benchmark::State& state, const std::string& scene_spec, const std::
   }
 }
 
-std::vector<std::pair<std::string, std::string>> bench_scenes() {  // (name, spec)
-  std::vector<std::pair<std::string, std::string>> scenes = {{"cornell", "cornell"}, {"voxels", "voxels"}};
-  std::filesystem::path dir;
-  if (const char* env = std::getenv("RAYCOH_SCENES"))
-    dir = env;
-  else
-    dir = RAYCOH_SHARED_SCENES;
-  std::vector<std::filesystem::path> files;
-  std::error_code ec;
-  if (std::filesystem::is_directory(dir, ec))
-    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir, ec))
-      if (entry.path().extension() == ".glb") files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  for (const auto& f : files) scenes.emplace_back(f.stem().string(), f.string());
-  return scenes;
-}
-
 void register_benchmarks() {
   const auto generators = plugin_list("RAYCOH_BENCH_GENERATORS", {"noopt", "noopt:order=scanline"});
   const auto tracers = plugin_list("RAYCOH_BENCH_TRACERS", {"simt", "simt:preset=h100"});
-  for (const auto& [name, spec] : bench_scenes())
+  for (const auto& [name, spec] : bench::scenes())
     for (const std::string& generator : generators)
       for (const std::string& tracer : tracers)
         benchmark::RegisterBenchmark(("simt/" + name + "/" + generator + "/" + tracer).c_str(), bm_simt, spec,
@@ -167,8 +104,8 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   try {
-    const raycoh::Size size = raycoh::bench_size();
-    benchmark::AddCustomContext("image", std::to_string(size.width) + "x" + std::to_string(size.height));
+    const auto [width, height] = raycoh::size();
+    benchmark::AddCustomContext("image", std::to_string(width) + "x" + std::to_string(height));
     raycoh::register_benchmarks();
   } catch (const raycoh::Error& e) {
     std::fprintf(stderr, "raycoh_bench_simt: error: %s\n", e.what());
@@ -176,6 +113,5 @@ int main(int argc, char** argv) {
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  raycoh::cache.reset();  // before static destruction, while Embree's device is still alive
   return 0;
 }
