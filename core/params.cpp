@@ -80,6 +80,26 @@ std::string ParamSet::get_choice(const std::string& key, const std::string& def,
   return value;
 }
 
+Vec3 ParamSet::get_vec3(const std::string& key, Vec3 def, float lo, float hi) {
+  Vec3 value = def;
+  if (const std::string* s = take(key)) {
+    float c[3];
+    const char* p = s->c_str();
+    bool ok = true;
+    for (int i = 0; i < 3 && ok; ++i) {
+      char* end = nullptr;
+      c[i] = std::strtof(p, &end);
+      ok = end != p && std::isfinite(c[i]) && c[i] >= lo && c[i] <= hi && (*end == (i < 2 ? '/' : '\0'));
+      p = end + 1;
+    }
+    if (!ok)
+      throw Error(fmt::format("{}: {}={} is not valid; expected x/y/z with each in [{}, {}]", owner_, key, *s, lo, hi));
+    value = {c[0], c[1], c[2]};
+  }
+  used_.emplace_back(key, fmt::format("{}/{}/{}", value.x, value.y, value.z));
+  return value;
+}
+
 std::pair<int, int> ParamSet::get_size(const std::string& key, std::pair<int, int> def, int lo, int hi) {
   std::pair<int, int> value = def;
   if (const std::string* s = take(key)) value = parse_size(fmt::format("{}: {}", owner_, key), *s, lo, hi);

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/vec.h"
+
 namespace raycoh {
 
 class ParamSet {
@@ -22,6 +24,8 @@ class ParamSet {
   unsigned get_uint(const std::string& key, unsigned def, unsigned lo, unsigned hi);
   float get_float(const std::string& key, float def, float lo, float hi);
   std::string get_choice(const std::string& key, const std::string& def, const std::vector<std::string>& choices);
+  // "x/y/z" with each component in [lo, hi].
+  Vec3 get_vec3(const std::string& key, Vec3 def, float lo, float hi);
   // "WxH" with both in [lo, hi].
   std::pair<int, int> get_size(const std::string& key, std::pair<int, int> def, int lo, int hi);
 

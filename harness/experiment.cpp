@@ -105,16 +105,6 @@ void accumulate_row(const CsvWriter& csv, const std::vector<std::string>& row, S
   add(g.reused_rays, "reused_rays");
 }
 
-void check_scene_specs(const std::vector<std::string>& scenes) {
-  const std::vector<std::string> builtins = builtin_scene_names();
-  for (const std::string& spec : scenes) {
-    const std::string name = parse_plugin_spec(spec).name;
-    if (std::find(builtins.begin(), builtins.end(), name) == builtins.end() && !std::filesystem::exists(spec))
-      throw Error(fmt::format("scene '{}' is neither a built-in scene ({}) nor an existing file or folder", spec,
-                              join(builtins)));
-  }
-}
-
 }  // namespace
 
 void ensure_baseline(std::vector<Method>& methods) {
@@ -151,7 +141,7 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
   const PermuteMode permute = parse_permute_mode(o.permute);
   RAYCOH_CHECK(std::any_of(o.methods.begin(), o.methods.end(), [](const Method& m) { return m.label == "noopt"; }),
                "the methods must contain the noopt baseline");
-  check_scene_specs(o.scenes);
+  for (const std::string& spec : o.scenes) check_scene_spec("--scenes", spec);
 
   std::vector<std::string> columns = experiment_columns();
   for (const auto& c : provenance_columns()) columns.push_back(c);

@@ -110,15 +110,6 @@ void check_common(const RenderCommon& c, bool needs_ssim) {
     throw Error(fmt::format("--tracer {}: unknown tracer; valid tracers: {}", c.tracer.text(), join(names)));
 }
 
-void check_scene_spec(const std::string& option, const std::string& spec) {
-  const std::vector<std::string> builtins = builtin_scene_names();
-  const std::string name = parse_plugin_spec(spec).name;
-  std::error_code ec;
-  if (std::find(builtins.begin(), builtins.end(), name) == builtins.end() && !fs::exists(spec, ec))
-    throw Error(fmt::format("{} {}: neither a built-in scene ({}) nor an existing file or folder", option, spec,
-                            join(builtins)));
-}
-
 void check_crops(const std::vector<Crop>& crops, int width, int height) {
   for (const Crop& c : crops) check_crop("--crop", c, width, height);
 }

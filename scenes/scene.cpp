@@ -276,6 +276,18 @@ SceneFeatures analyse(const Scene& scene) {
   return f;
 }
 
+void check_scene_spec(const std::string& option, const std::string& spec) {
+  const std::vector<std::string> builtins = builtin_scene_names();
+  const std::string name = parse_plugin_spec(spec).name;
+  const size_t colon = spec.rfind(':');
+  std::error_code ec;
+  const bool exists = std::filesystem::exists(spec, ec) ||
+                      (colon != std::string::npos && std::filesystem::exists(spec.substr(0, colon), ec));
+  if (std::find(builtins.begin(), builtins.end(), name) == builtins.end() && !exists)
+    throw Error(fmt::format("{} {}: neither a built-in scene ({}) nor an existing file or folder", option, spec,
+                            join(builtins)));
+}
+
 Scene load_scene(const std::string& spec) {
   namespace fs = std::filesystem;
   const std::vector<std::string> builtins = builtin_scene_names();
@@ -294,6 +306,20 @@ Scene load_scene(const std::string& spec) {
     } else {
       throw Error(fmt::format("scene '{}': not a regular file or directory", spec));
     }
+    scene.source = spec;
+    return scene;
+  }
+  // "path:key=value,...": a file with lighting parameters (paths with ':' are rare; the whole spec was tried
+  // as a path first).
+  const size_t colon = spec.rfind(':');
+  if (colon != std::string::npos && colon > 0 && fs::exists(fs::path(spec.substr(0, colon)), ec)) {
+    Scene scene = load_scene(spec.substr(0, colon));
+    ParamSet params(fmt::format("scene '{}'", spec.substr(0, colon)), spec.substr(colon + 1));
+    const Vec3 sun = params.get_vec3("sun", scene.env.sun_dir, -1e3f, 1e3f);
+    params.finish();
+    if (!(dot(sun, sun) > 0.f))
+      throw Error(fmt::format("scene '{}': sun direction must not be zero", spec));
+    scene.env.sun_dir = normalize(sun);
     scene.source = spec;
     return scene;
   }

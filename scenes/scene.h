@@ -88,6 +88,10 @@ SceneFeatures analyse(const Scene& scene);
 // or .obj file, or a directory holding exactly one such file. Throws raycoh::Error naming the input on failure.
 Scene load_scene(const std::string& spec);
 
+// Cheap check, before anything is measured, that a spec names a built-in scene or an existing file or folder
+// (optionally followed by ":key=value" parameters); throws raycoh::Error naming `option` and the spec otherwise.
+void check_scene_spec(const std::string& option, const std::string& spec);
+
 // The pieces load_scene dispatches to.
 Scene load_gltf(const std::string& path);
 Scene load_obj(const std::string& path);

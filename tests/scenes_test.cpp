@@ -862,3 +862,25 @@ TEST(LoadScene, DirectoriesPickOneFile) {
 
 }  // namespace
 }  // namespace raycoh
+
+namespace raycoh {
+namespace {
+
+// "path:sun=x/y/z" sets the sun of a file scene; bad values are errors naming the scene.
+TEST(SceneSpec, FileScenesTakeASunDirection) {
+  const auto dir = test::shared_scenes_dir();
+  if (dir.empty()) GTEST_SKIP() << "no shared scenes";
+  const std::string path = (dir / "sibenik" / "sibenik.glb").string();
+  const Scene s = load_scene(path + ":sun=0/2/0");
+  EXPECT_TRUE(s.env.enabled);
+  EXPECT_FLOAT_EQ(s.env.sun_dir.y, 1.f);
+  EXPECT_EQ(s.source, path + ":sun=0/2/0");
+  EXPECT_THROW(load_scene(path + ":sun=0/0"), Error);
+  EXPECT_THROW(load_scene(path + ":sun=0/0/0"), Error);
+  EXPECT_THROW(load_scene(path + ":moon=1/1/1"), Error);
+  EXPECT_NO_THROW(check_scene_spec("--scenes", path + ":sun=1/1/1"));
+  EXPECT_THROW(check_scene_spec("--scenes", "/no/such.glb:sun=1/1/1"), Error);
+}
+
+}  // namespace
+}  // namespace raycoh
