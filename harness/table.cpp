@@ -73,7 +73,9 @@ int run_table(const TableOptions& o, const Provenance& provenance) {
   // The paper's Table 1 layout: methods down, scenes across, one table per tracer.
   std::string header = "| method |", rule = "|---|";
   for (const SceneResult& r : results) {
-    header += fmt::format(" {} ({}K tris, {:.0f} rays/frame) |", r.scene, (r.triangles + 500) / 1000, r.rays_per_frame);
+    const std::string tris =
+        r.triangles < 1000 ? fmt::format("{}", r.triangles) : fmt::format("{}K", (r.triangles + 500) / 1000);
+    header += fmt::format(" {} ({} tris, {:.0f} rays/frame) |", r.scene, tris, r.rays_per_frame);
     rule += "---:|";
   }
   for (const std::string& tl : results.front().tracer_labels) {
