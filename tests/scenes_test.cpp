@@ -22,16 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Runs fn, which must throw raycoh::Error; returns the message ("no error" otherwise).
-template <typename Fn>
-std::string error_of(Fn fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::error_of;
 
 // The message names the input and is one line.
 void expect_load_error(const fs::path& file, const std::string& must_contain = "") {

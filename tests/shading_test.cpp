@@ -25,15 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-template <typename Fn>
-std::string error_of(Fn fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::error_of;
 
 Image filled(int w, int h, Vec3 v) { return Image(w, h, v); }
 

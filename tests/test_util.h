@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace raycoh::test {
 
 // ../shared/scenes (or $RAYCOH_SCENES); empty when absent.
@@ -29,5 +31,16 @@ struct CommandResult {
 };
 // Runs the raycoh binary with the given argument string (shell syntax).
 CommandResult run_raycoh(const std::string& args);
+
+// Runs fn, which should throw raycoh::Error; returns the message, or "no error".
+template <typename Fn>
+std::string error_of(Fn fn) {
+  try {
+    fn();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
 
 }  // namespace raycoh::test
