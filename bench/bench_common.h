@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "core/params.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"

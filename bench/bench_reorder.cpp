@@ -36,8 +36,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "encoders/encoder.h"
 #include "encoders/radix_sort.h"
 #include "encoders/reorder.h"

@@ -1,4 +1,4 @@
-// raycoh_bench_simt: the `simt` tracer (cpu/simt.h, cpu/cache_model.h) on real secondary-ray batches, with its
+// raycoh_bench_simt: the `simt` tracer (simt/simt.h, simt/cache_model.h) on real secondary-ray batches, with its
 // coherence counters as benchmark counters, registered at run time per scene, generator and tracer.
 //
 //   simt/<scene>/<generator>/<tracer>   one Tracer::trace call over the batch (wall-clock of the model, not a
@@ -34,8 +34,8 @@
 
 #include "bench/bench_common.h"
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"

@@ -30,9 +30,9 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "cpu/bvh_build.h"
-#include "cpu/embree_device.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "embree/embree_device.h"
+#include "tracers/tracer.h"
 #include "scenes/scene.h"
 
 namespace raycoh {

@@ -5,7 +5,7 @@
 //
 // Timing runs carry no counter code: last_device_ms() is the kernel time of the last call, from CUDA events
 // (transfers excluded); the harness takes the median over repeated calls after a warm-up, as for every timing
-// tracer. Counting runs (counters=on) run the warp-synchronous counting kernel instead, which follows cpu/simt.h
+// tracer. Counting runs (counters=on) run the warp-synchronous counting kernel instead, which follows simt/simt.h
 // rule by rule: last_counters() then holds the same warp-step, lane, line, fetch and per-ray fields as the `simt`
 // tracer with the same `line` (warp 32, 32-byte sectors), for the same rays in the same order. The cache-model
 // fields (l1_*, l2_*, dram_bytes, modeled_cost) are not produced on the GPU and stay 0: they come from `simt`.
@@ -26,10 +26,11 @@
 #include <vector>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/simt.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "simt/simt.h"
+#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
+#include "cuda/cuda_tracer.h"
 #include "cuda/device_tracer.h"
 
 namespace raycoh {

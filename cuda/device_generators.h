@@ -28,7 +28,7 @@
 
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
-#include "generators/ray_batch.h"
+#include "core/ray_batch.h"
 #include "scenes/scene.h"
 
 namespace raycoh::cuda {

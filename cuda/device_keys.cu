@@ -12,7 +12,7 @@
 
 #include "core/error.h"
 #include "core/params.h"
-#include "cpu/bvh_build.h"
+#include "bvh/bvh_build.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_keys.h"
 #include "encoders/keys.h"

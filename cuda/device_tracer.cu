@@ -1,5 +1,5 @@
 // The GPU traversal kernels behind cuda/device_tracer.h: persistent-thread and one-thread-per-ray closest-hit
-// kernels, and the warp-synchronous counting kernel that reproduces cpu/simt.h.
+// kernels, and the warp-synchronous counting kernel that reproduces simt/simt.h.
 //
 // Persistent threads follow Aila & Laine ("Understanding the Efficiency of Ray Traversal on GPUs", HPG 2009,
 // section 3): launch only as many warps as the GPU holds at once; lane 0 of a warp takes 32 ray indices with one
@@ -7,7 +7,7 @@
 // while-while loop of core/traverse.h, and the warp fetches again. Fetching whole warps of consecutive rays keeps
 // the batch order's warp composition (DESIGN.md section 1), which is what the generators and encoders shape.
 //
-// Counting (cpu/simt.h, "Reproducing it in CUDA"): every loop is warp-uniform with explicit masks from
+// Counting (simt/simt.h, "Reproducing it in CUDA"): every loop is warp-uniform with explicit masks from
 // __ballot_sync over all 32 lanes (lanes past the end of the batch stay in the loops with false predicates), the
 // node-loop break is `(ballot(has_leaf) & N) == N`, steps are counted from node_ref / leaf_ref before
 // node_step / leaf_step run, and the triangle sub-steps of a leaf step are j = 0 .. __reduce_max_sync(count) - 1.

@@ -10,7 +10,7 @@
 //               consecutive rays, the batch order's unit (DESIGN.md section 1), and load balancing is dynamic.
 //   simple      one thread per ray, ceil(count / block) blocks: the baseline the persistent kernel must beat.
 //   counting    one warp per 32 consecutive rays running the while-while loop warp-synchronously under the rules
-//               of cpu/simt.h, with __ballot_sync / __reduce_*_sync / __shfl_sync, and writing each warp's step
+//               of simt/simt.h, with __ballot_sync / __reduce_*_sync / __shfl_sync, and writing each warp's step
 //               and per-ray counters. Not timed; it must reproduce the `simt` tracer's counters exactly.
 // Indirect tracing: with an order array, lane i traces rays[order[i]] (the order is uploaded with the rays).
 #pragma once
@@ -32,7 +32,7 @@ struct TraceLaunch {
   int block = 128;  // threads per block: a multiple of 32 in [32, 1024]
 };
 
-// Byte layout the counting kernel computes lines and sectors from: the fields of cpu/simt.h's SimtConfig with the
+// Byte layout the counting kernel computes lines and sectors from: the fields of simt/simt.h's SimtConfig with the
 // warp size fixed at 32 (take them from simt_config(), which also checks that sector numbers fit 32 bits).
 struct CountingLayout {
   uint32_t line_bytes = 64;    // power of two in [32, 4096]
@@ -41,8 +41,8 @@ struct CountingLayout {
   uint64_t tri_base = 0;       // byte address of tris[0]
 };
 
-// The counters of one warp of a counting run: the step and per-ray fields of CoherenceCounters (cpu/tracer.h)
-// that cpu/simt.h's simt_trace_warp accumulates for the same 32 rays.
+// The counters of one warp of a counting run: the step and per-ray fields of CoherenceCounters (tracers/tracer.h)
+// that simt/simt.h's simt_trace_warp accumulates for the same 32 rays.
 struct WarpCounters {
   uint64_t rays = 0;
   uint64_t node_steps = 0, leaf_steps = 0, triangle_steps = 0;

@@ -16,7 +16,7 @@
 #include "core/params.h"
 #include "core/vec.h"
 #include "encoders/radix_sort.h"
-#include "generators/ray_batch.h"
+#include "core/ray_batch.h"
 
 namespace raycoh {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "cpu/bvh_build.h"
+#include "bvh/bvh_build.h"
 #include "encoders/keys.h"
 
 namespace raycoh {

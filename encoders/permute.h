@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "generators/ray_batch.h"
+#include "core/ray_batch.h"
 
 namespace raycoh {
 

@@ -8,7 +8,7 @@
 
 #include "core/bsdf.h"
 #include "core/params.h"
-#include "generators/ray_batch.h"
+#include "core/ray_batch.h"
 
 namespace raycoh {
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "core/ray.h"
-#include "generators/ray_batch.h"
+#include "core/ray_batch.h"
 
 namespace raycoh {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "core/tile_shuffle.h"
-#include "generators/ray_batch.h"
+#include "core/ray_batch.h"
 
 namespace raycoh {
 

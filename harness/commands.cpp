@@ -5,8 +5,8 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "encoders/encoder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"

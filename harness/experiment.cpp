@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "encoders/encoder.h"
 #include "encoders/reorder.h"
 #include "generators/generator.h"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/params.h"
-#include "generators/ray_batch.h"
+#include "core/ray_batch.h"
 #include "harness/provenance.h"
 
 namespace raycoh {

@@ -45,8 +45,8 @@
 #include <memory>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "harness/csv.h"
 #include "harness/progress.h"

@@ -31,7 +31,7 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
 }
 
 // Modelling tracers (`simt`): coherence counters per ray instead of wall-clock speed. The modeled speedup is
-// cost(noopt) / cost(method), the ranking the cost model gives (cpu/simt.h).
+// cost(noopt) / cost(method), the ranking the cost model gives (simt/simt.h).
 void print_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
                     const std::string& header, const std::string& rule) {
   std::printf("\n### %s: SIMT efficiency, L1 / L2 sector misses per ray, modeled cost per ray (modeled speedup over "

@@ -16,7 +16,7 @@
 #include <memory>
 #include <vector>
 
-#include "cpu/tracer.h"
+#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "scenes/scene.h"
 #include "shading/image.h"

@@ -20,7 +20,7 @@
 #include <string>
 
 #include "core/params.h"
-#include "cpu/bvh_build.h"
+#include "bvh/bvh_build.h"
 #include "shading/image.h"
 #include "shading/path_tracer.h"
 

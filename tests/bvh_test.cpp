@@ -1,4 +1,4 @@
-// Tests of build_bvh (cpu/bvh_build.cpp): the structural invariants every tracer relies on, on procedural scenes,
+// Tests of build_bvh (bvh/bvh_build.cpp): the structural invariants every tracer relies on, on procedural scenes,
 // the built-in scenes and the shared scenes; single-triangle and all-degenerate scenes; determinism across thread
 // counts; and the errors for bad configurations and bad geometry.
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 
 #include "core/error.h"
 #include "core/traverse.h"
-#include "cpu/bvh_build.h"
+#include "bvh/bvh_build.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 

@@ -1,9 +1,9 @@
-// The `simt` tracer's cache model (cpu/cache_model.h) against brute-force references: a sectored LRU cache kept
+// The `simt` tracer's cache model (simt/cache_model.h) against brute-force references: a sectored LRU cache kept
 // as one recency-ordered list per set, a two-level hierarchy built from it, and the documented warp schedule
 // re-implemented step by step. Random address traces with locality (hot sets, sequential runs, sector
 // neighbours) exercise hits, sector misses, evictions and non-power-of-two set counts. Also the presets, the
 // configuration errors, and a replay that pauses and resumes giving the same result as one run.
-#include "cpu/cache_model.h"
+#include "simt/cache_model.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +18,7 @@
 namespace raycoh {
 namespace {
 
-// The rules of cpu/cache_model.h in their most literal form: per set, a list of (line, valid sectors), most
+// The rules of simt/cache_model.h in their most literal form: per set, a list of (line, valid sectors), most
 // recently used first.
 class ReferenceCache {
  public:

@@ -15,7 +15,7 @@
 #include <random>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
+#include "bvh/bvh_build.h"
 #include "encoders/encoder.h"
 #include "encoders/keys.h"
 #include "encoders/mlhcc_cuts.h"

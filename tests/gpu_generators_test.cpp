@@ -13,8 +13,8 @@
 
 #include "core/error.h"
 #include "core/sampling.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"

@@ -14,8 +14,8 @@
 
 #include "core/error.h"
 #include "core/rng.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "cuda/device_keys.h"
 #include "encoders/encoder.h"

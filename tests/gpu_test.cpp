@@ -3,8 +3,8 @@
 
 #include <cstring>
 
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"

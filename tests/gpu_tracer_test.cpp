@@ -1,6 +1,6 @@
 // The `cuda` tracer (cuda/cuda_tracer.cpp, cuda/device_tracer.cu) against the CPU: hits of every kernel and block
 // size, direct and indirect, equal the `cpu` tracer's bit for bit; the counting kernel's per-warp counters equal
-// cpu/simt.h's simt_trace_warp warp by warp, and the tracer's totals equal the `simt` tracer's, on cornell,
+// simt/simt.h's simt_trace_warp warp by warp, and the tracer's totals equal the `simt` tracer's, on cornell,
 // voxels and sibenik (primary and NoOpt secondary batches, a shuffled indirect order, lines of 64 and 128 bytes,
 // batches that end in a partial warp and hold rejected rays). The registry tests run without a GPU too; the
 // others skip cleanly (GTEST_SKIP) when cuda::device_count() == 0. Label `gpu`.
@@ -15,10 +15,10 @@
 
 #include "core/error.h"
 #include "core/rng.h"
-#include "cpu/bvh_build.h"
-#include "cpu/embree_device.h"
-#include "cpu/simt.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "core/flush_denormals.h"
+#include "simt/simt.h"
+#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "cuda/device_tracer.h"
 #include "generators/generator.h"
@@ -99,7 +99,7 @@ std::vector<Hit> trace_with(Tracer& t, const std::vector<Ray>& rays, const std::
   return hits;
 }
 
-// Every field cpu/simt.h defines outside the cache model.
+// Every field simt/simt.h defines outside the cache model.
 void expect_same_step_counters(const CoherenceCounters& gpu, const CoherenceCounters& simt, const std::string& what) {
   SCOPED_TRACE(what);
   EXPECT_EQ(gpu.rays, simt.rays);

@@ -20,8 +20,8 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 

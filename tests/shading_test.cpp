@@ -10,8 +10,8 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "harness/quality.h"
 #include "shading/image.h"

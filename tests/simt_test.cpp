@@ -1,9 +1,9 @@
-// The SIMT warp model (cpu/simt.h) and the `simt` tracer: hand-built warps on a hand-built BVH whose every step
+// The SIMT warp model (simt/simt.h) and the `simt` tracer: hand-built warps on a hand-built BVH whose every step
 // is known (one shared path, disjoint subtrees with Aila's speculative node walk, partial and rejected lanes,
 // leaves of different sizes, straddling triangles); a warp of one lane equals closest_hit() with RayCounters
 // on real scenes; the tracer's hits equal the `cpu` tracer's bit for bit; counter identities; batches whose
 // size is not a multiple of 32; determinism across thread counts; the registry's parameters and errors.
-#include "cpu/simt.h"
+#include "simt/simt.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/embree_device.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "core/flush_denormals.h"
+#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"

@@ -1,9 +1,7 @@
 // Embree device creation and the one error callback; see embree_device.h.
-#include "cpu/embree_device.h"
+#include "embree/embree_device.h"
 
 #include <fmt/format.h>
-#include <pmmintrin.h>
-#include <xmmintrin.h>
 
 #include "core/error.h"
 
@@ -95,12 +93,5 @@ void embree_check(const char* what) {
 }
 
 std::string embree_version() { return RTC_VERSION_STRING; }
-
-FlushDenormalsScope::FlushDenormalsScope() : saved_csr_(_mm_getcsr()) {
-  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-}
-
-FlushDenormalsScope::~FlushDenormalsScope() { _mm_setcsr(saved_csr_); }
 
 }  // namespace raycoh

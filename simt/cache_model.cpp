@@ -1,5 +1,5 @@
-// The `simt` tracer's cache model: see cpu/cache_model.h for the rules, presets and their sources.
-#include "cpu/cache_model.h"
+// The `simt` tracer's cache model: see simt/cache_model.h for the rules, presets and their sources.
+#include "simt/cache_model.h"
 
 #include <fmt/format.h>
 

@@ -1,10 +1,10 @@
 // Tracer `simt`: a CPU model of a GPU running our traversal. Warps of consecutive rays of the batch run the
-// while-while traversal in lock step (cpu/simt.h: the exact stepping and counting rules), and every warp
-// step's fetches go through a cache model of per-SM L1s and a shared L2 (cpu/cache_model.h). Its hits equal the
+// while-while traversal in lock step (simt/simt.h: the exact stepping and counting rules), and every warp
+// step's fetches go through a cache model of per-SM L1s and a shared L2 (simt/cache_model.h). Its hits equal the
 // `cpu` tracer's bit for bit; its product is the CoherenceCounters of last_counters(), not its wall-clock time.
 //
 // Parameters
-//   preset    string  rtx3060   rtx3060 | h100: SM count, cache sizes and cost weights (cpu/cache_model.h)
+//   preset    string  rtx3060   rtx3060 | h100: SM count, cache sizes and cost weights (simt/cache_model.h)
 //   warp      int     32        [1, 64]: lanes per warp
 //   line      int     64        64 | 128: bytes per line of the node/triangle transactions
 //   sms       int     preset    [1, 1024]: SMs
@@ -17,7 +17,7 @@
 // Determinism and speed: the counters depend on the batch and its order only, never on the thread count. Warps are
 // traced in parallel with oneTBB, a chunk at a time, each producing its trace of cache requests; the cache model
 // replays the traces in its fixed global order on one thread, overlapped with tracing the next chunk. Sources: Aila &
-// Laine, HPG 2009 (while-while traversal, speculative node walk); the presets' sources are listed in cpu/cache_model.h.
+// Laine, HPG 2009 (while-while traversal, speculative node walk); the presets' sources are listed in simt/cache_model.h.
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -27,11 +27,11 @@
 #include <memory>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/cache_model.h"
-#include "cpu/embree_device.h"
-#include "cpu/simt.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "simt/cache_model.h"
+#include "core/flush_denormals.h"
+#include "simt/simt.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 

@@ -15,7 +15,7 @@
 // Guarantees: every scene triangle appears in exactly one leaf; zero-area triangles are kept (their boxes are
 // flat or points, which is a valid box); the root is an inner node; the depth of every leaf is below
 // kTraversalStackSize, so the traversal stack cannot overflow.
-#include "cpu/bvh_build.h"
+#include "bvh/bvh_build.h"
 
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
@@ -25,7 +25,7 @@
 #include <new>
 
 #include "core/error.h"
-#include "cpu/embree_device.h"
+#include "embree/embree_device.h"
 
 namespace raycoh {
 namespace {

@@ -44,7 +44,7 @@
 //   block_warps = 2 by default: one 64-thread block per 8x8 tile, as the GPU kernel launches it (DESIGN.md
 //   section 1), which keeps both warps of a tile on one SM and so changes what its L1 shares.
 //
-// Cost weights (cycles) used by the modeled cost in cpu/simt.h: L1 hit, L2 hit and DRAM latencies from the same
+// Cost weights (cycles) used by the modeled cost in simt/simt.h: L1 hit, L2 hit and DRAM latencies from the same
 // Accel-Sim configurations (rtx3060: gpgpu_l1_latency 39, gpgpu_l2_rop_latency 187, + dram_latency 254 = 441;
 // h100 from SM80_A100, the closest tuned data-centre part: 34, 200, 200 + 190 = 390), of the order Jia et al.
 // measured ("Dissecting the NVIDIA Volta GPU Architecture via Microbenchmarking", 2018, and the Turing T4 report,
@@ -62,7 +62,7 @@
 
 namespace raycoh {
 
-// Weights of the modeled cost (cpu/simt.h), in cycles.
+// Weights of the modeled cost (simt/simt.h), in cycles.
 struct CostWeights {
   double node_step = 70.0;      // per warp node step (issue slots)
   double leaf_step = 10.0;      // per warp leaf step

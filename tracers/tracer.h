@@ -17,9 +17,9 @@ namespace raycoh {
 struct Scene;
 struct Bvh;
 
-// What the `simt` tracer measures over one batch (every rule in cpu/simt.h; the cache model in
-// cpu/cache_model.h). All fields but modeled_cost are exact integer sums, the same for every thread count.
-// A CUDA counting run that follows cpu/simt.h reproduces everything above the cache-model block exactly.
+// What the `simt` tracer measures over one batch (every rule in simt/simt.h; the cache model in
+// simt/cache_model.h). All fields but modeled_cost are exact integer sums, the same for every thread count.
+// A CUDA counting run that follows simt/simt.h reproduces everything above the cache-model block exactly.
 struct CoherenceCounters {
   uint64_t rays = 0;   // rays in the batch
   uint64_t warps = 0;  // ceil(rays / warp_size); the last one may be partial
@@ -43,7 +43,7 @@ struct CoherenceCounters {
   uint64_t l1_hits = 0, l1_misses = 0;
   uint64_t l2_hits = 0, l2_misses = 0;
   uint64_t dram_bytes = 0;    // l2_misses x sector_bytes
-  double modeled_cost = 0.0;  // cycles, whole batch (cpu/simt.h, modeled_cost())
+  double modeled_cost = 0.0;  // cycles, whole batch (simt/simt.h, modeled_cost())
 
   // Fraction of lanes doing useful work: active lanes / (warp_size x steps). Node and leaf steps pooled.
   double simt_efficiency() const {

@@ -33,7 +33,7 @@
 //   4. transactions: node_lines / triangle_lines += number of distinct line_bytes lines in the union of the
 //      byte ranges the step's active lanes fetch (line = address / line_bytes).
 //   5. cache requests: node_fetches / triangle_fetches += number of distinct sector_bytes sectors in that union;
-//      those sectors, in ascending order, are the step's request to the cache model (cpu/cache_model.h).
+//      those sectors, in ascending order, are the step's request to the cache model (simt/cache_model.h).
 //   6. per ray: RayCounters (nodes, leaves, triangles) of each lane, summed; they equal the *_lanes sums.
 //   7. SIMT efficiency: active lanes / (warp_size x steps), node and leaf steps pooled (simt_efficiency()) and
 //      each kind alone; a partial last warp counts its missing lanes as idle, as a GPU would.
@@ -55,7 +55,7 @@
 // for each straddling lane test its a + 1 against every active lane's a (32 __shfl_sync) and against the other
 // straddling lanes' a + 1 (a second __match_any_sync among the straddlers whose a + 1 is new). Counting runs only.
 //
-// Modeled cost (modeled_cost() below; weights in CostWeights, cpu/cache_model.h, with their sources):
+// Modeled cost (modeled_cost() below; weights in CostWeights, simt/cache_model.h, with their sources):
 //   cost = node_step x node_steps + leaf_step x leaf_steps + triangle_step x triangle_steps
 //        + l1_hit x l1_hits + l2_hit x l2_hits + dram x l2_misses                            [cycles]
 // The step terms are issue slots (instructions a warp executes whatever its active lanes: what divergence
@@ -71,8 +71,8 @@
 
 #include "core/error.h"
 #include "core/traverse.h"
-#include "cpu/cache_model.h"
-#include "cpu/tracer.h"
+#include "simt/cache_model.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 

@@ -31,19 +31,4 @@ void embree_check(const std::string& what);
 // "3.13.5", for provenance records.
 std::string embree_version();
 
-// Sets the flush-to-zero and denormals-are-zero modes of the calling thread for its lifetime and restores the
-// previous modes afterwards. Embree requires FTZ/DAZ in tracing threads for speed; our own tracer uses it too
-// so that both are timed under the same floating-point mode. Restoring matters because TBB worker threads are
-// shared with other stages (generators, encoders) whose results must not depend on which thread ran them.
-class FlushDenormalsScope {
- public:
-  FlushDenormalsScope();
-  ~FlushDenormalsScope();
-  FlushDenormalsScope(const FlushDenormalsScope&) = delete;
-  FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
-
- private:
-  unsigned int saved_csr_;
-};
-
 }  // namespace raycoh

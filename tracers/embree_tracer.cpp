@@ -31,9 +31,10 @@
 #include <vector>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/embree_device.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "core/flush_denormals.h"
+#include "embree/embree_device.h"
+#include "tracers/tracer.h"
 #include "scenes/scene.h"
 
 namespace raycoh {

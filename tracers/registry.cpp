@@ -6,21 +6,21 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
-#include "cpu/bvh_build.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "tracers/tracer.h"
 #include "scenes/scene.h"
+#if defined(RAYCOH_HAVE_CUDA)
+#include "cuda/cuda_tracer.h"
+#endif
 
 namespace raycoh {
 
-// Defined in cpu/cpu_tracer.cpp, cpu/embree_tracer.cpp and cpu/simt_tracer.cpp. The Scene and Bvh must outlive
+// Defined in tracers/cpu_tracer.cpp, tracers/embree_tracer.cpp and simt/simt_tracer.cpp (cuda/cuda_tracer.h declares
+// the CUDA one). The Scene and Bvh must outlive
 // the tracer.
 std::unique_ptr<Tracer> make_cpu_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 std::unique_ptr<Tracer> make_embree_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
-#if defined(RAYCOH_HAVE_CUDA)
-// Defined in cuda/cuda_tracer.cpp (CUDA builds only); throws raycoh::Error when there is no CUDA device.
-std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
-#endif
 
 void Tracer::trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
   std::vector<Ray> gathered(count);

@@ -12,9 +12,9 @@
 #include <memory>
 
 #include "core/traverse.h"
-#include "cpu/bvh_build.h"
-#include "cpu/embree_device.h"
-#include "cpu/tracer.h"
+#include "bvh/bvh_build.h"
+#include "core/flush_denormals.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
