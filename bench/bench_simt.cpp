@@ -78,7 +78,7 @@ void bm_simt(benchmark::State& state, const std::string& scene_spec, const std::
     state.counters["l1miss/ray"] = c.l1_misses_per_ray();
     state.counters["l2miss/ray"] = c.l2_misses_per_ray();
     state.counters["dram_B/ray"] = c.dram_bytes_per_ray();
-    state.counters["cost/ray"] = c.cost_per_ray();
+    state.counters["modeled_mray_s"] = c.modeled_mray_s();
   } catch (const Error& e) {
     state.SkipWithError(e.what());
   }

@@ -8,7 +8,7 @@
 // tracer. Counting runs (counters=on) run the warp-synchronous counting kernel instead, which follows simt/simt.h
 // rule by rule: last_counters() then holds the same warp-step, lane, line, fetch and per-ray fields as the `simt`
 // tracer with the same `line` (warp 32, 32-byte sectors), for the same rays in the same order. The cache-model
-// fields (l1_*, l2_*, dram_bytes, modeled_cost) are not produced on the GPU and stay 0: they come from `simt`.
+// fields (l1_*, l2_*, dram_bytes, modeled) are not produced on the GPU and stay 0: they come from `simt`.
 //
 // Parameters
 //   kernel    string  persistent  persistent | simple: persistent threads fetching 32 consecutive rays per warp

@@ -272,7 +272,7 @@ std::vector<SceneResult> run_experiment(const ExperimentOptions& o, const Proven
           for (double v : {c ? c->simt_efficiency() : 0.0, c ? c->node_simt_efficiency() : 0.0,
                            c ? c->per_ray(c->node_lines + c->triangle_lines) : 0.0, c ? c->fetches_per_ray() : 0.0,
                            c ? c->l1_misses_per_ray() : 0.0, c ? c->l2_misses_per_ray() : 0.0,
-                           c ? c->dram_bytes_per_ray() : 0.0, c ? c->cost_per_ray() : 0.0})
+                           c ? c->dram_bytes_per_ray() : 0.0, c ? c->modeled.ms * 1e6 / static_cast<double>(c->rays) : 0.0})
             row.push_back(c ? fmt::format("{:.6g}", v) : std::string());
           row.insert(row.end(), prov.begin(), prov.end());
           csv.write_row(row);

@@ -1,4 +1,4 @@
-// The `simt` tracer's cache model: see simt/cache_model.h for the rules, presets and their sources.
+// The `simt` tracer's cache model: see simt/cache_model.h for the rules.
 #include "simt/cache_model.h"
 
 #include <fmt/format.h>
@@ -6,13 +6,11 @@
 #include <bit>
 
 #include "core/error.h"
-#include "core/params.h"
 
 namespace raycoh {
 namespace {
 
-constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
-constexpr uint32_t kL1Sets = 4;  // Accel-Sim's L1 geometry (see the header)
+constexpr uint32_t kL1Sets = 4;  // Accel-Sim's L1 geometry (simt/gpu_presets.cpp)
 
 bool is_pow2(uint64_t x) { return x != 0 && (x & (x - 1)) == 0; }
 
@@ -23,35 +21,9 @@ const CacheModelConfig& validated(const CacheModelConfig& c) {
 
 }  // namespace
 
-std::vector<std::string> cache_preset_names() { return {"rtx3060", "h100"}; }
-
 uint32_t l1_ways_for(uint64_t bytes, uint32_t line_bytes) {
   const uint64_t lines = bytes / line_bytes;
   return lines >= kL1Sets ? static_cast<uint32_t>(lines / kL1Sets) : 1u;
-}
-
-CacheModelConfig cache_preset(const std::string& name) {
-  CacheModelConfig c;
-  c.preset = name;
-  c.line_bytes = 128;
-  c.sector_bytes = 32;
-  c.resident_warps = 32;
-  c.l2.ways = 16;
-  if (name == "rtx3060") {
-    c.sms = 28;
-    c.l1.bytes = 128 * kKiB;
-    c.l2.bytes = 3 * kMiB;
-    c.cost = CostWeights{70.0, 10.0, 70.0, 39.0, 187.0, 441.0};
-  } else if (name == "h100") {
-    c.sms = 132;
-    c.l1.bytes = 256 * kKiB;
-    c.l2.bytes = 50 * kMiB;
-    c.cost = CostWeights{70.0, 10.0, 70.0, 34.0, 200.0, 390.0};
-  } else {
-    throw Error(fmt::format("unknown cache preset '{}'; valid presets: {}", name, join(cache_preset_names())));
-  }
-  c.l1.ways = l1_ways_for(c.l1.bytes, c.line_bytes);
-  return c;
 }
 
 void validate(const CacheModelConfig& c) {
@@ -60,10 +32,6 @@ void validate(const CacheModelConfig& c) {
     throw Error(fmt::format("cache model: line {} B / sector {} B must be powers of two with 1 to 32 sectors per line",
                             c.line_bytes, c.sector_bytes));
   if (c.sms < 1 || c.sms > 1024) throw Error(fmt::format("cache model: sms={} is not in [1, 1024]", c.sms));
-  if (c.resident_warps < 1 || c.resident_warps > 64)
-    throw Error(fmt::format("cache model: resident_warps={} is not in [1, 64]", c.resident_warps));
-  if (c.block_warps < 1 || c.block_warps > 32)
-    throw Error(fmt::format("cache model: block_warps={} is not in [1, 32]", c.block_warps));
   for (const auto& [name, level] : {std::pair{"L1", c.l1}, std::pair{"L2", c.l2}}) {
     const uint64_t set_bytes = uint64_t{c.line_bytes} * level.ways;
     if (level.ways < 1 || level.bytes < set_bytes || level.bytes % set_bytes != 0)
@@ -179,79 +147,19 @@ MemoryHierarchy::MemoryHierarchy(const CacheModelConfig& c)
   for (uint32_t s = 0; s < c.sms; ++s) l1_.emplace_back(c.l1.bytes, c.l1.ways, c.line_bytes, c.sector_bytes);
 }
 
-void MemoryHierarchy::access(uint32_t sm, uint64_t sector) {
+MemoryLevel MemoryHierarchy::access(uint32_t sm, uint64_t sector, bool count) {
+  const uint64_t n = count ? 1 : 0;
   if (l1_[sm].access(sector)) {
-    ++counters_.l1_hits;
-    return;
+    counters_.l1_hits += n;
+    return MemoryLevel::L1;
   }
-  ++counters_.l1_misses;
-  if (l2_.access(sector))
-    ++counters_.l2_hits;
-  else
-    ++counters_.l2_misses;
-}
-
-// ---- WarpScheduleReplay ----
-
-WarpScheduleReplay::WarpScheduleReplay(const CacheModelConfig& c, size_t warp_count)
-    : memory_(c), sms_(c.sms), resident_(c.resident_warps), block_(c.block_warps), warp_count_(warp_count) {
-  slots_.assign(size_t{sms_} * resident_, Slot{});
-  next_.assign(sms_, 0);
-  done_ = warp_count_ == 0;
-}
-
-// Block b = k / block_ of this SM is the batch's block sm + b * sms; warp k % block_ inside it.
-size_t WarpScheduleReplay::warp_of(uint32_t sm, size_t k) const {
-  return ((k / block_) * sms_ + sm) * block_ + k % block_;
-}
-
-bool WarpScheduleReplay::refill(std::vector<WarpTrace>& traces, size_t ready) {
-  for (uint32_t s = 0; s < sms_; ++s) {
-    for (uint32_t j = 0; j < resident_; ++j) {
-      Slot& slot = slots_[size_t{s} * resident_ + j];
-      while (slot.warp == SIZE_MAX) {
-        const size_t w = warp_of(s, next_[s]);
-        if (w >= warp_count_) break;
-        if (w >= ready) return false;
-        ++next_[s];
-        if (traces[w].requests() == 0) {
-          traces[w] = WarpTrace{};
-          continue;
-        }
-        slot.warp = w;
-        slot.request = 0;
-      }
-    }
+  counters_.l1_misses += n;
+  if (l2_.access(sector)) {
+    counters_.l2_hits += n;
+    return MemoryLevel::L2;
   }
-  return true;
-}
-
-void WarpScheduleReplay::run(std::vector<WarpTrace>& traces, size_t ready) {
-  RAYCOH_CHECK(traces.size() == warp_count_, fmt::format("{} traces for {} warps", traces.size(), warp_count_));
-  while (!done_) {
-    if (!refill(traces, ready)) return;
-    bool any = false;
-    for (uint32_t j = 0; j < resident_; ++j) {
-      for (uint32_t s = 0; s < sms_; ++s) {
-        Slot& slot = slots_[size_t{s} * resident_ + j];
-        if (slot.warp == SIZE_MAX) continue;
-        any = true;
-        WarpTrace& t = traces[slot.warp];
-        const uint32_t begin = slot.request == 0 ? 0 : t.request_end[slot.request - 1];
-        const uint32_t end = t.request_end[slot.request];
-        for (uint32_t i = begin; i < end; ++i) memory_.access(s, t.sectors[i]);
-        if (++slot.request == t.requests()) {
-          t = WarpTrace{};  // frees the trace's memory
-          slot.warp = SIZE_MAX;
-        }
-      }
-    }
-    if (!any) {
-      done_ = true;
-      return;
-    }
-    ++cycles_;
-  }
+  counters_.l2_misses += n;
+  return MemoryLevel::Dram;
 }
 
 }  // namespace raycoh

@@ -1,39 +1,53 @@
-// Tracer `simt`: a CPU model of a GPU running our traversal. Warps of consecutive rays of the batch run the
-// while-while traversal in lock step (simt/simt.h: the exact stepping and counting rules), and every warp
-// step's fetches go through a cache model of per-SM L1s and a shared L2 (simt/cache_model.h). Its hits equal the
-// `cpu` tracer's bit for bit; its product is the CoherenceCounters of last_counters(), not its wall-clock time.
+// Tracer `simt`: a CPU model of a GPU running our traversal kernel. Warps of consecutive rays of the batch run the
+// while-while traversal in lock step (simt/simt.h; the stepping and counting rules in docs/simt-model.md), and
+// the warps' steps are replayed by the timing model (simt/timed_replay.h) on a modelled GPU: the cache model
+// (simt/cache_model.h) says where each sector was found, the event simulation how long the kernel takes.
+// Its hits equal the `cpu` tracer's bit for bit; its products are the CoherenceCounters of last_counters(),
+// with the modeled kernel time, never its own wall-clock time.
 //
 // Parameters
-//   preset    string  rtx3060   rtx3060 | h100: SM count, cache sizes and cost weights (simt/cache_model.h)
-//   warp      int     32        [1, 64]: lanes per warp
-//   line      int     64        64 | 128: bytes per line of the node/triangle transactions
-//   sms       int     preset    [1, 1024]: SMs
-//   l1_kb     int     preset    [1, 65536]: L1 per SM, KiB (4 sets, ways = l1_kb * 2)
-//   l2_mb     float   preset    [0.002, 4096]: shared L2, MiB (16 ways; rounded down to whole sets)
-//   resident  int     32        [1, 64]: warps resident per SM (the schedule's slots)
-//   block     int     2         [1, 32]: consecutive warps per thread block, kept on one SM (warp w runs on SM
-//                               (w / block) % sms; 2 = one 64-thread block per 8x8 tile)
+//   preset    string  rtx3060     rtx3060 | h100: the modelled GPU (simt/gpu_presets.cpp, every value cited)
+//   kernel    string  persistent  persistent | simple: the `cuda` tracer's kernels (warp placement, tail)
+//   block     int     128         [32, 1024], a multiple of 32: threads per block, as the `cuda` tracer's
+//   warp      int     32          [1, 64]: lanes per warp (the timing model places warps of this size)
+//   line      int     64          64 | 128: bytes per line of the counted node/triangle transactions
+//   regs      int     preset      [16, 255]: registers per thread of the modelled kernel (occupancy)
+//   resident  int     0           [0, 64]: resident warps per SM; 0 = the kernel's occupancy
+//   sms       int     preset      [1, 1024]: SMs
+//   l1_kb     int     preset      [1, 65536]: L1 per SM, KiB (4 sets, ways = l1_kb * 2)
+//   l2_mb     float   preset      [0.002, 4096]: shared L2, MiB (16 ways; rounded down to whole sets)
+//   dram_gbs  float   preset      [1, 100000]: DRAM bandwidth, GB/s (what-if studies)
+//   l2_bpc    float   preset      [1, 1000000]: L2 bandwidth, bytes per cycle (what-if studies)
 //
-// Determinism and speed: the counters depend on the batch and its order only, never on the thread count. Warps are
-// traced in parallel with oneTBB, a chunk at a time, each producing its trace of cache requests; the cache model
-// replays the traces in its fixed global order on one thread, overlapped with tracing the next chunk. Sources: Aila &
-// Laine, HPG 2009 (while-while traversal, speculative node walk); the presets' sources are listed in simt/cache_model.h.
+// Determinism and speed: everything depends on the batch and its order only, never on the thread count. Warps are
+// traced in parallel with oneTBB, a chunk at a time, each producing its step trace; the timing model replays the
+// traces in its event order on one thread, overlapped with tracing the next chunk. Sources: Aila & Laine, HPG 2009
+// (while-while traversal, persistent threads, speculative node walk); the presets' sources in
+// simt/gpu_presets.cpp.
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "core/error.h"
 #include "bvh/bvh_build.h"
-#include "simt/cache_model.h"
+#include "simt/gpu_model.h"
 #include "core/flush_denormals.h"
 #include "simt/simt.h"
+#include "simt/timed_replay.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
+
+namespace {
+constexpr uint64_t kAlign = 2ull << 20;
+uint64_t align_up(uint64_t x) { return (x + kAlign - 1) / kAlign * kAlign; }
+}  // namespace
 
 SimtConfig simt_config(const BvhView& bvh, uint32_t warp_size, uint32_t line_bytes, uint32_t sector_bytes) {
   auto pow2_in = [](uint32_t x, uint32_t lo, uint32_t hi) { return x >= lo && x <= hi && (x & (x - 1)) == 0; };
@@ -43,13 +57,12 @@ SimtConfig simt_config(const BvhView& bvh, uint32_t warp_size, uint32_t line_byt
     throw Error(fmt::format("simt: line size {} B is not a power of two in [32, 4096]", line_bytes));
   if (!pow2_in(sector_bytes, 16, 4096))
     throw Error(fmt::format("simt: sector size {} B is not a power of two in [16, 4096]", sector_bytes));
-  constexpr uint64_t kAlign = 2ull << 20;
   SimtConfig c;
   c.warp_size = warp_size;
   c.line_bytes = line_bytes;
   c.sector_bytes = sector_bytes;
   c.node_base = 0;
-  c.tri_base = (uint64_t{bvh.node_count} * sizeof(BvhNode) + kAlign - 1) / kAlign * kAlign;
+  c.tri_base = align_up(uint64_t{bvh.node_count} * sizeof(BvhNode));
   const uint64_t end = c.tri_base + uint64_t{bvh.tri_count} * sizeof(BvhTriangle);
   if (end / sector_bytes > 0xFFFFFFFFull)
     throw Error(fmt::format("simt: the BVH's {} bytes exceed the cache model's 32-bit sector numbers", end));
@@ -64,9 +77,9 @@ constexpr size_t kWarpsPerChunk = 1024;
 
 class SimtTracer final : public Tracer {
  public:
-  SimtTracer(const Bvh& bvh, const SimtConfig& simt, const CacheModelConfig& cache, std::string params)
-      : bvh_(bvh.view()), simt_(simt), cache_(cache), params_(std::move(params)) {
-    validate(cache_);
+  SimtTracer(const Bvh& bvh, const SimtConfig& simt, const GpuModelConfig& gpu, std::string params)
+      : bvh_(bvh.view()), simt_(simt), gpu_(gpu), params_(std::move(params)) {
+    validate(gpu_);
   }
 
   void trace(const Ray* rays, size_t count, Hit* hits) override {
@@ -77,7 +90,13 @@ class SimtTracer final : public Tracer {
     const size_t warps = (count + simt_.warp_size - 1) / simt_.warp_size;
     std::vector<WarpTrace> traces(warps);
     std::vector<CoherenceCounters> per_warp(std::min(warps, kWarpsPerChunk));
-    WarpScheduleReplay replay(cache_, warps);
+    // The batch's rays sit after the triangles in the modelled memory, 2 MiB aligned like a cudaMalloc.
+    const uint64_t tri_end = simt_.tri_base + uint64_t{bvh_.tri_count} * sizeof(BvhTriangle);
+    const uint64_t ray_base = align_up(tri_end);
+    if ((ray_base + uint64_t{count} * sizeof(Ray)) / gpu_.cache.sector_bytes > 0xFFFFFFFFull)
+      throw Error(fmt::format("simt: {} rays after a BVH of {} bytes exceed the cache model's 32-bit sector numbers",
+                              count, tri_end));
+    TimedReplay replay(gpu_, warps, ray_base / gpu_.cache.sector_bytes);
     size_t ready = 0;
     while (ready < warps) {
       const size_t end = std::min(warps, ready + kWarpsPerChunk);
@@ -97,27 +116,35 @@ class SimtTracer final : public Tracer {
       ready = end;
     }
     replay.run(traces, warps);
-    RAYCOH_CHECK(replay.done(), "the cache replay stopped before the last warp");
+    RAYCOH_CHECK(replay.done(), "the timing model stopped before the last warp");
     const MemoryCounters& m = replay.counters();
     total.l1_hits = m.l1_hits;
     total.l1_misses = m.l1_misses;
     total.l2_hits = m.l2_hits;
     total.l2_misses = m.l2_misses;
-    total.dram_bytes = m.l2_misses * cache_.sector_bytes;
-    total.modeled_cost = modeled_cost(total, cache_.cost);
+    total.dram_bytes = m.l2_misses * gpu_.cache.sector_bytes;
+    total.modeled = replay.result();
     RAYCOH_CHECK(total.l1_hits + total.l1_misses == total.node_fetches + total.triangle_fetches,
                  fmt::format("{} L1 accesses for {} requested sectors", total.l1_hits + total.l1_misses,
                              total.node_fetches + total.triangle_fetches));
     counters_ = total;
+    if (std::getenv("RAYCOH_SIMT_DEBUG")) {
+      const ModeledKernel& k = total.modeled;
+      std::fprintf(stderr, "simt: %zu rays %.3f ms %.1f MRay/s res %u | busy issue %.0f l1 %.0f l2 %.0f dram %.0f of %.0f cycles, tail %.0f | steps n/l/t per warp %.1f %.1f %.1f | L1 miss %.2f L2 miss %.2f /ray\n",
+        count, k.ms, total.modeled_mray_s(), k.resident_warps, k.issue_busy, k.l1_busy, k.l2_busy, k.dram_busy, k.cycles, k.tail_cycles,
+        double(total.node_steps)/total.warps, double(total.leaf_steps)/total.warps, double(total.triangle_steps)/total.warps,
+        total.l1_misses_per_ray(), total.l2_misses_per_ray());
+    }
   }
 
   std::string params() const override { return params_; }
   const CoherenceCounters* last_counters() const override { return &counters_; }
+  const GpuModelConfig* gpu_model() const override { return &gpu_; }
 
  private:
   BvhView bvh_;
   SimtConfig simt_;
-  CacheModelConfig cache_;
+  GpuModelConfig gpu_;
   std::string params_;
   CoherenceCounters counters_;
 };
@@ -125,18 +152,28 @@ class SimtTracer final : public Tracer {
 }  // namespace
 
 std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const Bvh& bvh) {
-  const std::string preset = params.get_choice("preset", "rtx3060", cache_preset_names());
-  CacheModelConfig cache = cache_preset(preset);
+  GpuModelConfig gpu = gpu_preset(params.get_choice("preset", "rtx3060", gpu_preset_names()));
+  KernelSpec& kernel = gpu.kernel;
+  kernel.kind = params.get_choice("kernel", "persistent", {"persistent", "simple"}) == "persistent"
+                    ? TraceKernel::Persistent
+                    : TraceKernel::Simple;
+  kernel.block_threads = static_cast<uint32_t>(params.get_int("block", 128, 32, 1024));
   const int warp = params.get_int("warp", 32, 1, static_cast<int>(kMaxWarpSize));
   const int line = std::stoi(params.get_choice("line", "64", {"64", "128"}));
+  kernel.regs_per_thread =
+      static_cast<uint32_t>(params.get_int("regs", static_cast<int>(kernel.regs_per_thread), 16, 255));
+  gpu.resident_override = static_cast<uint32_t>(params.get_int("resident", 0, 0, 64));
+  CacheModelConfig& cache = gpu.cache;
   cache.sms = static_cast<uint32_t>(params.get_int("sms", static_cast<int>(cache.sms), 1, 1024));
   const int l1_kb = params.get_int("l1_kb", static_cast<int>(cache.l1.bytes >> 10), 1, 65536);
   const float l2_mb = params.get_float("l2_mb", static_cast<float>(cache.l2.bytes) / float(1 << 20), 0.002f, 4096.f);
-  cache.resident_warps =
-      static_cast<uint32_t>(params.get_int("resident", static_cast<int>(cache.resident_warps), 1, 64));
-  cache.block_warps = static_cast<uint32_t>(params.get_int("block", static_cast<int>(cache.block_warps), 1, 32));
+  gpu.gpu.dram_gb_s = params.get_float("dram_gbs", static_cast<float>(gpu.gpu.dram_gb_s), 1.f, 100000.f);
+  gpu.gpu.l2_bytes_per_clk = params.get_float("l2_bpc", static_cast<float>(gpu.gpu.l2_bytes_per_clk), 1.f, 1e6f);
   params.finish();
 
+  if (kernel.block_threads % 32 != 0)
+    throw Error(fmt::format("{}: block={} is not a multiple of 32", params.owner(), kernel.block_threads));
+  kernel.warp_size = static_cast<uint32_t>(warp);
   cache.l1.bytes = uint64_t(l1_kb) << 10;
   cache.l1.ways = l1_ways_for(cache.l1.bytes, cache.line_bytes);
   const uint64_t l2_set = uint64_t{cache.line_bytes} * cache.l2.ways;
@@ -145,7 +182,7 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const B
     throw Error(fmt::format("{}: l2_mb={} is smaller than one set ({} bytes)", params.owner(), l2_mb, l2_set));
   const SimtConfig simt =
       simt_config(bvh.view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes);
-  return std::make_unique<SimtTracer>(bvh, simt, cache, params.canonical());
+  return std::make_unique<SimtTracer>(bvh, simt, gpu, params.canonical());
 }
 
 }  // namespace raycoh

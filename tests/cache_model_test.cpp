@@ -1,13 +1,12 @@
 // The `simt` tracer's cache model (simt/cache_model.h) against brute-force references: a sectored LRU cache kept
 // as one recency-ordered list per set, a two-level hierarchy built from it, and the documented warp schedule
 // re-implemented step by step. Random address traces with locality (hot sets, sequential runs, sector
-// neighbours) exercise hits, sector misses, evictions and non-power-of-two set counts. Also the presets, the
-// configuration errors, and a replay that pauses and resumes giving the same result as one run.
+// neighbours) exercise hits, sector misses, evictions and non-power-of-two set counts. The order in which warps
+// reach the caches is the timing model's (tests/timing_model_test.cpp).
 #include "simt/cache_model.h"
 
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cstdint>
 #include <list>
 #include <random>
@@ -134,10 +133,9 @@ TEST(CacheModel, SectorsAndEvictionByHand) {
   EXPECT_FALSE(lru.access(1));
 }
 
-CacheModelConfig small_config(uint32_t sms, uint32_t resident) {
+CacheModelConfig small_config(uint32_t sms) {
   CacheModelConfig c;
   c.sms = sms;
-  c.resident_warps = resident;
   c.line_bytes = 128;
   c.sector_bytes = 32;
   c.l1 = {4 * 128 * 2, 2};   // 4 sets x 2 ways
@@ -146,7 +144,7 @@ CacheModelConfig small_config(uint32_t sms, uint32_t resident) {
 }
 
 TEST(CacheModel, HierarchyMatchesTwoReferenceLevels) {
-  const CacheModelConfig c = small_config(3, 1);
+  const CacheModelConfig c = small_config(3);
   MemoryHierarchy h(c);
   std::vector<ReferenceCache> l1(3, ReferenceCache(c.l1.bytes, c.l1.ways, c.line_bytes, c.sector_bytes));
   ReferenceCache l2(c.l2.bytes, c.l2.ways, c.line_bytes, c.sector_bytes);
@@ -171,133 +169,17 @@ TEST(CacheModel, HierarchyMatchesTwoReferenceLevels) {
   EXPECT_GT(expect.l2_misses, 0u);
 }
 
-std::vector<WarpTrace> random_warp_traces(size_t warps, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::vector<WarpTrace> traces(warps);
-  for (WarpTrace& t : traces) {
-    const uint32_t requests = rng() % 7;  // some warps have none
-    for (uint32_t r = 0; r < requests; ++r) {
-      const uint32_t n = 1 + rng() % 5;
-      for (uint32_t i = 0; i < n; ++i) t.sectors.push_back(rng() % 300);
-      t.request_end.push_back(static_cast<uint32_t>(t.sectors.size()));
-    }
-  }
-  return traces;
-}
-
-// The documented schedule, written as plainly as possible: per cycle, refill every SM's empty slots with its
-// next non-empty warps (those with (w / block_warps) % sms = s, in order), then issue one request per occupied
-// slot, slot-major.
-MemoryCounters reference_schedule(const CacheModelConfig& c, const std::vector<WarpTrace>& traces, uint64_t* cycles) {
-  MemoryHierarchy h(c);
-  std::vector<std::vector<size_t>> queue(c.sms);
-  for (size_t w = 0; w < traces.size(); ++w)
-    if (traces[w].requests() > 0) queue[(w / c.block_warps) % c.sms].push_back(w);
-  std::vector<size_t> next(c.sms, 0);
-  struct Slot {
-    bool busy = false;
-    size_t warp = 0, request = 0;
-  };
-  std::vector<std::vector<Slot>> slots(c.sms, std::vector<Slot>(c.resident_warps));
-  *cycles = 0;
-  for (;;) {
-    for (uint32_t s = 0; s < c.sms; ++s)
-      for (Slot& slot : slots[s])
-        if (!slot.busy && next[s] < queue[s].size()) slot = {true, queue[s][next[s]++], 0};
-    bool any = false;
-    for (uint32_t j = 0; j < c.resident_warps; ++j) {
-      for (uint32_t s = 0; s < c.sms; ++s) {
-        Slot& slot = slots[s][j];
-        if (!slot.busy) continue;
-        any = true;
-        const WarpTrace& t = traces[slot.warp];
-        const uint32_t begin = slot.request == 0 ? 0 : t.request_end[slot.request - 1];
-        for (uint32_t i = begin; i < t.request_end[slot.request]; ++i) h.access(s, t.sectors[i]);
-        if (++slot.request == t.requests()) slot.busy = false;
-      }
-    }
-    if (!any) break;
-    ++*cycles;
-  }
-  return h.counters();
-}
-
-TEST(CacheModel, ReplayFollowsTheDocumentedScheduleAndResumes) {
-  for (auto [sms, resident, block] :
-       std::vector<std::array<uint32_t, 3>>{{1, 1, 1}, {3, 2, 1}, {4, 5, 1}, {3, 2, 2}, {5, 3, 4}}) {
-    SCOPED_TRACE(testing::Message() << sms << " SMs, " << resident << " slots, blocks of " << block);
-    CacheModelConfig c = small_config(sms, resident);
-    c.block_warps = block;
-    const std::vector<WarpTrace> original = random_warp_traces(157, sms * 100 + resident * 10 + block);
-    uint64_t expect_cycles = 0;
-    const MemoryCounters expect = reference_schedule(c, original, &expect_cycles);
-
-    std::vector<WarpTrace> all = original;
-    WarpScheduleReplay one(c, all.size());
-    one.run(all, all.size());
-    ASSERT_TRUE(one.done());
-    EXPECT_EQ(one.cycles(), expect_cycles);
-    EXPECT_EQ(one.counters().l1_hits, expect.l1_hits);
-    EXPECT_EQ(one.counters().l1_misses, expect.l1_misses);
-    EXPECT_EQ(one.counters().l2_hits, expect.l2_hits);
-    EXPECT_EQ(one.counters().l2_misses, expect.l2_misses);
-    for (const WarpTrace& t : all) EXPECT_EQ(t.requests(), 0u) << "finished traces are freed";
-
-    // The same traces handed over a few warps at a time.
-    std::vector<WarpTrace> pieces = original;
-    WarpScheduleReplay resumed(c, pieces.size());
-    std::mt19937 rng(3);
-    for (size_t ready = 0; !resumed.done();) {
-      ready = std::min(pieces.size(), ready + rng() % 9);
-      resumed.run(pieces, ready);
-    }
-    EXPECT_EQ(resumed.cycles(), expect_cycles);
-    EXPECT_EQ(resumed.counters().l1_hits, expect.l1_hits);
-    EXPECT_EQ(resumed.counters().l2_misses, expect.l2_misses);
-  }
-}
-
-TEST(CacheModel, EmptyScheduleIsDone) {
-  std::vector<WarpTrace> none;
-  WarpScheduleReplay r(small_config(2, 2), 0);
-  EXPECT_TRUE(r.done());
-  r.run(none, 0);
-  EXPECT_EQ(r.counters().l1_hits + r.counters().l1_misses, 0u);
-}
-
-TEST(CacheModel, PresetsAndErrors) {
-  const CacheModelConfig a = cache_preset("rtx3060");
-  EXPECT_EQ(a.sms, 28u);
-  EXPECT_EQ(a.l1.bytes, 128u * 1024);
-  EXPECT_EQ(a.l2.bytes, 3u * 1024 * 1024);
-  EXPECT_EQ(a.line_bytes, 128u);
-  EXPECT_EQ(a.sector_bytes, 32u);
-  EXPECT_EQ(SectoredLruCache(a.l1.bytes, a.l1.ways, a.line_bytes, a.sector_bytes).sets(), 4u);
-  EXPECT_EQ(SectoredLruCache(a.l2.bytes, a.l2.ways, a.line_bytes, a.sector_bytes).sets(), 1536u);
-  const CacheModelConfig h = cache_preset("h100");
-  EXPECT_EQ(h.sms, 132u);
-  EXPECT_EQ(h.l1.bytes, 256u * 1024);
-  EXPECT_EQ(h.l2.bytes, 50u * 1024 * 1024);
-  EXPECT_NO_THROW(validate(a));
-  EXPECT_NO_THROW(validate(h));
-
-  try {
-    cache_preset("rtx4090");
-    FAIL() << "no error";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("rtx3060, h100"), std::string::npos) << e.what();
-  }
-  CacheModelConfig bad = a;
+TEST(CacheModel, GeometryErrors) {
+  const CacheModelConfig c = small_config(2);
+  EXPECT_NO_THROW(validate(c));
+  CacheModelConfig bad = c;
   bad.l2.bytes = 3000;
   EXPECT_THROW(validate(bad), Error);
-  bad = a;
+  bad = c;
   bad.sector_bytes = 48;
   EXPECT_THROW(validate(bad), Error);
-  bad = a;
+  bad = c;
   bad.sms = 0;
-  EXPECT_THROW(validate(bad), Error);
-  bad = a;
-  bad.block_warps = 0;
   EXPECT_THROW(validate(bad), Error);
 }
 

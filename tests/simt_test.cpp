@@ -144,9 +144,12 @@ TEST(SimtWarp, AllLanesOnOnePath) {
     EXPECT_EQ(r.rays[i].leaves, 1u);
     EXPECT_EQ(r.rays[i].triangles, 1u);
   }
-  // The cache requests: node 0's sectors, node 1's, then tri 0's.
+  // The steps for the timing model: node 0's sectors, node 1's, the leaf step (no fetch), then tri 0's.
   EXPECT_EQ(r.trace.sectors, (std::vector<uint32_t>{0, 1, 2, 3, 128, 129}));
-  EXPECT_EQ(r.trace.request_end, (std::vector<uint32_t>{2, 4, 6}));
+  EXPECT_EQ(r.trace.request_end, (std::vector<uint32_t>{2, 4, 4, 6}));
+  EXPECT_EQ(r.trace.kinds, (std::vector<SimtStepKind>{SimtStepKind::Node, SimtStepKind::Node, SimtStepKind::Leaf,
+                                                       SimtStepKind::Triangle}));
+  EXPECT_EQ(r.trace.lanes, 32u);
 }
 
 TEST(SimtWarp, DisjointSubtreesAndTheSpeculativeNodeWalk) {
@@ -321,7 +324,7 @@ void expect_identities(const CoherenceCounters& c, size_t rays) {
   EXPECT_EQ(c.dram_bytes, c.l2_misses * c.sector_bytes);
   EXPECT_GT(c.simt_efficiency(), 0.0);
   EXPECT_LE(c.simt_efficiency(), 1.0);
-  EXPECT_GT(c.modeled_cost, 0.0);
+  EXPECT_GT(c.modeled.ms, 0.0);
 }
 
 TEST_P(SimtOnScene, HitsEqualTheCpuTracerBitForBit) {
@@ -394,7 +397,7 @@ TEST(SimtTracer, BatchNotAMultipleOfTheWarpSize) {
 TEST(SimtTracer, IdenticalRaysShareEveryStep) {
   const Batch b = make_batch("voxels", 32, 24);
   const std::vector<Ray> rays(96, b.rays[b.rays.size() / 2]);
-  auto simt = make_tracer({"simt", "block=1"}, b.scene, b.bvh);  // one warp per block: warps 0, 1, 2 on SMs 0, 1, 2
+  auto simt = make_tracer({"simt", ""}, b.scene, b.bvh);  // persistent warps dealt in turn: warps 0, 1, 2 on SMs 0, 1, 2
   std::vector<Hit> hits(rays.size());
   simt->trace(rays.data(), rays.size(), hits.data());
   const CoherenceCounters& c = *simt->last_counters();
@@ -425,7 +428,7 @@ TEST(SimtTracer, CountersAreTheSameForAnyThreadCount) {
   EXPECT_EQ(one.l1_hits, two.l1_hits);
   EXPECT_EQ(one.l2_hits, two.l2_hits);
   EXPECT_EQ(one.l2_misses, two.l2_misses);
-  EXPECT_EQ(one.modeled_cost, two.modeled_cost);
+  EXPECT_EQ(one.modeled.cycles, two.modeled.cycles);
   EXPECT_GT(one.l2_hits, 0u);
   EXPECT_GT(one.l2_misses, 0u);
 }
@@ -450,9 +453,11 @@ TEST(SimtTracer, CoherentOrderBeatsScanlineOrder) {
 TEST(SimtTracer, ParametersAndErrors) {
   const Batch b = make_batch("cornell", 8, 8);
   EXPECT_EQ(make_tracer({"simt", ""}, b.scene, b.bvh)->params(),
-            "preset=rtx3060,warp=32,line=64,sms=28,l1_kb=128,l2_mb=3,resident=32,block=2");
-  EXPECT_EQ(make_tracer({"simt", "preset=h100,line=128"}, b.scene, b.bvh)->params(),
-            "preset=h100,warp=32,line=128,sms=132,l1_kb=256,l2_mb=50,resident=32,block=2");
+            "preset=rtx3060,kernel=persistent,block=128,warp=32,line=64,regs=55,resident=0,sms=28,l1_kb=128,l2_mb=3,"
+            "dram_gbs=360,l2_bpc=1327.4073");
+  EXPECT_EQ(make_tracer({"simt", "preset=h100,line=128,kernel=simple,block=256"}, b.scene, b.bvh)->params(),
+            "preset=h100,kernel=simple,block=256,warp=32,line=128,regs=55,resident=0,sms=132,l1_kb=256,l2_mb=50,"
+            "dram_gbs=3350,l2_bpc=3628.73");
   EXPECT_EQ(make_tracer({"cpu", ""}, b.scene, b.bvh)->last_counters(), nullptr);
   auto error_of = [&](const std::string& params) -> std::string {
     try {
@@ -467,6 +472,9 @@ TEST(SimtTracer, ParametersAndErrors) {
   EXPECT_NE(error_of("line=96").find("64, 128"), std::string::npos);
   EXPECT_NE(error_of("l2_mb=0.001").find("l2_mb"), std::string::npos);
   EXPECT_NE(error_of("cache=lru").find("unknown parameter 'cache'"), std::string::npos);
+  EXPECT_NE(error_of("block=48").find("multiple of 32"), std::string::npos);
+  EXPECT_NE(error_of("kernel=wide").find("persistent, simple"), std::string::npos);
+  EXPECT_NE(error_of("regs=255,block=1024").find("does not fit"), std::string::npos);
 }
 
 }  // namespace

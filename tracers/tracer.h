@@ -16,9 +16,25 @@ namespace raycoh {
 
 struct Scene;
 struct Bvh;
+struct GpuModelConfig;
+
+// The modeled time of one trace kernel on the `simt` tracer's GPU preset (simt/timed_replay.h). Modeled, not
+// measured: never added to a measured time. Busy figures are the time a port was occupied (per-SM ports: the
+// busiest SM); one close to `cycles` names the limiter.
+struct ModeledKernel {
+  double cycles = 0;            // kernel time in SM cycles
+  double ms = 0;                // kernel time
+  uint32_t resident_warps = 0;  // per SM
+  double issue_busy = 0, l1_busy = 0, l2_busy = 0, dram_busy = 0;  // cycles
+  double tail_cycles = 0;       // from the first slot left without work to the end of the kernel
+  uint64_t ray_sectors = 0;     // ray-fetch sectors (the cache counters below count the BVH's only)
+  uint64_t ray_dram_sectors = 0;
+  double issue_cycles = 0;      // partition issue cycles of all warp steps
+};
 
 // What the `simt` tracer measures over one batch (every rule in simt/simt.h; the cache model in
-// simt/cache_model.h). All fields but modeled_cost are exact integer sums, the same for every thread count.
+// simt/cache_model.h, the timing model in simt/timed_replay.h). All fields but `modeled` are exact integer sums;
+// every field is the same for every thread count.
 // A CUDA counting run that follows simt/simt.h reproduces everything above the cache-model block exactly.
 struct CoherenceCounters {
   uint64_t rays = 0;   // rays in the batch
@@ -42,8 +58,9 @@ struct CoherenceCounters {
   // Cache model, in sectors.
   uint64_t l1_hits = 0, l1_misses = 0;
   uint64_t l2_hits = 0, l2_misses = 0;
-  uint64_t dram_bytes = 0;    // l2_misses x sector_bytes
-  double modeled_cost = 0.0;  // cycles, whole batch (simt/simt.h, modeled_cost())
+  uint64_t dram_bytes = 0;  // l2_misses x sector_bytes
+  // The timing model's kernel time (zero where no model ran, e.g. CUDA counting runs).
+  ModeledKernel modeled;
 
   // Fraction of lanes doing useful work: active lanes / (warp_size x steps). Node and leaf steps pooled.
   double simt_efficiency() const {
@@ -67,7 +84,7 @@ struct CoherenceCounters {
   double l1_misses_per_ray() const { return per_ray(l1_misses); }
   double l2_misses_per_ray() const { return per_ray(l2_misses); }
   double dram_bytes_per_ray() const { return per_ray(dram_bytes); }
-  double cost_per_ray() const { return per_ray(modeled_cost); }
+  double modeled_mray_s() const { return modeled.ms > 0 ? static_cast<double>(rays) / modeled.ms * 1e-3 : 0.0; }
 
  private:
   static double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
@@ -85,6 +102,8 @@ class Tracer {
   virtual std::string params() const = 0;
   // Counters of the last trace() call, for tracers that model coherence (`simt`); nullptr for the others.
   virtual const CoherenceCounters* last_counters() const { return nullptr; }
+  // The modelled GPU of tracers that model one (`simt`), for modeling the rest of the pipeline on it.
+  virtual const GpuModelConfig* gpu_model() const { return nullptr; }
   // Device time of the last trace() / trace_indirect() call in milliseconds (the kernel alone, from CUDA events),
   // for tracers that run on a GPU (`cuda`); -1 for host tracers, whose caller times the call itself.
   virtual double last_device_ms() const { return -1.0; }

@@ -1,0 +1,75 @@
+// The modelled GPU of the `simt` tracer: its cache geometry, the hardware figures its timing model uses, and the
+// shape of the traversal kernel it runs. Every preset value is a published figure or a property of our own
+// compiled kernel, with its source beside it in simt/gpu_presets.cpp; none is fitted to a speedup. How the
+// figures are used: docs/simt-model.md. Host only.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "simt/cache_model.h"
+
+namespace raycoh {
+
+// Hardware figures of the timing model (simt/timed_replay.h).
+struct GpuSpec {
+  double clock_mhz = 1777;           // SM clock the cycle counts are converted with
+  uint32_t schedulers_per_sm = 4;    // warp instructions issued per SM per cycle
+  uint32_t max_warps_per_sm = 48;    // resident warps allowed by the SM
+  uint32_t max_blocks_per_sm = 16;   // resident thread blocks allowed by the SM
+  uint32_t regs_per_sm = 65536;      // 32-bit registers per SM
+  uint32_t reg_alloc_unit = 256;     // registers are allocated per warp in units of this many
+  double l1_tags_per_clk = 4;        // L1 tag lookups (distinct 128-byte lines) per wavefront, one wavefront per cycle
+  double l2_bytes_per_clk = 1024;    // L2 hit bandwidth of the whole GPU, bytes per SM cycle
+  double dram_gb_s = 360;            // DRAM bandwidth, 1e9 bytes per second
+  double l1_latency = 39;            // load-to-use cycles of an L1 hit
+  double l2_latency = 187;           // load-to-use cycles of an L1 miss that hits in L2
+  double dram_latency = 441;         // load-to-use cycles of an L2 miss
+  double dram_bytes_per_clk() const { return dram_gb_s * 1e3 / clock_mhz; }
+};
+
+enum class TraceKernel : uint8_t { Persistent, Simple };
+const char* to_string(TraceKernel k);
+
+// What one warp step of the kernel costs besides its data: the cycles its instructions occupy one SM partition
+// (one dispatch per cycle, or its busiest pipe), its global load instructions (each one L1 request,
+// whose tag stage needs a wavefront per `l1_tags_per_clk` distinct lines the active lanes touch) and its local
+// memory instructions (the traversal stack and state; one wavefront each, the lanes' addresses interleaved).
+struct StepCost {
+  double issue_cycles = 0;
+  uint32_t global_loads = 0;
+  uint32_t local_accesses = 0;
+};
+
+// The kernel being modelled: the `cuda` tracer's launch and its per-step costs (scripts/count-step-instructions).
+struct KernelSpec {
+  TraceKernel kind = TraceKernel::Persistent;
+  uint32_t block_threads = 128;  // threads per block, a multiple of 32
+  uint32_t warp_size = 32;       // lanes per warp (the `simt` tracer's `warp`)
+  uint32_t regs_per_thread = 55;
+  StepCost node{115, 14, 18}, triangle{124, 10, 0}, leaf{42, 0, 4};
+  StepCost ray_begin{28, 2, 0};  // fetch of 32 rays (two 16-byte loads per lane) and traversal_begin
+  uint32_t ray_bytes = 32, hit_bytes = 16;  // one ray read and one hit written per lane
+};
+
+struct GpuModelConfig {
+  std::string preset;  // "rtx3060", "h100"
+  CacheModelConfig cache;
+  GpuSpec gpu;
+  KernelSpec kernel;
+  uint32_t resident_override = 0;  // 0: occupancy from the kernel's registers and block size
+};
+
+std::vector<std::string> gpu_preset_names();  // {"rtx3060", "h100"}
+// Throws raycoh::Error for an unknown name, naming the valid ones.
+GpuModelConfig gpu_preset(const std::string& name);
+
+// Resident warps per SM of the kernel: the register file, the block limit and the warp limit, in whole blocks
+// (CUDA occupancy rules). Throws raycoh::Error when not even one block fits.
+uint32_t resident_warps(const GpuModelConfig& c);
+
+// Throws raycoh::Error naming the offending value (cache geometry, non-positive rates, block size).
+void validate(const GpuModelConfig& c);
+
+}  // namespace raycoh

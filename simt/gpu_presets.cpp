@@ -1,0 +1,163 @@
+// The presets of the modelled GPUs, each value with its source. Nothing here was tuned to the paper's speedups:
+// the paper's tables are the model's validation set (raycoh validate), not its training set.
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "core/params.h"
+#include "simt/gpu_model.h"
+
+namespace raycoh {
+namespace {
+
+constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
+
+// Our traversal kernel as nvcc 13.0 compiles it (the same source for both presets):
+//   regs_per_thread: `nvcc -Xptxas -v` on cuda/device_tracer.cu reports 55 registers for persistent_kernel on
+//     sm_86 and sm_90 (54 for simple_kernel), with a 352-byte stack frame (traversal stack and state in local memory).
+//   step costs: scripts/count-step-instructions (SASS of probe kernels; every branch of a step counted once except
+//     the rare FP64 edge fallback and the division's slow path). A step occupies a partition for the largest of
+//     its instruction count (one dispatch per cycle) and its per-pipe cycles (CUDA C++ Programming Guide,
+//     arithmetic throughput per SM per clock: integer/compare/select 64, FP32 128, conversions/special 16).
+//     sm_86: node step 115 instructions = 115 cycles, 14 global loads, 18 local accesses; triangle 124 = 124,
+//     10 loads; leaf bookkeeping 39 = 42, 4 local accesses; traversal_begin 28 = 28 (sm_90 within 4%). The ray
+//     fetch is two 16-byte loads per lane (cuda/device_tracer.cu, load_ray).
+KernelSpec our_kernel() {
+  KernelSpec k;
+  k.kind = TraceKernel::Persistent;  // the `cuda` tracer's default kernel and block size
+  k.block_threads = 128;
+  k.regs_per_thread = 55;
+  k.node = {115, 14, 18};
+  k.triangle = {124, 10, 0};
+  k.leaf = {42, 0, 4};
+  k.ray_begin = {28, 2, 0};
+  return k;
+}
+
+// Both: 128-byte lines of 32-byte sectors (CUDA C++ Best Practices Guide, "Coalesced Access to Global Memory").
+// L1 associativity is not published: 4 sets as Accel-Sim's tuned configs (Khairy et al., ISCA 2020,
+// tested-cfgs SM86_RTX3070 and SM80_A100), L2 16-way as there. The whole unified L1 is cache: the traversal
+// kernel uses no shared memory (CC 8.6 and 9.0 allow a 0 KB carveout).
+CacheModelConfig cache_geometry(uint32_t sms, uint64_t l1_bytes, uint64_t l2_bytes) {
+  CacheModelConfig c;
+  c.sms = sms;
+  c.line_bytes = 128;
+  c.sector_bytes = 32;
+  c.l1.bytes = l1_bytes;
+  c.l1.ways = l1_ways_for(l1_bytes, c.line_bytes);
+  c.l2.bytes = l2_bytes;
+  c.l2.ways = 16;
+  return c;
+}
+
+GpuModelConfig rtx3060() {
+  GpuModelConfig m;
+  m.preset = "rtx3060";
+  // GA106: 3584 CUDA cores / 128 per SM = 28 SMs (NVIDIA GeForce RTX 3060 specifications); 128 KB L1/shared per
+  // SM (NVIDIA Ampere GA102 whitepaper, GA10x SM); 3 MB L2 (512 KB per 32-bit memory controller, GA102
+  // whitepaper; the 3060 has a 192-bit bus, six controllers).
+  m.cache = cache_geometry(28, 128 * kKiB, 3 * kMiB);
+  GpuSpec& g = m.gpu;
+  g.clock_mhz = 1777;  // boost clock, NVIDIA GeForce RTX 3060 specifications
+  // Compute capability 8.6 (CUDA C++ Programming Guide, "Technical Specifications per Compute Capability"):
+  // 4 warp schedulers per SM issuing one warp instruction per cycle each (GA102 whitepaper, four SM partitions),
+  // 48 resident warps, 16 resident blocks, 64K registers per SM; registers are allocated per warp in units of
+  // 256 (CUDA Occupancy Calculator, "register allocation unit size").
+  g.schedulers_per_sm = 4;
+  g.max_warps_per_sm = 48;
+  g.max_blocks_per_sm = 16;
+  g.regs_per_sm = 65536;
+  g.reg_alloc_unit = 256;
+  // L1: one load/store instruction enters the LSU pipe per cycle per SM, and the L1TEX tag stage resolves 4 sets
+  // x 4 sectors per cycle on GV100 and later: a request touching more distinct lines takes more wavefronts, one
+  // per cycle (NVIDIA's Greg Smith, NVIDIA developer forums: "How does the LSU execute load/store instructions in
+  // the Ampere architecture", 2023, and "Pascal L1 cache", 2017; Nsight Compute Kernel Profiling Guide,
+  // "wavefronts").
+  g.l1_tags_per_clk = 4;
+  // L2: GA106's L2 bandwidth is not published. We take the A100's published L2 read bandwidth per SM (5120
+  // bytes/clock for 108 SMs, NVIDIA A100 Tensor Core GPU Architecture whitepaper) times 28 SMs. The least
+  // certain figure of this preset: docs/simt-model.md gives the modeled ratios with half and twice this value.
+  g.l2_bytes_per_clk = 5120.0 / 108.0 * 28.0;
+  g.dram_gb_s = 360;  // 15 Gbps GDDR6 on a 192-bit bus (NVIDIA GeForce RTX 3060 specifications)
+  // Latencies: Accel-Sim's SM86_RTX3070 config, tuned against the hardware (gpgpu_l1_latency 39,
+  // gpgpu_l2_rop_latency 187, + dram_latency 254), of the order Jia et al. measured (L1 ~30, L2 ~190 cycles).
+  g.l1_latency = 39;
+  g.l2_latency = 187;
+  g.dram_latency = 187 + 254;
+  m.kernel = our_kernel();
+  return m;
+}
+
+GpuModelConfig h100() {
+  GpuModelConfig m;
+  m.preset = "h100";
+  // H100 SXM5: 132 SMs, 256 KB L1/shared per SM, 50 MB L2 (NVIDIA H100 Tensor Core GPU Architecture whitepaper).
+  // The L2 is modelled as one 50 MB cache, not as two partitions.
+  m.cache = cache_geometry(132, 256 * kKiB, 50 * kMiB);
+  GpuSpec& g = m.gpu;
+  g.clock_mhz = 1980;  // max boost clock of the H100 SXM5 (NVIDIA H100 datasheet)
+  // Compute capability 9.0 (CUDA C++ Programming Guide): 4 schedulers, 64 resident warps, 32 resident blocks,
+  // 64K registers per SM, allocation unit 256.
+  g.schedulers_per_sm = 4;
+  g.max_warps_per_sm = 64;
+  g.max_blocks_per_sm = 32;
+  g.regs_per_sm = 65536;
+  g.reg_alloc_unit = 256;
+  g.l1_tags_per_clk = 4;  // as rtx3060 (GV100 and later)
+  // L2: about 5.5 TB/s measured on the H100 PCIe, 114 SMs at 1755 MHz (Chips and Cheese, "Nvidia's H100: Funny
+  // L2, and Tons of Bandwidth", 2023): 5.5e12 / 1.755e9 / 114 = 27.5 bytes per cycle per SM, times 132 SMs.
+  g.l2_bytes_per_clk = 5.5e12 / 1.755e9 / 114.0 * 132.0;
+  g.dram_gb_s = 3350;  // HBM3, H100 SXM5 (NVIDIA H100 datasheet)
+  // Latencies: Accel-Sim's SM80_A100 config (the closest tuned data-centre part): 34, 200, 200 + 190.
+  g.l1_latency = 34;
+  g.l2_latency = 200;
+  g.dram_latency = 200 + 190;
+  m.kernel = our_kernel();
+  return m;
+}
+
+}  // namespace
+
+const char* to_string(TraceKernel k) { return k == TraceKernel::Persistent ? "persistent" : "simple"; }
+
+std::vector<std::string> gpu_preset_names() { return {"rtx3060", "h100"}; }
+
+GpuModelConfig gpu_preset(const std::string& name) {
+  if (name == "rtx3060") return rtx3060();
+  if (name == "h100") return h100();
+  throw Error(fmt::format("unknown GPU preset '{}'; valid presets: {}", name, join(gpu_preset_names())));
+}
+
+uint32_t resident_warps(const GpuModelConfig& c) {
+  const GpuSpec& g = c.gpu;
+  const uint32_t warps_per_block = c.kernel.block_threads / 32;
+  const uint32_t regs_per_warp =
+      (c.kernel.regs_per_thread * 32 + g.reg_alloc_unit - 1) / g.reg_alloc_unit * g.reg_alloc_unit;
+  const uint32_t by_regs = g.regs_per_sm / regs_per_warp / warps_per_block;
+  const uint32_t by_warps = g.max_warps_per_sm / warps_per_block;
+  const uint32_t blocks = std::min({by_regs, by_warps, g.max_blocks_per_sm});
+  if (blocks == 0)
+    throw Error(fmt::format("simt: a block of {} threads with {} registers each does not fit on one SM",
+                            c.kernel.block_threads, c.kernel.regs_per_thread));
+  const uint32_t occupancy = blocks * warps_per_block;
+  if (c.resident_override == 0) return occupancy;
+  // An override is a what-if (resident=N); it keeps whole blocks.
+  return std::max(warps_per_block, c.resident_override / warps_per_block * warps_per_block);
+}
+
+void validate(const GpuModelConfig& c) {
+  validate(c.cache);
+  const GpuSpec& g = c.gpu;
+  if (!(g.clock_mhz > 0) || !(g.l1_tags_per_clk > 0) || !(g.l2_bytes_per_clk > 0) || !(g.dram_gb_s > 0) ||
+      g.schedulers_per_sm == 0 || g.max_warps_per_sm == 0 || g.max_blocks_per_sm == 0 || g.reg_alloc_unit == 0)
+    throw Error("simt: clock, schedulers, bandwidths and SM limits must be positive");
+  if (!(g.l1_latency >= 0) || !(g.l2_latency >= g.l1_latency) || !(g.dram_latency >= g.l2_latency))
+    throw Error(fmt::format("simt: latencies must grow from L1 to DRAM (got {}, {}, {} cycles)", g.l1_latency,
+                            g.l2_latency, g.dram_latency));
+  if (c.kernel.block_threads < 32 || c.kernel.block_threads > 1024 || c.kernel.block_threads % 32 != 0)
+    throw Error(fmt::format("simt: block={} is not a multiple of 32 in [32, 1024]", c.kernel.block_threads));
+  resident_warps(c);  // throws when not one block fits
+}
+
+}  // namespace raycoh
