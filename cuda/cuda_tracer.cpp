@@ -38,7 +38,7 @@ namespace {
 
 class CudaTracer final : public Tracer {
  public:
-  CudaTracer(const Bvh& bvh, const cuda::TraceLaunch& launch, bool counting, const cuda::CountingLayout& layout,
+  CudaTracer(const Bvh& bvh, const cuda::TraceLaunch& launch, bool counting, const SimtConfig& layout,
              std::string params)
       : device_(bvh.view()), launch_(launch), counting_(counting), layout_(layout), params_(std::move(params)) {
     counters_.warp_size = 32;
@@ -65,23 +65,7 @@ class CudaTracer final : public Tracer {
     total.warp_size = 32;
     total.line_bytes = layout_.line_bytes;
     total.sector_bytes = layout_.sector_bytes;
-    for (const cuda::WarpCounters& w : warps_) {
-      total.rays += w.rays;
-      total.warps += 1;
-      total.node_steps += w.node_steps;
-      total.leaf_steps += w.leaf_steps;
-      total.triangle_steps += w.triangle_steps;
-      total.node_lanes += w.node_lanes;
-      total.leaf_lanes += w.leaf_lanes;
-      total.triangle_lanes += w.triangle_lanes;
-      total.node_lines += w.node_lines;
-      total.triangle_lines += w.triangle_lines;
-      total.node_fetches += w.node_fetches;
-      total.triangle_fetches += w.triangle_fetches;
-      total.nodes += w.nodes;
-      total.leaves += w.leaves;
-      total.triangles += w.triangles;
-    }
+    for (const WarpStepCounters& w : warps_) total.add(w);
     RAYCOH_CHECK(total.rays == count, fmt::format("the counting kernel saw {} rays of {}", total.rays, count));
     RAYCOH_CHECK(
         total.nodes == total.node_lanes && total.leaves == total.leaf_lanes && total.triangles == total.triangle_lanes,
@@ -93,9 +77,9 @@ class CudaTracer final : public Tracer {
   cuda::DeviceTracer device_;
   cuda::TraceLaunch launch_;
   bool counting_;
-  cuda::CountingLayout layout_;
+  SimtConfig layout_;
   std::string params_;
-  std::vector<cuda::WarpCounters> warps_;
+  std::vector<WarpStepCounters> warps_;
   CoherenceCounters counters_;
 };
 
@@ -118,12 +102,7 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene&, const B
         fmt::format("{}: no CUDA device (this machine has no usable GPU); use the cpu or simt tracer", params.owner()));
   // The addresses the simt tracer counts with, so that lines and sectors are the same units (32-byte sectors as
   // in both cache presets).
-  const SimtConfig simt = simt_config(bvh.view(), 32, line, 32);
-  cuda::CountingLayout layout;
-  layout.line_bytes = simt.line_bytes;
-  layout.sector_bytes = simt.sector_bytes;
-  layout.node_base = simt.node_base;
-  layout.tri_base = simt.tri_base;
+  const SimtConfig layout = simt_config(bvh.view(), 32, line, 32);
   return std::make_unique<CudaTracer>(bvh, launch, counting, layout, params.canonical());
 }
 

@@ -104,7 +104,7 @@ __device__ __forceinline__ uint32_t units_of(bool active, uint64_t addr, uint32_
 
 template <bool Indirect>
 __global__ void counting_kernel(BvhView bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits,
-                                CountingLayout layout, WarpCounters* out, size_t warps) {
+                                SimtConfig layout, WarpStepCounters* out, size_t warps) {
   // A whole warp leaves together here: blockDim.x is a multiple of 32.
   const size_t warp = (blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x) / kWarp;
   if (warp >= warps) return;
@@ -119,7 +119,8 @@ __global__ void counting_kernel(BvhView bvh, const Ray* rays, const uint32_t* or
   TraversalState st;
   traversal_begin(st, r);
   RayCounters rc;
-  WarpCounters c;
+  WarpStepCounters c;
+  c.warps = 1;
   constexpr uint32_t kNodeBytes = sizeof(BvhNode), kTriBytes = sizeof(BvhTriangle);
 
   unsigned live = __ballot_sync(kFullMask, valid && !traversal_done(st));
@@ -190,7 +191,7 @@ struct DeviceTracer::Impl {
   DeviceBuffer<uint32_t> order;
   DeviceBuffer<Hit> hits;
   DeviceBuffer<unsigned long long> next_ray{1};
-  DeviceBuffer<WarpCounters> warp_counters;
+  DeviceBuffer<WarpStepCounters> warp_counters;
   EventTimer timer;
   float last_ms = -1.f;
   int sms = 0;
@@ -262,7 +263,7 @@ void DeviceTracer::trace(const Ray* rays, const uint32_t* order, size_t count, H
 }
 
 void DeviceTracer::trace_counting(const Ray* rays, const uint32_t* order, size_t count, Hit* hits,
-                                  const CountingLayout& layout, int block, std::vector<WarpCounters>& warps) {
+                                  const SimtConfig& layout, int block, std::vector<WarpStepCounters>& warps) {
   check_block(block);
   Impl& m = *impl_;
   const size_t warp_count = (count + kWarp - 1) / kWarp;

@@ -22,6 +22,7 @@
 
 #include "core/bvh.h"
 #include "core/ray.h"
+#include "core/warp_counters.h"
 
 namespace raycoh::cuda {
 
@@ -30,26 +31,6 @@ enum class TraceKernel { Persistent, Simple };
 struct TraceLaunch {
   TraceKernel kernel = TraceKernel::Persistent;
   int block = 128;  // threads per block: a multiple of 32 in [32, 1024]
-};
-
-// Byte layout the counting kernel computes lines and sectors from: the fields of simt/simt.h's SimtConfig with the
-// warp size fixed at 32 (take them from simt_config(), which also checks that sector numbers fit 32 bits).
-struct CountingLayout {
-  uint32_t line_bytes = 64;    // power of two in [32, 4096]
-  uint32_t sector_bytes = 32;  // power of two in [16, 4096]
-  uint64_t node_base = 0;      // byte address of nodes[0]
-  uint64_t tri_base = 0;       // byte address of tris[0]
-};
-
-// The counters of one warp of a counting run: the step and per-ray fields of CoherenceCounters (tracers/tracer.h)
-// that simt/simt.h's simt_trace_warp accumulates for the same 32 rays.
-struct WarpCounters {
-  uint64_t rays = 0;
-  uint64_t node_steps = 0, leaf_steps = 0, triangle_steps = 0;
-  uint64_t node_lanes = 0, leaf_lanes = 0, triangle_lanes = 0;
-  uint64_t node_lines = 0, triangle_lines = 0;
-  uint64_t node_fetches = 0, triangle_fetches = 0;
-  uint64_t nodes = 0, leaves = 0, triangles = 0;
 };
 
 // The BVH on the device (uploaded once by the constructor) and reusable ray/hit buffers (grown on demand).
@@ -68,9 +49,10 @@ class DeviceTracer {
   float trace_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits, const TraceLaunch& launch);
 
   // Counting run on host arrays: hits as trace(), plus warps[w] = the counters of lanes [32 w, 32 w + 32)
-  // (warps is resized to ceil(count / 32)). block: threads per block, as above.
-  void trace_counting(const Ray* rays, const uint32_t* order, size_t count, Hit* hits, const CountingLayout& layout,
-                      int block, std::vector<WarpCounters>& warps);
+  // (warps is resized to ceil(count / 32)), counted in `layout`'s units (warp_size must be 32; take it from
+  // simt_config(), which also checks that sector numbers fit 32 bits). block: threads per block, as above.
+  void trace_counting(const Ray* rays, const uint32_t* order, size_t count, Hit* hits, const SimtConfig& layout,
+                      int block, std::vector<WarpStepCounters>& warps);
 
   // Kernel time of the last trace / trace_counting call in milliseconds (CUDA events); -1 before the first.
   float last_kernel_ms() const;

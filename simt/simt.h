@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/traverse.h"
+#include "core/warp_counters.h"
 #include "simt/warp_trace.h"
 #include "tracers/tracer.h"
 
@@ -18,13 +19,6 @@ namespace raycoh {
 
 constexpr uint32_t kMaxWarpSize = 64;
 
-struct SimtConfig {
-  uint32_t warp_size = 32;     // [1, 64]
-  uint32_t line_bytes = 64;    // transaction line, power of two in [32, 4096]
-  uint32_t sector_bytes = 32;  // cache-model sector, power of two in [16, 4096]
-  uint64_t node_base = 0;      // byte address of nodes[0], multiple of line_bytes and sector_bytes
-  uint64_t tri_base = 0;       // byte address of tris[0], same
-};
 
 // Node array at address 0, triangle array at the next 2 MiB boundary after it: the alignment cudaMalloc gives
 // large allocations. Throws raycoh::Error for sizes outside the ranges above or sector addresses beyond 32 bits.
@@ -169,25 +163,6 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
     counters.triangles += rc[l].triangles;
     if (ray_counters) ray_counters[l] = rc[l];
   }
-}
-
-// Adds the step and per-ray fields of `warp` (what simt_trace_warp accumulates) into `total`.
-inline void add_warp_counters(CoherenceCounters& total, const CoherenceCounters& warp) {
-  total.rays += warp.rays;
-  total.warps += warp.warps;
-  total.node_steps += warp.node_steps;
-  total.leaf_steps += warp.leaf_steps;
-  total.triangle_steps += warp.triangle_steps;
-  total.node_lanes += warp.node_lanes;
-  total.leaf_lanes += warp.leaf_lanes;
-  total.triangle_lanes += warp.triangle_lanes;
-  total.node_lines += warp.node_lines;
-  total.triangle_lines += warp.triangle_lines;
-  total.node_fetches += warp.node_fetches;
-  total.triangle_fetches += warp.triangle_fetches;
-  total.nodes += warp.nodes;
-  total.leaves += warp.leaves;
-  total.triangles += warp.triangles;
 }
 
 }  // namespace raycoh

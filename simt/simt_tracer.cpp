@@ -112,7 +112,7 @@ class SimtTracer final : public Tracer {
         }
       });
       replaying.wait();
-      for (size_t w = ready; w < end; ++w) add_warp_counters(total, per_warp[w - ready]);
+      for (size_t w = ready; w < end; ++w) total.add(per_warp[w - ready]);
       ready = end;
     }
     replay.run(traces, warps);

@@ -122,7 +122,7 @@ void expect_same_step_counters(const CoherenceCounters& gpu, const CoherenceCoun
   EXPECT_EQ(gpu.triangles, simt.triangles);
 }
 
-std::string describe(const cuda::WarpCounters& w) {
+std::string describe(const WarpStepCounters& w) {
   return "rays " + std::to_string(w.rays) + " steps " + std::to_string(w.node_steps) + "/" +
          std::to_string(w.leaf_steps) + "/" + std::to_string(w.triangle_steps) + " lanes " +
          std::to_string(w.node_lanes) + "/" + std::to_string(w.leaf_lanes) + "/" + std::to_string(w.triangle_lanes) +
@@ -131,35 +131,11 @@ std::string describe(const cuda::WarpCounters& w) {
          std::to_string(w.nodes) + "/" + std::to_string(w.leaves) + "/" + std::to_string(w.triangles);
 }
 
-cuda::WarpCounters to_warp_counters(const CoherenceCounters& c) {
-  cuda::WarpCounters w;
-  w.rays = c.rays;
-  w.node_steps = c.node_steps;
-  w.leaf_steps = c.leaf_steps;
-  w.triangle_steps = c.triangle_steps;
-  w.node_lanes = c.node_lanes;
-  w.leaf_lanes = c.leaf_lanes;
-  w.triangle_lanes = c.triangle_lanes;
-  w.node_lines = c.node_lines;
-  w.triangle_lines = c.triangle_lines;
-  w.node_fetches = c.node_fetches;
-  w.triangle_fetches = c.triangle_fetches;
-  w.nodes = c.nodes;
-  w.leaves = c.leaves;
-  w.triangles = c.triangles;
-  return w;
-}
-
 // The counting kernel against simt_trace_warp, warp by warp (lane i of the batch traces rays[order[i]]).
 void expect_counting_matches_simt(const Bvh& bvh, const std::vector<Ray>& rays, const std::vector<uint32_t>* order,
                                   uint32_t line, const std::string& what) {
   SCOPED_TRACE(what + ", line " + std::to_string(line));
-  const SimtConfig simt = simt_config(bvh.view(), 32, line, 32);
-  cuda::CountingLayout layout;
-  layout.line_bytes = simt.line_bytes;
-  layout.sector_bytes = simt.sector_bytes;
-  layout.node_base = simt.node_base;
-  layout.tri_base = simt.tri_base;
+  const SimtConfig layout = simt_config(bvh.view(), 32, line, 32);
 
   std::vector<Ray> lanes = rays;
   if (order) {
@@ -168,7 +144,7 @@ void expect_counting_matches_simt(const Bvh& bvh, const std::vector<Ray>& rays, 
   }
   cuda::DeviceTracer device(bvh.view());
   std::vector<Hit> gpu_hits(lanes.size());
-  std::vector<cuda::WarpCounters> gpu_warps;
+  std::vector<WarpStepCounters> gpu_warps;
   device.trace_counting(rays.data(), order ? order->data() : nullptr, lanes.size(), gpu_hits.data(), layout, 128,
                         gpu_warps);
   EXPECT_GE(device.last_kernel_ms(), 0.f);
@@ -181,8 +157,8 @@ void expect_counting_matches_simt(const Bvh& bvh, const std::vector<Ray>& rays, 
   for (size_t w = 0; w < warps; ++w) {
     const auto n = static_cast<uint32_t>(std::min<size_t>(32, lanes.size() - w * 32));
     CoherenceCounters c;
-    simt_trace_warp(bvh.view(), lanes.data() + w * 32, n, simt, simt_hits.data() + w * 32, c);
-    const cuda::WarpCounters expected = to_warp_counters(c);
+    simt_trace_warp(bvh.view(), lanes.data() + w * 32, n, layout, simt_hits.data() + w * 32, c);
+    const WarpStepCounters& expected = c;
     if (std::memcmp(&expected, &gpu_warps[w], sizeof(expected)) != 0 && ++differ <= 3)
       ADD_FAILURE() << "warp " << w << ": gpu " << describe(gpu_warps[w]) << "\n      simt " << describe(expected);
   }

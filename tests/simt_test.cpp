@@ -304,7 +304,7 @@ TEST_P(SimtOnScene, WarpOfOneIsClosestHitExactly) {
     ASSERT_EQ(warp.node_lines, counters.nodes);
     ASSERT_EQ(warp.leaf_steps, counters.leaves);
     ASSERT_EQ(warp.triangle_steps, counters.triangles);
-    add_warp_counters(total, warp);
+    total.add(warp);
   }
   EXPECT_DOUBLE_EQ(total.simt_efficiency(), 1.0);
 }

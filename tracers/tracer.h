@@ -11,6 +11,7 @@
 
 #include "core/params.h"
 #include "core/ray.h"
+#include "core/warp_counters.h"
 
 namespace raycoh {
 
@@ -36,24 +37,10 @@ struct ModeledKernel {
 // simt/cache_model.h, the timing model in simt/timed_replay.h). All fields but `modeled` are exact integer sums;
 // every field is the same for every thread count.
 // A CUDA counting run that follows simt/simt.h reproduces everything above the cache-model block exactly.
-struct CoherenceCounters {
-  uint64_t rays = 0;   // rays in the batch
-  uint64_t warps = 0;  // ceil(rays / warp_size); the last one may be partial
+struct CoherenceCounters : WarpStepCounters {
   uint32_t warp_size = 32;
   uint32_t line_bytes = 64;    // line size of the *_lines transactions
   uint32_t sector_bytes = 32;  // sector size of the cache model and of *_fetches
-
-  // Warp steps: iterations of the warp's node loop, of its leaf loop, and triangle iterations inside leaf steps;
-  // then the active lanes summed over each kind of step.
-  uint64_t node_steps = 0, leaf_steps = 0, triangle_steps = 0;
-  uint64_t node_lanes = 0, leaf_lanes = 0, triangle_lanes = 0;
-  // Memory transactions: distinct line_bytes lines among the active lanes' fetches, summed over steps.
-  uint64_t node_lines = 0, triangle_lines = 0;
-  // Cache-model requests: distinct sector_bytes sectors among the active lanes' fetches, summed over steps
-  // (= L1 accesses).
-  uint64_t node_fetches = 0, triangle_fetches = 0;
-  // Per-ray totals (RayCounters summed over the rays). Equal to the *_lanes sums by construction.
-  uint64_t nodes = 0, leaves = 0, triangles = 0;
 
   // Cache model, in sectors.
   uint64_t l1_hits = 0, l1_misses = 0;
