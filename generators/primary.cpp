@@ -2,11 +2,14 @@
 // normals oriented towards the viewer, material class. Parallel over pixels with oneTBB.
 #include "generators/primary.h"
 
-#include <cmath>
 #include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
 
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 
@@ -24,11 +27,16 @@ void RayBatch::resize(size_t n, bool with_groups) {
 
 const char* to_string(GroupType t) {
   switch (t) {
-    case GroupType::Diffuse: return "diffuse";
-    case GroupType::Glossy: return "glossy";
-    case GroupType::Hybrid: return "hybrid";
-    case GroupType::WorldShared: return "world";
-    default: return "independent";
+    case GroupType::Diffuse:
+      return "diffuse";
+    case GroupType::Glossy:
+      return "glossy";
+    case GroupType::Hybrid:
+      return "hybrid";
+    case GroupType::WorldShared:
+      return "world";
+    default:
+      return "independent";
   }
 }
 
@@ -96,6 +104,18 @@ GBuffer make_gbuffer(const Scene& scene, const PrimaryBatch& primary, const std:
   });
   for (const ShadingPoint& sp : g.points) g.hits += sp.valid();
   return g;
+}
+
+FirstHits first_hits(const Scene& scene, Tracer& tracer, int width, int height, const std::vector<uint32_t>& order,
+                     uint32_t seed, uint32_t frame, bool jitter) {
+  FirstHits f;
+  f.primary = make_primary_rays(scene.camera, width, height, order, seed, frame, jitter);
+  f.hits.resize(f.primary.rays.size());
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!f.hits.empty()) tracer.trace(f.primary.rays.data(), f.primary.rays.size(), f.hits.data());
+  f.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  f.gbuffer = make_gbuffer(scene, f.primary, f.hits);
+  return f;
 }
 
 }  // namespace raycoh

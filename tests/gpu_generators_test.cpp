@@ -11,10 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/sampling.h"
-#include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"
@@ -22,6 +21,7 @@
 #include "generators/primary.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -172,11 +172,9 @@ void expect_same_batch(const RayBatch& gpu, const RayBatch& cpu, const Generatio
 }
 
 GBuffer frame_gbuffer(const Scene& scene, const Bvh& bvh, int width, int height, uint32_t frame, bool stiff) {
-  const PrimaryBatch primary = make_primary_rays(scene.camera, width, height,
-                                                 make_pixel_order(width, height, RayOrder::Tile, 8, 8), 1, frame, true);
-  std::vector<Hit> hits(primary.rays.size());
-  make_tracer({"cpu", ""}, scene, bvh)->trace(primary.rays.data(), hits.size(), hits.data());
-  GBuffer g = make_gbuffer(scene, primary, hits);
+  GBuffer g = first_hits(scene, *make_tracer({"cpu", ""}, scene, bvh), width, height,
+                         make_pixel_order(width, height, RayOrder::Tile, 8, 8), 1, frame)
+                  .gbuffer;
   if (stiff) {  // non-finite positions and normals, normals at the ONB's pole
     size_t seen = 0;
     for (ShadingPoint& sp : g.points) {
