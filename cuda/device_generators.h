@@ -1,6 +1,9 @@
-// Host API of the per-frame ray pipeline on the GPU (implemented in cuda/device_generators.cu): primary rays and
-// the `noopt`, `ours` and `tile` generators, so that generation overheads are measured as GPU overheads. Plain
-// C++ (included by g++-compiled code and tests).
+// Host API of the per-frame ray pipeline on the GPU (cuda/device_primary.cu, device_generators.cu,
+// device_grouping.cu): primary rays and the `noopt`, `ours` and `contiguous` generators, meant for measuring
+// generation overheads as GPU overheads. Plain C++ (included by g++-compiled code and tests).
+//
+// Not yet part of a harness run: only the gpu tests (tests/gpu_generators_test.cpp) call this API, to check that
+// the GPU batches equal the CPU's; `table` and the other commands generate on the CPU.
 //
 // Every kernel computes with the shared host/device headers (core/sampling.h, core/bsdf.h, core/rng.h) under the
 // same floating-point rules as the CPU (no FMA contraction, IEEE division and square root, sincos_turns's
@@ -13,11 +16,12 @@
 //   noopt    hit pixels per tile (one block per tile), an exclusive scan over tiles (CUB DeviceScan) for each
 //            tile's first slot, then one block per tile ranks its hit pixels row-major with warp ballots and
 //            writes each ray.
-//   ours     the same tile offsets; one block per tile (W H <= 1024: one thread per pixel) shuffles the pixel
-//   / tile   numbers (the full-period LCG of generators/tiles.h), groups them, and shares the group data through
-//            shared memory: per group, one thread walks the tile's pixels in row-major order to count members,
-//            pick the donor and sum the glossy members' tangent-space directions in the CPU's order (a float sum
-//            is only bit-identical in the same order); per pixel, one thread samples or reuses and writes its ray.
+//   ours /   the same tile offsets; one block per tile (W H <= 1024: one thread per pixel) runs the phases of
+//   contig.  generators/grouping_block.h: per pixel, one thread shuffles and groups its pixel number; per group,
+//            one thread walks the tile's pixels in row-major order to count members, pick the donor and sum the
+//            glossy members' tangent-space directions in the CPU's order (a float sum is only bit-identical in
+//            the same order); per pixel, one thread samples or reuses and writes its ray. Every step is a
+//            function of generators/grouping.h, the one the CPU tile loop calls.
 // Not on the GPU: the G-buffer itself (make_gbuffer runs on the host and is uploaded; it is not part of a
 // generator's overhead) and the `direct` ablation.
 #pragma once
@@ -26,9 +30,9 @@
 #include <memory>
 #include <string>
 
+#include "core/ray_batch.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
-#include "core/ray_batch.h"
 #include "scenes/scene.h"
 
 namespace raycoh::cuda {
@@ -43,7 +47,7 @@ void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder
 // the CPU and GPU results to the same bits.
 void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
 
-enum class GpuGeneratorKind { NoOpt, Ours, Tile };
+enum class GpuGeneratorKind { NoOpt, Ours, Contiguous };
 enum class GpuBatchOrder { Tile, Group, Scanline };
 
 // A generator's parameters, read from its canonical parameter set (Generator::params() of the CPU generator of the
@@ -51,12 +55,13 @@ enum class GpuBatchOrder { Tile, Group, Scanline };
 struct GpuGeneratorConfig {
   GpuGeneratorKind kind = GpuGeneratorKind::NoOpt;
   int tile_w = 8, tile_h = 8;
-  int k = 8;                                  // ours / tile
-  GpuBatchOrder order = GpuBatchOrder::Tile;  // noopt: tile | scanline; ours / tile: tile | group | scanline
-  uint32_t salt = 0;                          // ours / tile: the `seed` parameter
+  int k = 8;                                  // ours / contiguous
+  GpuBatchOrder order = GpuBatchOrder::Tile;  // noopt: tile | scanline; ours / contiguous: tile | group | scanline
+  uint32_t salt = 0;                          // ours / contiguous: the `seed` parameter
 };
-// name: noopt | ours | tile; params: that generator's canonical parameters ("tile=8x8,k=8,order=tile,seed=0").
-// Throws raycoh::Error for other generators and for ours / tile tiles of more than 1024 pixels.
+// name: noopt | ours | contiguous (or its old name tile); params: that generator's canonical parameters
+// ("tile=8x8,k=8,order=tile,seed=0"). Throws raycoh::Error for other generators and for ours / contiguous tiles
+// of more than 1024 pixels.
 GpuGeneratorConfig gpu_generator_config(const std::string& name, const std::string& params);
 
 // The scene's materials on the device (uploaded once), the G-buffer and batch buffers (grown on demand).

@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/own_lobe.h"
 #include "core/rng.h"
 #include "generators/tangent_reuse.h"
 #include "generators/tiles.h"
@@ -28,8 +29,7 @@ DirectReuse::DirectReuse(ParamSet& params) {
   params_ = params.canonical();
 }
 
-void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, RayBatch& out,
-                           GenerationStats& stats) {
+void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, RayBatch& out, GenerationStats& stats) {
   const TileGrid grid(g.width, g.height, tile_.first, tile_.second);
   const std::vector<uint32_t> offsets = tile_hit_offsets(g, grid);
   out.width = g.width;
@@ -57,9 +57,7 @@ void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, 
     --donor;
     auto own_sample = [&](uint32_t p) {
       const ShadingPoint& sp = g.points[p];
-      return sample_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, sp.front_face,
-                              rng_float(seed, frame, p, kDimSecondary0), rng_float(seed, frame, p, kDimSecondary1),
-                              rng_float(seed, frame, p, kDimSecondaryLobe));
+      return sample_own_lobe(bsdf_params(scene.materials[sp.material]), sp, seed, frame, p);
     };
     const DirectionSample shared = own_sample(donor);
     uint32_t slot = offsets[t];

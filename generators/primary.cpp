@@ -7,8 +7,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "core/rng.h"
 #include "core/sampling.h"
+#include "generators/primary_ray.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
@@ -48,23 +48,10 @@ PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, cons
   out.frame = frame;
   out.rays.resize(order.size());
   out.pixel = order;
-  const Vec3 forward = normalize(camera.target - camera.eye);
-  const Vec3 right = normalize(cross(forward, camera.up));
-  const Vec3 up = cross(right, forward);
-  const float tan_half = std::tan(camera.vfov_deg * 0.5f * kPi / 180.f);
-  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  const PinholeCamera pinhole = make_pinhole_camera(camera, width, height);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
-      const uint32_t p = order[i];
-      const float jx = jitter ? rng_float(seed, frame, p, kDimPixelJitterX) : 0.5f;
-      const float jy = jitter ? rng_float(seed, frame, p, kDimPixelJitterY) : 0.5f;
-      const float sx = (2.f * ((static_cast<float>(p % width) + jx) / width) - 1.f) * tan_half * aspect;
-      const float sy = (1.f - 2.f * ((static_cast<float>(p / width) + jy) / height)) * tan_half;
-      Ray& ray = out.rays[i];
-      ray.org = camera.eye;
-      ray.dir = normalize(forward + right * sx + up * sy);
-      ray.tmin = 0.f;
-      ray.tmax = __builtin_huge_valf();
+      out.rays[i] = primary_ray(pinhole, order[i], seed, frame, jitter);
     }
   });
   return out;

@@ -1,20 +1,23 @@
-// The paper's generator (`ours`) and its contiguous-group ablation (`tile`); see tangent_reuse.cpp.
+// The paper's generator (`ours`) and its contiguous-group ablation (`contiguous`); see tangent_reuse.cpp.
 #pragma once
 
 #include <string>
 #include <utility>
 
 #include "generators/generator.h"
+#include "generators/grouping.h"
 
 namespace raycoh {
 
 class TangentSpaceReuse final : public Generator {
  public:
-  // interleaved = true: `ours` (shuffled, per-frame groups); false: `tile` (contiguous groups).
+  // interleaved = true: `ours` (shuffled, per-frame groups); false: `contiguous` (contiguous groups).
   TangentSpaceReuse(ParamSet& params, bool interleaved);
   void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                 GenerationStats& stats) override;
   std::string params() const override { return params_; }
+  // The grouping of one frame, as the CPU loop and the CUDA block phases read it.
+  GroupingConfig config(uint32_t seed, uint32_t frame) const;
 
  private:
   bool interleaved_;

@@ -217,8 +217,8 @@ const std::vector<std::string>& generator_specs() {
                                                  "ours:order=scanline",
                                                  "ours:seed=99",
                                                  "ours:tile=3x5,k=4",
-                                                 "tile",
-                                                 "tile:k=4,order=group"};
+                                                 "contiguous",
+                                                 "contiguous:k=4,order=group"};
   return specs;
 }
 
@@ -249,7 +249,7 @@ TEST(GpuGenerators, EdgeCasesEqualTheCpu) {
   for (auto [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {13, 9}, {5, 3}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
     const GBuffer g = frame_gbuffer(scene, bvh, w, h, 1, false);
-    for (const char* spec : {"noopt", "ours", "ours:tile=4x4,k=16", "ours:tile=4x4,k=3", "tile:tile=16x16,k=7"})
+    for (const char* spec : {"noopt", "ours", "ours:tile=4x4,k=16", "ours:tile=4x4,k=3", "contiguous:tile=16x16,k=7"})
       expect_gpu_generator_matches(scene, g, spec, device);
   }
   GBuffer empty = frame_gbuffer(scene, bvh, 16, 16, 0, false);
