@@ -11,11 +11,12 @@
 
 #include "core/error.h"
 #include "core/own_lobe.h"
-#include "core/params.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_common.cuh"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"
+#include "generators/noopt.h"
+#include "generators/tangent_reuse.h"
 
 namespace raycoh::cuda {
 
@@ -89,35 +90,31 @@ __global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* mater
 
 // ---- host side --------------------------------------------------------------------------------------------------
 
-GpuGeneratorConfig gpu_generator_config(const std::string& name, const std::string& params) {
-  GpuGeneratorConfig c;
-  ParamSet set("generator '" + name + "' (GPU)", params);
-  if (name == "noopt") {
-    c.kind = GpuGeneratorKind::NoOpt;
-    c.order =
-        set.get_choice("order", "tile", {"scanline", "tile"}) == "tile" ? GpuBatchOrder::Tile : GpuBatchOrder::Scanline;
-    const auto tile = set.get_size("tile", {8, 8}, 1, 4096);
-    c.tile_w = tile.first;
-    c.tile_h = tile.second;
-  } else if (name == "ours" || name == "contiguous" || name == "tile") {  // tile: contiguous's old name
-    c.kind = name == "ours" ? GpuGeneratorKind::Ours : GpuGeneratorKind::Contiguous;
-    const auto tile = set.get_size("tile", {8, 8}, 1, 1024);
-    c.tile_w = tile.first;
-    c.tile_h = tile.second;
-    if (c.tile_w * c.tile_h > kMaxGroupTile)
-      throw Error(set.owner() + ": tile=" + std::to_string(c.tile_w) + "x" + std::to_string(c.tile_h) + " has " +
-                  std::to_string(c.tile_w * c.tile_h) + " pixels; the GPU version takes at most " +
-                  std::to_string(kMaxGroupTile) + " (one thread per pixel)");
-    c.k = set.get_int("k", 8, 1, c.tile_w * c.tile_h);
-    const std::string order = set.get_choice("order", "tile", {"tile", "group", "scanline"});
-    c.order = order == "tile" ? GpuBatchOrder::Tile : order == "group" ? GpuBatchOrder::Group : GpuBatchOrder::Scanline;
-    c.salt = set.get_uint("seed", 0u, 0u, 0xFFFFFFFFu);
-  } else {
-    throw Error("generator '" + name + "' has no GPU version; GPU generators: noopt, ours, contiguous");
+namespace {
+
+// What the GPU runs: exactly one of the two CPU generators it reproduces.
+struct GpuGenerator {
+  const NoOptGenerator* noopt = nullptr;
+  const TangentSpaceReuse* grouping = nullptr;
+};
+
+GpuGenerator gpu_generator(const Generator& cpu) {
+  GpuGenerator g{dynamic_cast<const NoOptGenerator*>(&cpu), dynamic_cast<const TangentSpaceReuse*>(&cpu)};
+  if (!g.noopt && !g.grouping)
+    throw Error("this generator has no GPU version; GPU generators: noopt, ours, contiguous");
+  if (g.grouping) {
+    const auto [w, h] = g.grouping->tile();
+    if (w * h > kMaxGroupTile)
+      throw Error("GPU generator: tile=" + std::to_string(w) + "x" + std::to_string(h) + " has " +
+                  std::to_string(w * h) + " pixels; the GPU version takes at most " + std::to_string(kMaxGroupTile) +
+                  " (one thread per pixel)");
   }
-  set.finish();
-  return c;
+  return g;
 }
+
+}  // namespace
+
+void check_gpu_generator(const Generator& cpu) { gpu_generator(cpu); }
 
 struct DeviceGenerator::Impl {
   DeviceBuffer<BsdfParams> materials;
@@ -214,38 +211,23 @@ DeviceGenerator::~DeviceGenerator() = default;
 
 float DeviceGenerator::last_kernel_ms() const { return impl_->last_ms; }
 
-namespace {
-
-// The CPU generator's GroupingConfig (TangentSpaceReuse::config) from the GPU config.
-GroupingConfig grouping_config(const GpuGeneratorConfig& config, uint32_t seed, uint32_t frame) {
-  GroupingConfig c;
-  c.seed = seed;
-  c.group_seed = seed ^ hash32(config.salt);
-  c.frame = frame;
-  c.k = static_cast<uint32_t>(config.k);
-  c.groups_per_full_tile = (static_cast<uint32_t>(config.tile_w * config.tile_h) + c.k - 1) / c.k;
-  c.interleaved = config.kind == GpuGeneratorKind::Ours;
-  c.group_order = config.order == GpuBatchOrder::Group;
-  c.scanline = config.order == GpuBatchOrder::Scanline;
-  return c;
-}
-
-}  // namespace
-
-void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const GpuGeneratorConfig& config, RayBatch& out,
+void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator& cpu, RayBatch& out,
                                GenerationStats& stats) {
   Impl& m = *impl_;
   const size_t pixels = g.points.size();
   if (pixels != static_cast<size_t>(g.width) * static_cast<size_t>(g.height))
     throw Error("cuda: the G-buffer's size does not match its resolution");
-  const bool grouping = config.kind != GpuGeneratorKind::NoOpt;
+  const GpuGenerator gen = gpu_generator(cpu);
+  const bool grouping = gen.grouping != nullptr;
+  const GroupingConfig config = grouping ? gen.grouping->config(seed, g.frame) : GroupingConfig{};
+  const auto [tile_w, tile_h] = grouping ? gen.grouping->tile() : gen.noopt->tile();
   // NoOpt's scanline order is its tile order with one-row tiles, as on the CPU.
-  const TileGrid grid = !grouping && config.order == GpuBatchOrder::Scanline
+  const TileGrid grid = !grouping && gen.noopt->order() == RayOrder::Scanline
                             ? TileGrid(g.width, g.height, g.width, 1)
-                            : TileGrid(g.width, g.height, config.tile_w, config.tile_h);
+                            : TileGrid(g.width, g.height, tile_w, tile_h);
   const size_t tiles = static_cast<size_t>(grid.count());
   const size_t n = g.hits;
-  const bool scanline = grouping && config.order == GpuBatchOrder::Scanline;
+  const bool scanline = grouping && config.scanline;
   m.points.upload(g.points.data(), pixels);
   const BatchView view = m.reserve(n, pixels, tiles, grouping, scanline);
 
@@ -260,8 +242,8 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const GpuGenerat
       m.exclusive_sum(m.flags.get(), m.slots.get(), pixels);
     }
     if (grouping) {
-      launch_group_kernel(grouping_config(config, seed, g.frame), grid, m.points.get(), m.materials.get(),
-                          m.offsets.get(), m.slots.get(), view, m.stats.get());
+      launch_group_kernel(config, grid, m.points.get(), m.materials.get(), m.offsets.get(), m.slots.get(), view,
+                          m.stats.get());
     } else {
       const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
       noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), m.materials.get(), seed, g.frame, grid,

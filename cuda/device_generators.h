@@ -35,6 +35,10 @@
 #include "generators/primary.h"
 #include "scenes/scene.h"
 
+namespace raycoh {
+class Generator;
+}
+
 namespace raycoh::cuda {
 
 // Primary rays on the device, downloaded into `out`: equal to make_primary_rays(camera, width, height,
@@ -47,22 +51,10 @@ void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder
 // the CPU and GPU results to the same bits.
 void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
 
-enum class GpuGeneratorKind { NoOpt, Ours, Contiguous };
-enum class GpuBatchOrder { Tile, Group, Scanline };
-
-// A generator's parameters, read from its canonical parameter set (Generator::params() of the CPU generator of the
-// same name, so that defaults and validation are the CPU's).
-struct GpuGeneratorConfig {
-  GpuGeneratorKind kind = GpuGeneratorKind::NoOpt;
-  int tile_w = 8, tile_h = 8;
-  int k = 8;                                  // ours / contiguous
-  GpuBatchOrder order = GpuBatchOrder::Tile;  // noopt: tile | scanline; ours / contiguous: tile | group | scanline
-  uint32_t salt = 0;                          // ours / contiguous: the `seed` parameter
-};
-// name: noopt | ours | contiguous (or its old name tile); params: that generator's canonical parameters
-// ("tile=8x8,k=8,order=tile,seed=0"). Throws raycoh::Error for other generators and for ours / contiguous tiles
-// of more than 1024 pixels.
-GpuGeneratorConfig gpu_generator_config(const std::string& name, const std::string& params);
+// The GPU runs the typed configuration the CPU generator built from its parameters (its tile and order; for ours /
+// contiguous the GroupingConfig its tile loop reads), never their text. Throws raycoh::Error unless cpu is noopt,
+// ours or contiguous, and for ours / contiguous tiles of more than 1024 pixels (one thread per pixel).
+void check_gpu_generator(const Generator& cpu);
 
 // The scene's materials on the device (uploaded once), the G-buffer and batch buffers (grown on demand).
 class DeviceGenerator {
@@ -72,10 +64,9 @@ class DeviceGenerator {
   DeviceGenerator(const DeviceGenerator&) = delete;
   DeviceGenerator& operator=(const DeviceGenerator&) = delete;
 
-  // Uploads the G-buffer, generates on the device and downloads the batch and statistics: equal to the CPU
-  // generator's generate(scene, gbuffer, seed, out, stats).
-  void generate(const GBuffer& gbuffer, uint32_t seed, const GpuGeneratorConfig& config, RayBatch& out,
-                GenerationStats& stats);
+  // Uploads the G-buffer, generates on the device with cpu's configuration (check_gpu_generator) and downloads
+  // the batch and statistics: equal to cpu.generate(scene, gbuffer, seed, out, stats).
+  void generate(const GBuffer& gbuffer, uint32_t seed, const Generator& cpu, RayBatch& out, GenerationStats& stats);
   // Device time of the last generate() (every kernel and scan of it, not the transfers), CUDA events.
   float last_kernel_ms() const;
 

@@ -7,8 +7,7 @@
 // back-facing directions the paper shows. Transmissive pixels sample their own lobe. Rays are written in tile
 // order (row-major inside a tile).
 //
-// Parameters
-//   tile   WxH   8x8   each side in [1, 1024], W H <= 65536
+// Parameters: direct_params() below.
 #include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -21,8 +20,17 @@
 
 namespace raycoh {
 
+const ParamTable& direct_params() {
+  static const ParamTable table = {
+      size_param("tile", {8, 8}, 1, 1024, "the tile sharing one world-space direction, at most 65536 pixels"),
+  };
+  return table;
+}
+
+std::unique_ptr<Generator> make_direct_generator(ParamSet& params) { return std::make_unique<DirectReuse>(params); }
+
 DirectReuse::DirectReuse(ParamSet& params) {
-  tile_ = params.get_size("tile", {8, 8}, 1, 1024);
+  tile_ = params.get_size("tile");
   if (tile_.first * tile_.second > 65536)
     throw Error(fmt::format("{}: tile={}x{} has more than 65536 pixels", params.owner(), tile_.first, tile_.second));
   params.finish();

@@ -3,10 +3,8 @@
 // numbers rng(seed, frame, pixel, kDimSecondary0/1, kDimSecondaryLobe), and the ray leaves from the hit point
 // offset along the geometric normal (Waechter & Binder) on the side the direction goes.
 //
-// Parameters
-//   order  string  tile      scanline | tile: batch order (DESIGN.md section 1; NoOpt gets the same compact
-//                            tile order as every generator, so no speedup is inflated by a scanline baseline)
-//   tile   WxH     8x8       [1, 4096] each: tile of the tile order
+// Parameters: noopt_params() below. NoOpt gets the same compact tile order as every generator (DESIGN.md
+// section 1), so no speedup is inflated by a scanline baseline.
 #include "generators/noopt.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -21,9 +19,19 @@
 
 namespace raycoh {
 
+const ParamTable& noopt_params() {
+  static const ParamTable table = {
+      choice_param("order", "tile", ray_order_names(), "batch order: the image's rows, or W x H tiles"),
+      size_param("tile", {8, 8}, 1, 4096, "tile of the tile order"),
+  };
+  return table;
+}
+
+std::unique_ptr<Generator> make_noopt_generator(ParamSet& params) { return std::make_unique<NoOptGenerator>(params); }
+
 NoOptGenerator::NoOptGenerator(ParamSet& params) {
-  order_ = parse_ray_order(params.get_choice("order", "tile", ray_order_names()));
-  tile_ = params.get_size("tile", {8, 8}, 1, 4096);
+  order_ = parse_ray_order(params.get_choice("order"));
+  tile_ = params.get_size("tile");
   params.finish();
   params_ = params.canonical();
 }

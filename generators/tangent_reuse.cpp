@@ -31,14 +31,9 @@
 // one) stays in the batch with weight 0 and is counted in below_geometric, like every generator's.
 // K = 1 reproduces NoOpt bit for bit: the donor is the pixel itself and uses NoOpt's random numbers.
 //
-// Parameters
-//   tile   WxH     8x8    each side in [1, 1024], W H <= 65536: the tile
-//   k      int     8      [1, W H]: group size K
-//   order  string  tile   tile | group | scanline: batch order (tile: row-major inside each tile, tiles
-//                         row-major; group: inside each tile, group by group — whole groups in one warp;
-//                         scanline: the image's rows)
-//   seed   uint    0      [0, 2^32 - 1]: extra salt for the grouping only (shuffle constants and donors);
-//                         0 uses the run's seed alone
+// Parameters: ours_params() below, shared by `ours` and `contiguous`. Batch orders: tile = row-major inside each
+// tile, tiles row-major; group = inside each tile, group by group (whole groups in one warp); scanline = the
+// image's rows.
 #include "generators/tangent_reuse.h"
 
 #include <fmt/format.h>
@@ -143,15 +138,36 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
 
 }  // namespace
 
+// The largest tile, in pixels (the sides alone would allow 1024 x 1024).
+constexpr int kMaxTilePixels = 65536;
+
+const ParamTable& ours_params() {
+  static const ParamTable table = {
+      size_param("tile", {8, 8}, 1, 1024, "the tile, at most 65536 pixels"),
+      int_param("k", 8, 1, kMaxTilePixels, "group size K, at most W H"),
+      choice_param("order", "tile", {"tile", "group", "scanline"}, "batch order (see tangent_reuse.cpp)"),
+      uint_param("seed", 0u, 0u, 0xFFFFFFFFu, "extra salt for the grouping only (shuffle and donors); 0: none"),
+  };
+  return table;
+}
+
+std::unique_ptr<Generator> make_ours_generator(ParamSet& params) {
+  return std::make_unique<TangentSpaceReuse>(params, true);
+}
+
+std::unique_ptr<Generator> make_contiguous_generator(ParamSet& params) {
+  return std::make_unique<TangentSpaceReuse>(params, false);
+}
+
 TangentSpaceReuse::TangentSpaceReuse(ParamSet& params, bool interleaved) : interleaved_(interleaved) {
-  tile_ = params.get_size("tile", {8, 8}, 1, 1024);
+  tile_ = params.get_size("tile");
   const int area = tile_.first * tile_.second;
-  if (area > 65536)
-    throw Error(
-        fmt::format("{}: tile={}x{} has {} pixels; at most 65536", params.owner(), tile_.first, tile_.second, area));
-  k_ = params.get_int("k", 8, 1, area);
-  order_ = params.get_choice("order", "tile", {"tile", "group", "scanline"});
-  salt_ = params.get_uint("seed", 0u, 0u, 0xFFFFFFFFu);
+  if (area > kMaxTilePixels)
+    throw Error(fmt::format("{}: tile={}x{} has {} pixels; at most {}", params.owner(), tile_.first, tile_.second, area,
+                            kMaxTilePixels));
+  k_ = params.get_int_at_most("k", area);
+  order_ = params.get_choice("order");
+  salt_ = params.get_uint("seed");
   params.finish();
   params_ = params.canonical();
 }

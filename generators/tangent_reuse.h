@@ -18,6 +18,7 @@ class TangentSpaceReuse final : public Generator {
   std::string params() const override { return params_; }
   // The grouping of one frame, as the CPU loop and the CUDA block phases read it.
   GroupingConfig config(uint32_t seed, uint32_t frame) const;
+  std::pair<int, int> tile() const { return tile_; }
 
  private:
   bool interleaved_;
@@ -39,5 +40,13 @@ class DirectReuse final : public Generator {
   std::pair<int, int> tile_;
   std::string params_;
 };
+
+// Parameter tables and factories: `ours` and `contiguous` share ours_params() (tangent_reuse.cpp), `direct`
+// has direct_params() (direct_reuse.cpp).
+const ParamTable& ours_params();
+std::unique_ptr<Generator> make_ours_generator(ParamSet& params);
+std::unique_ptr<Generator> make_contiguous_generator(ParamSet& params);
+const ParamTable& direct_params();
+std::unique_ptr<Generator> make_direct_generator(ParamSet& params);
 
 }  // namespace raycoh

@@ -196,7 +196,7 @@ void expect_gpu_generator_matches(const Scene& scene, const GBuffer& g, const st
   RayBatch cpu_batch, gpu_batch;
   GenerationStats cpu_stats, gpu_stats;
   cpu->generate(scene, g, 7, cpu_batch, cpu_stats);
-  device.generate(g, 7, cuda::gpu_generator_config(spec.name, cpu->params()), gpu_batch, gpu_stats);
+  device.generate(g, 7, *cpu, gpu_batch, gpu_stats);
   EXPECT_GE(device.last_kernel_ms(), 0.f);
   expect_same_batch(gpu_batch, cpu_batch, gpu_stats, cpu_stats);
 }
@@ -258,17 +258,11 @@ TEST(GpuGenerators, EdgeCasesEqualTheCpu) {
   for (const char* spec : {"noopt", "ours"}) expect_gpu_generator_matches(scene, empty, spec, device);
 }
 
-TEST(GpuGenerators, ConfigFollowsTheCpuParametersAndRejectsWhatTheGpuCannotDo) {
-  const cuda::GpuGeneratorConfig ours =
-      cuda::gpu_generator_config("ours", make_generator({"ours", "k=16,tile=16x8"})->params());
-  EXPECT_EQ(ours.kind, cuda::GpuGeneratorKind::Ours);
-  EXPECT_EQ(ours.tile_w, 16);
-  EXPECT_EQ(ours.tile_h, 8);
-  EXPECT_EQ(ours.k, 16);
-  EXPECT_EQ(cuda::gpu_generator_config("noopt", "order=scanline,tile=8x8").order, cuda::GpuBatchOrder::Scanline);
-  EXPECT_THROW(cuda::gpu_generator_config("direct", "tile=8x8"), Error);
-  EXPECT_THROW(cuda::gpu_generator_config("ours", "tile=64x64"), Error);  // 4096 pixels: over one block
-  EXPECT_THROW(cuda::gpu_generator_config("ours", "bogus=1"), Error);
+TEST(GpuGenerators, TakeTheCpuGeneratorsConfigAndRejectWhatTheGpuCannotDo) {
+  EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({"ours", "k=16,tile=16x8"})));
+  EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({"noopt", "order=scanline,tile=64x64"})));
+  EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"direct", ""})), Error);
+  EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"ours", "tile=64x64"})), Error);  // over one block
 }
 
 }  // namespace
