@@ -14,12 +14,12 @@
 #include <utility>
 #include <vector>
 
-#include "core/params.h"
 #include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
+#include "core/params.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "tracers/tracer.h"
 
 namespace raycoh::bench {
 
@@ -79,10 +79,10 @@ inline Frame& frame(const std::string& spec, std::pair<int, int> size) {
   f->scene = load_scene(spec);
   f->bvh = build_bvh(f->scene);
   const auto order = make_pixel_order(size.first, size.second, RayOrder::Tile, 8, 8);
-  f->primary = make_primary_rays(f->scene.camera, size.first, size.second, order, kSeed, 0, true);
-  std::vector<Hit> hits(f->primary.rays.size());
-  make_tracer({"cpu", ""}, f->scene, f->bvh)->trace(f->primary.rays.data(), f->primary.rays.size(), hits.data());
-  f->gbuffer = make_gbuffer(f->scene, f->primary, hits);
+  FirstHits first =
+      first_hits(f->scene, *make_tracer({"cpu", ""}, f->scene, f->bvh), size.first, size.second, order, kSeed, 0, true);
+  f->primary = std::move(first.primary);
+  f->gbuffer = std::move(first.gbuffer);
   held = std::move(f);
   return *held;
 }

@@ -35,15 +35,15 @@
 #include <tuple>
 #include <vector>
 
-#include "core/error.h"
 #include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
+#include "core/error.h"
 #include "encoders/encoder.h"
 #include "encoders/radix_sort.h"
 #include "encoders/reorder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -90,12 +90,10 @@ SecondaryScene& secondary_scene(const std::string& spec) {
   s->bvh = build_bvh(s->scene);
   const auto [width, height] = reorder_bench_size();
   const auto order = make_pixel_order(width, height, RayOrder::Tile, 8, 8);
-  const PrimaryBatch primary = make_primary_rays(s->scene.camera, width, height, order, 1, 0, false);
-  std::vector<Hit> hits(primary.rays.size());
-  make_tracer(parse_plugin_spec("cpu"), s->scene, s->bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
-  const GBuffer gbuffer = make_gbuffer(s->scene, primary, hits);
+  const FirstHits first =
+      first_hits(s->scene, *make_tracer(parse_plugin_spec("cpu"), s->scene, s->bvh), width, height, order, 1, 0, false);
   GenerationStats stats;
-  make_generator(parse_plugin_spec("noopt"))->generate(s->scene, gbuffer, 1, s->batch, stats);
+  make_generator(parse_plugin_spec("noopt"))->generate(s->scene, first.gbuffer, 1, s->batch, stats);
   s->base_trace_ms = trace_ms(s->scene, s->bvh, s->batch.rays);
   cached = std::move(s);
   cached_spec = spec;

@@ -1,10 +1,11 @@
 #include "core/params.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fmt/format.h>
 
 #include "core/error.h"
 
@@ -14,6 +15,135 @@ std::string join(const std::vector<std::string>& items, const std::string& sep) 
   std::string out;
   for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
   return out;
+}
+
+ParamSpec int_param(std::string name, int def, int lo, int hi, std::string doc) {
+  return {std::move(name), ParamType::Int, std::to_string(def), double(lo), double(hi), {}, std::move(doc)};
+}
+
+ParamSpec uint_param(std::string name, unsigned def, unsigned lo, unsigned hi, std::string doc) {
+  return {std::move(name), ParamType::Uint, std::to_string(def), double(lo), double(hi), {}, std::move(doc)};
+}
+
+ParamSpec float_param(std::string name, float def, float lo, float hi, std::string doc) {
+  return {std::move(name), ParamType::Float, fmt::format("{}", def), double(lo), double(hi), {}, std::move(doc)};
+}
+
+ParamSpec choice_param(std::string name, std::string def, std::vector<std::string> choices, std::string doc) {
+  return {std::move(name), ParamType::Choice, std::move(def), 0, 0, std::move(choices), std::move(doc)};
+}
+
+ParamSpec size_param(std::string name, std::pair<int, int> def, int lo, int hi, std::string doc) {
+  return {std::move(name), ParamType::Size, fmt::format("{}x{}", def.first, def.second), double(lo), double(hi), {},
+          std::move(doc)};
+}
+
+namespace {
+
+const char* type_name(ParamType type) {
+  switch (type) {
+    case ParamType::Int:
+      return "int";
+    case ParamType::Uint:
+      return "uint";
+    case ParamType::Float:
+      return "float";
+    case ParamType::Choice:
+      return "choice";
+    case ParamType::Size:
+      return "WxH";
+  }
+  return "?";
+}
+
+// Ranges print as the reader's error messages do: ints as ints, floats in shortest form.
+std::string range_text(const ParamSpec& s) {
+  switch (s.type) {
+    case ParamType::Int:
+      return fmt::format("[{}, {}]", int(s.lo), int(s.hi));
+    case ParamType::Uint:
+      return fmt::format("[{}, {}]", unsigned(s.lo), unsigned(s.hi));
+    case ParamType::Float:
+      return fmt::format("[{}, {}]", float(s.lo), float(s.hi));
+    case ParamType::Choice:
+      return join(s.choices, " | ");
+    case ParamType::Size:
+      return fmt::format("[{}, {}] each", int(s.lo), int(s.hi));
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string format_param_table(const ParamTable& table, const std::string& indent) {
+  if (table.empty()) return indent + "(no parameters)\n";
+  size_t widths[4] = {0, 0, 0, 0};
+  for (const ParamSpec& s : table) {
+    widths[0] = std::max(widths[0], s.name.size());
+    widths[1] = std::max(widths[1], std::string(type_name(s.type)).size());
+    widths[2] = std::max(widths[2], s.def.size());
+    widths[3] = std::max(widths[3], range_text(s).size());
+  }
+  std::string out;
+  for (const ParamSpec& s : table)
+    out += fmt::format("{}{:<{}}  {:<{}}  {:<{}}  {:<{}}  {}\n", indent, s.name, widths[0], type_name(s.type),
+                       widths[1], s.def, widths[2], range_text(s), widths[3], s.doc);
+  return out;
+}
+
+std::string default_params(const ParamTable& table) {
+  std::string out;
+  for (const ParamSpec& s : table) out += (out.empty() ? "" : ",") + s.name + "=" + s.def;
+  return out;
+}
+
+std::string param_summary(const ParamTable& table) {
+  std::vector<std::string> items;
+  for (const ParamSpec& s : table) items.push_back(s.name + "=" + s.def + " (" + range_text(s) + ")");
+  return items.empty() ? "(no parameters)" : join(items);
+}
+
+ParamSet::ParamSet(std::string owner, const std::string& text, const ParamTable& table)
+    : ParamSet(std::move(owner), text) {
+  table_ = &table;
+}
+
+const ParamSpec& ParamSet::row(const std::string& key, ParamType type) const {
+  if (table_)
+    for (const ParamSpec& s : *table_)
+      if (s.name == key && s.type == type) return s;
+  throw Error(fmt::format("internal error: {} reads '{}' as a {}, which its parameter table does not declare", owner_,
+                          key, type_name(type)));
+}
+
+int ParamSet::get_int(const std::string& key) { return get_int_at_most(key, int(row(key, ParamType::Int).hi)); }
+
+int ParamSet::get_int_at_most(const std::string& key, int at_most) {
+  const ParamSpec& s = row(key, ParamType::Int);
+  // Only a given value is checked against at_most, as before tables: the default stands even when it is larger.
+  const int def = parse_int(owner_ + ": default of " + key, s.def, int(s.lo), int(s.hi));
+  return get_int(key, def, int(s.lo), std::min(int(s.hi), at_most));
+}
+
+unsigned ParamSet::get_uint(const std::string& key) {
+  const ParamSpec& s = row(key, ParamType::Uint);
+  const unsigned def = static_cast<unsigned>(std::stoul(s.def));
+  return get_uint(key, def, unsigned(s.lo), unsigned(s.hi));
+}
+
+float ParamSet::get_float(const std::string& key) {
+  const ParamSpec& s = row(key, ParamType::Float);
+  return get_float(key, std::strtof(s.def.c_str(), nullptr), float(s.lo), float(s.hi));
+}
+
+std::string ParamSet::get_choice(const std::string& key) {
+  const ParamSpec& s = row(key, ParamType::Choice);
+  return get_choice(key, s.def, s.choices);
+}
+
+std::pair<int, int> ParamSet::get_size(const std::string& key) {
+  const ParamSpec& s = row(key, ParamType::Size);
+  return get_size(key, parse_size(owner_ + ": default of " + key, s.def, int(s.lo), int(s.hi)), int(s.lo), int(s.hi));
 }
 
 ParamSet::ParamSet(std::string owner, const std::string& text) : owner_(std::move(owner)) {
@@ -115,6 +245,11 @@ void ParamSet::finish() const {
       throw Error(fmt::format("{}: unknown parameter '{}'; valid parameters: {}", owner_, k,
                               known.empty() ? std::string("(none)") : join(known)));
   }
+  // A row the plugin never reads would be listed but ignored: a programming error, caught by every run.
+  if (table_)
+    for (const ParamSpec& s : *table_)
+      if (std::find(known.begin(), known.end(), s.name) == known.end())
+        throw Error(fmt::format("internal error: {} declares parameter '{}' but never reads it", owner_, s.name));
 }
 
 std::string ParamSet::canonical() const {
@@ -140,8 +275,8 @@ std::vector<PluginSpec> split_plugin_list(const std::string& text) {
     const std::string item = text.substr(pos, end - pos);
     pos = end + 1;
     if (item.empty()) continue;
-    const bool continues = item.find('=') != std::string::npos &&
-                           (item.find(':') == std::string::npos || item.find(':') > item.find('='));
+    const bool continues =
+        item.find('=') != std::string::npos && (item.find(':') == std::string::npos || item.find(':') > item.find('='));
     if (continues && !out.empty()) {
       out.back().params += (out.back().params.empty() ? "" : ",") + item;
     } else {

@@ -10,28 +10,25 @@
 // tracer with the same `line` (warp 32, 32-byte sectors), for the same rays in the same order. The cache-model
 // fields (l1_*, l2_*, dram_bytes, modeled) are not produced on the GPU and stay 0: they come from `simt`.
 //
-// Parameters
-//   kernel    string  persistent  persistent | simple: persistent threads fetching 32 consecutive rays per warp
-//                                 from a global atomic counter (Aila & Laine 2009), or one thread per ray
-//   block     int     128         [32, 1024], a multiple of 32: threads per block
-//   counters  string  off         off | on: on = the counting kernel (its time is not a traversal time)
-//   line      int     64          64 | 128: bytes per line of the counted node/triangle transactions (simt's line)
+// Parameters: cuda_params() below. The persistent kernel's warps fetch 32 consecutive rays at a time from a
+// global atomic counter (Aila & Laine 2009); the simple one runs one thread per ray.
 //
 // Sources: Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while
 // traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles.
+#include "cuda/cuda_tracer.h"
+
 #include <fmt/format.h>
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "core/error.h"
 #include "bvh/bvh_build.h"
+#include "core/error.h"
+#include "cuda/cuda_trace.h"
+#include "cuda/device_tracer.h"
 #include "simt/simt.h"
 #include "tracers/tracer.h"
-#include "cuda/cuda_trace.h"
-#include "cuda/cuda_tracer.h"
-#include "cuda/device_tracer.h"
 
 namespace raycoh {
 namespace {
@@ -85,17 +82,26 @@ class CudaTracer final : public Tracer {
 
 }  // namespace
 
+const ParamTable& cuda_params() {
+  static const ParamTable table = {
+      choice_param("kernel", "persistent", {"persistent", "simple"}, "persistent threads, or one thread per ray"),
+      int_param("block", 128, 32, 1024, "threads per block, a multiple of 32"),
+      choice_param("counters", "off", {"off", "on"}, "on: the counting kernel (its time is not a traversal time)"),
+      choice_param("line", "64", {"64", "128"}, "bytes per line of the counted transactions (simt's line)"),
+  };
+  return table;
+}
+
 std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene&, const Bvh& bvh) {
   cuda::TraceLaunch launch;
-  launch.kernel = params.get_choice("kernel", "persistent", {"persistent", "simple"}) == "persistent"
-                      ? cuda::TraceKernel::Persistent
-                      : cuda::TraceKernel::Simple;
-  launch.block = params.get_int("block", 128, 32, 1024);
+  launch.kernel =
+      params.get_choice("kernel") == "persistent" ? cuda::TraceKernel::Persistent : cuda::TraceKernel::Simple;
+  launch.block = params.get_int("block");
   if (launch.block % 32 != 0)
     throw Error(
         fmt::format("{}: block={} is not a multiple of 32 (a block holds whole warps)", params.owner(), launch.block));
-  const bool counting = params.get_choice("counters", "off", {"off", "on"}) == "on";
-  const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line", "64", {"64", "128"})));
+  const bool counting = params.get_choice("counters") == "on";
+  const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line")));
   params.finish();
   if (cuda::device_count() == 0)
     throw Error(

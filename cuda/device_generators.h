@@ -1,6 +1,9 @@
-// Host API of the per-frame ray pipeline on the GPU (implemented in cuda/device_generators.cu): primary rays and
-// the `noopt`, `ours` and `tile` generators, so that generation overheads are measured as GPU overheads. Plain
-// C++ (included by g++-compiled code and tests).
+// Host API of the per-frame ray pipeline on the GPU (cuda/device_primary.cu, device_generators.cu,
+// device_grouping.cu): primary rays and the `noopt`, `ours` and `contiguous` generators, meant for measuring
+// generation overheads as GPU overheads. Plain C++ (included by g++-compiled code and tests).
+//
+// Not yet part of a harness run: only the gpu tests (tests/gpu_generators_test.cpp) call this API, to check that
+// the GPU batches equal the CPU's; `table` and the other commands generate on the CPU.
 //
 // Every kernel computes with the shared host/device headers (core/sampling.h, core/bsdf.h, core/rng.h) under the
 // same floating-point rules as the CPU (no FMA contraction, IEEE division and square root, sincos_turns's
@@ -13,11 +16,12 @@
 //   noopt    hit pixels per tile (one block per tile), an exclusive scan over tiles (CUB DeviceScan) for each
 //            tile's first slot, then one block per tile ranks its hit pixels row-major with warp ballots and
 //            writes each ray.
-//   ours     the same tile offsets; one block per tile (W H <= 1024: one thread per pixel) shuffles the pixel
-//   / tile   numbers (the full-period LCG of generators/tiles.h), groups them, and shares the group data through
-//            shared memory: per group, one thread walks the tile's pixels in row-major order to count members,
-//            pick the donor and sum the glossy members' tangent-space directions in the CPU's order (a float sum
-//            is only bit-identical in the same order); per pixel, one thread samples or reuses and writes its ray.
+//   ours /   the same tile offsets; one block per tile (W H <= 1024: one thread per pixel) runs the phases of
+//   contig.  generators/grouping_block.h: per pixel, one thread shuffles and groups its pixel number; per group,
+//            one thread walks the tile's pixels in row-major order to count members, pick the donor and sum the
+//            glossy members' tangent-space directions in the CPU's order (a float sum is only bit-identical in
+//            the same order); per pixel, one thread samples or reuses and writes its ray. Every step is a
+//            function of generators/grouping.h, the one the CPU tile loop calls.
 // Not on the GPU: the G-buffer itself (make_gbuffer runs on the host and is uploaded; it is not part of a
 // generator's overhead) and the `direct` ablation.
 #pragma once
@@ -26,10 +30,14 @@
 #include <memory>
 #include <string>
 
+#include "core/ray_batch.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
-#include "core/ray_batch.h"
 #include "scenes/scene.h"
+
+namespace raycoh {
+class Generator;
+}
 
 namespace raycoh::cuda {
 
@@ -43,21 +51,10 @@ void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder
 // the CPU and GPU results to the same bits.
 void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
 
-enum class GpuGeneratorKind { NoOpt, Ours, Tile };
-enum class GpuBatchOrder { Tile, Group, Scanline };
-
-// A generator's parameters, read from its canonical parameter set (Generator::params() of the CPU generator of the
-// same name, so that defaults and validation are the CPU's).
-struct GpuGeneratorConfig {
-  GpuGeneratorKind kind = GpuGeneratorKind::NoOpt;
-  int tile_w = 8, tile_h = 8;
-  int k = 8;                                  // ours / tile
-  GpuBatchOrder order = GpuBatchOrder::Tile;  // noopt: tile | scanline; ours / tile: tile | group | scanline
-  uint32_t salt = 0;                          // ours / tile: the `seed` parameter
-};
-// name: noopt | ours | tile; params: that generator's canonical parameters ("tile=8x8,k=8,order=tile,seed=0").
-// Throws raycoh::Error for other generators and for ours / tile tiles of more than 1024 pixels.
-GpuGeneratorConfig gpu_generator_config(const std::string& name, const std::string& params);
+// The GPU runs the typed configuration the CPU generator built from its parameters (its tile and order; for ours /
+// contiguous the GroupingConfig its tile loop reads), never their text. Throws raycoh::Error unless cpu is noopt,
+// ours or contiguous, and for ours / contiguous tiles of more than 1024 pixels (one thread per pixel).
+void check_gpu_generator(const Generator& cpu);
 
 // The scene's materials on the device (uploaded once), the G-buffer and batch buffers (grown on demand).
 class DeviceGenerator {
@@ -67,10 +64,9 @@ class DeviceGenerator {
   DeviceGenerator(const DeviceGenerator&) = delete;
   DeviceGenerator& operator=(const DeviceGenerator&) = delete;
 
-  // Uploads the G-buffer, generates on the device and downloads the batch and statistics: equal to the CPU
-  // generator's generate(scene, gbuffer, seed, out, stats).
-  void generate(const GBuffer& gbuffer, uint32_t seed, const GpuGeneratorConfig& config, RayBatch& out,
-                GenerationStats& stats);
+  // Uploads the G-buffer, generates on the device with cpu's configuration (check_gpu_generator) and downloads
+  // the batch and statistics: equal to cpu.generate(scene, gbuffer, seed, out, stats).
+  void generate(const GBuffer& gbuffer, uint32_t seed, const Generator& cpu, RayBatch& out, GenerationStats& stats);
   // Device time of the last generate() (every kernel and scan of it, not the transfers), CUDA events.
   float last_kernel_ms() const;
 

@@ -8,6 +8,9 @@
 // many keys that touches. cub::DeviceRadixSort::SortPairs is a stable LSD radix sort like encoders/radix_sort.h,
 // so the same keys give the same order. MLHCC's cuts are built on the host (build_mlhcc_cuts) and uploaded with
 // the BVH nodes when the encoder is made.
+//
+// Not yet part of a harness run: only the gpu tests (tests/gpu_keys_test.cpp) call this API, to check that the GPU
+// keys and order equal the CPU's; `table` and the other commands build keys and sort on the CPU.
 #pragma once
 
 #include <cstddef>

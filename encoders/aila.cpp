@@ -5,12 +5,16 @@
 // (o9 d12 o8 d11 ... o0 d3), truncated to 64 bits. A 32-bit key holds origin 7/7/7 and direction 4/4/3 bits:
 // the coarse origin decides first, then origin and direction refine together.
 //
-// Parameters
-//   bits  int  32  32 | 64: key width, the top bits of the 64-bit code
+// Parameters: aila_params() below (the shared key_bits_param()).
 // Recorded with them: box=lo..hi, the scene bounds positions are quantised in.
 #include "encoders/key_encoder.h"
 
 namespace raycoh {
+
+const ParamTable& aila_params() {
+  static const ParamTable table = {key_bits_param()};
+  return table;
+}
 
 std::unique_ptr<Encoder> make_aila_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);

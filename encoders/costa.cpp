@@ -4,12 +4,16 @@
 // are zero. A 32-bit key holds the 8 direction bits and 8/8/8 origin bits: rays are first binned into 256
 // direction cells, then ordered by origin inside each.
 //
-// Parameters
-//   bits  int  32  32 | 64: key width, the top bits of the 64-bit code
+// Parameters: costa_params() below (the shared key_bits_param()).
 // Recorded with them: box=lo..hi, the scene bounds positions are quantised in.
 #include "encoders/key_encoder.h"
 
 namespace raycoh {
+
+const ParamTable& costa_params() {
+  static const ParamTable table = {key_bits_param()};
+  return table;
+}
 
 std::unique_ptr<Encoder> make_costa_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);

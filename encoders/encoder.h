@@ -14,9 +14,10 @@
 #include <vector>
 
 #include "core/params.h"
+#include "core/plugin.h"
+#include "core/ray_batch.h"
 #include "core/vec.h"
 #include "encoders/radix_sort.h"
-#include "core/ray_batch.h"
 
 namespace raycoh {
 
@@ -62,11 +63,9 @@ class Encoder {
   ReorderWorkspace workspace_;
 };
 
-struct EncoderInfo {
-  std::string name;
-  std::string summary;  // one line for `raycoh list`
-  std::string params;   // parameter table: name, type, default, range
-};
+// Reads its values from a ParamSet over the record's table; throws raycoh::Error for bad ones.
+using EncoderFactory = std::unique_ptr<Encoder> (*)(ParamSet& params, const EncoderContext& context);
+using EncoderInfo = PluginInfo<EncoderFactory>;
 
 // The explicit registry.
 const std::vector<EncoderInfo>& encoder_infos();

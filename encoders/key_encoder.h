@@ -51,18 +51,28 @@ std::unique_ptr<Encoder> make_key_encoder(std::string name, const Bounds& box, i
                                               std::move(details));
 }
 
-// bits = 32 | 64 (default 32): the key is the code's top `bits` bits.
+// The rows several encoders share: bits (the key is the code's top `bits` bits) and L (end-point distance).
+ParamSpec key_bits_param();
+ParamSpec end_point_param();
+// Reads the bits row: 32 or 64.
 int read_key_bits(ParamSet& params);
 // Checks that every given parameter was used, then returns the canonical set with ",box=..." appended.
 std::string finish_encoder_params(ParamSet& params, const Bounds& box);
 
-// One factory per encoder file.
+// One parameter table and one factory per encoder file.
+const ParamTable& none_params();
 std::unique_ptr<Encoder> make_none_encoder(ParamSet& params, const EncoderContext& context);
+const ParamTable& origin_params();
 std::unique_ptr<Encoder> make_origin_encoder(ParamSet& params, const EncoderContext& context);
+const ParamTable& reis_params();
 std::unique_ptr<Encoder> make_reis_encoder(ParamSet& params, const EncoderContext& context);
+const ParamTable& costa_params();
 std::unique_ptr<Encoder> make_costa_encoder(ParamSet& params, const EncoderContext& context);
+const ParamTable& aila_params();
 std::unique_ptr<Encoder> make_aila_encoder(ParamSet& params, const EncoderContext& context);
+const ParamTable& twopoint_params();
 std::unique_ptr<Encoder> make_twopoint_encoder(ParamSet& params, const EncoderContext& context);
+const ParamTable& mlhcc_params();
 std::unique_ptr<Encoder> make_mlhcc_encoder(ParamSet& params, const EncoderContext& context);
 
 }  // namespace raycoh

@@ -24,13 +24,7 @@
 //    in twopoint (encoders/twopoint.cpp). The descent stops once the key's bits are full, so a 32-bit key costs
 //    only the top few levels. `details()` reports the levels, their widths and sizes.
 //
-// Parameters
-//   bits    int     32          32 | 64: key width (the paper's code length is 32)
-//   lambda  float   0.125       [0.001, 0.999]: surface-area ratio between successive cut levels (smaller:
-//                               fewer, finer levels)
-//   L       float   0.25        [0, 16]: end-point distance as a fraction of the longest scene extent
-//   points  string  both        both | origin: code origin and end point, or the origin alone
-//   ranks   string  compressed  compressed | global: per-level widths from sibling sets or from whole levels
+// Parameters: mlhcc_params() below (the paper's code length is 32 bits; a smaller lambda makes more, finer levels).
 // Recorded with them: box=lo..hi, the scene bounds points are clamped to. Needs the scene's BVH.
 #include <fmt/format.h>
 
@@ -42,14 +36,24 @@
 
 namespace raycoh {
 
+const ParamTable& mlhcc_params() {
+  static const ParamTable table = {
+      key_bits_param(),
+      float_param("lambda", 0.125f, 0.001f, 0.999f, "surface-area ratio between successive cut levels"),
+      end_point_param(),
+      choice_param("points", "both", {"both", "origin"}, "code origin and end point, or the origin alone"),
+      choice_param("ranks", "compressed", {"compressed", "global"},
+                   "per-level widths from sibling sets or from whole levels"),
+  };
+  return table;
+}
+
 std::unique_ptr<Encoder> make_mlhcc_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);
-  const float lambda = params.get_float("lambda", 0.125f, 0.001f, 0.999f);
-  const float length = params.get_float("L", 0.25f, 0.f, 16.f);
-  const bool with_end = params.get_choice("points", "both", {"both", "origin"}) == "both";
-  const MlhccRanks ranks = params.get_choice("ranks", "compressed", {"compressed", "global"}) == "compressed"
-                               ? MlhccRanks::Compressed
-                               : MlhccRanks::Global;
+  const float lambda = params.get_float("lambda");
+  const float length = params.get_float("L");
+  const bool with_end = params.get_choice("points") == "both";
+  const MlhccRanks ranks = params.get_choice("ranks") == "compressed" ? MlhccRanks::Compressed : MlhccRanks::Global;
   const Bounds box = context.bounds;
   const std::string canonical = finish_encoder_params(params, box);
   if (!context.bvh) throw Error(fmt::format("{}: needs the scene's BVH, and none was given", params.owner()));

@@ -2,7 +2,7 @@
 // section 1), so every reordering method is measured against the free coherence of compact pixel blocks.
 // It makes no keys (key_bits() = 0) and reorder() leaves the batch alone at zero cost.
 //
-// Parameters: none.
+// Parameters: none (none_params() is empty).
 #include "encoders/key_encoder.h"
 
 namespace raycoh {
@@ -17,6 +17,11 @@ class NoneEncoder final : public Encoder {
 };
 
 }  // namespace
+
+const ParamTable& none_params() {
+  static const ParamTable table;
+  return table;
+}
 
 std::unique_ptr<Encoder> make_none_encoder(ParamSet& params, const EncoderContext& context) {
   params.finish();

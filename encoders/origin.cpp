@@ -3,12 +3,16 @@
 // Techniques for Faster GPU Ray Tracing"): rays that start close together are traced together, whatever their
 // direction.
 //
-// Parameters
-//   bits  int  32  32 | 64: key width, the top bits of the 64-bit code
+// Parameters: origin_params() below (the shared key_bits_param()).
 // Recorded with them: box=lo..hi, the scene bounds positions are quantised in.
 #include "encoders/key_encoder.h"
 
 namespace raycoh {
+
+const ParamTable& origin_params() {
+  static const ParamTable table = {key_bits_param()};
+  return table;
+}
 
 std::unique_ptr<Encoder> make_origin_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);

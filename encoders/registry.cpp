@@ -1,4 +1,5 @@
-// The explicit encoder registry: adding an encoder is one file plus one entry in the table here.
+// The explicit encoder registry: adding an encoder is one file (its doc block, parameter table and factory) plus
+// one record here.
 #include <fmt/format.h>
 
 #include "core/error.h"
@@ -6,69 +7,47 @@
 #include "encoders/key_encoder.h"
 
 namespace raycoh {
-namespace {
-
-using Factory = std::unique_ptr<Encoder> (*)(ParamSet&, const EncoderContext&);
-
-struct Entry {
-  EncoderInfo info;
-  Factory make;
-};
-
-const std::vector<Entry>& entries() {
-  static const std::string box = "; positions are quantised in the scene bounds, recorded as box=lo..hi";
-  static const std::vector<Entry> table = {
-      {{"none", "no reordering: rays are traced in the order the generator wrote them", "(no parameters)"},
-       make_none_encoder},
-      {{"origin", "3-D Morton code of the origin, 21 bits per axis (Meister et al. 2020)", "bits=32|64 (32)" + box},
-       make_origin_encoder},
-      {{"reis", "origin Morton (top 22 bits), then direction phi/theta interleaved, 21 bits each (Reis et al. 2017)",
-        "bits=32|64 (32)" + box},
-       make_reis_encoder},
-      {{"costa", "direction phi/theta 4+4 bits, then origin Morton 15 bits per axis (Costa et al. 2015)",
-        "bits=32|64 (32)" + box},
-       make_costa_encoder},
-      {{"aila",
-        "AilaCompact: 3 origin levels, then alternating origin / (d+1)/2 direction 3-bit groups, 13 bits per axis "
-        "(Aila & Karras 2010)",
-        "bits=32|64 (32)" + box},
-       make_aila_encoder},
-      {{"twopoint",
-        "6-D Morton code of origin and end point o + L d, L = min(L x longest extent, tmax, box exit), 13 bits per "
-        "axis (Meister et al. 2020)",
-        "bits=32|64 (32), L=float (0.25, [0, 16])" + box},
-       make_twopoint_encoder},
-      {{"mlhcc",
-        "hierarchy cut code: ranks of origin and end point in nested BVH cuts, per-level widths (Xiang et al. 2023)",
-        "bits=32|64 (32), lambda=float (0.125, [0.001, 0.999]), L=float (0.25, [0, 16]), points=both|origin "
-        "(both), ranks=compressed|global (compressed)" +
-            box},
-       make_mlhcc_encoder},
-  };
-  return table;
-}
-
-}  // namespace
 
 const std::vector<EncoderInfo>& encoder_infos() {
-  static const std::vector<EncoderInfo> infos = [] {
-    std::vector<EncoderInfo> out;
-    for (const Entry& e : entries()) out.push_back(e.info);
-    return out;
-  }();
+  // Every key encoder also records box=lo..hi after its parameters: the scene bounds positions are quantised in.
+  static const std::vector<EncoderInfo> infos = {
+      {"none", "no reordering: rays are traced in the order the generator wrote them", none_params, make_none_encoder},
+      {"origin", "3-D Morton code of the origin, 21 bits per axis (Meister et al. 2020)", origin_params,
+       make_origin_encoder},
+      {"reis", "origin Morton (top 22 bits), then direction phi/theta interleaved, 21 bits each (Reis et al. 2017)",
+       reis_params, make_reis_encoder},
+      {"costa", "direction phi/theta 4+4 bits, then origin Morton 15 bits per axis (Costa et al. 2015)", costa_params,
+       make_costa_encoder},
+      {"aila",
+       "AilaCompact: 3 origin levels, then alternating origin / (d+1)/2 direction 3-bit groups, 13 bits per axis "
+       "(Aila & Karras 2010)",
+       aila_params, make_aila_encoder},
+      {"twopoint",
+       "6-D Morton code of origin and end point o + L d, L = min(L x longest extent, tmax, box exit), 13 bits per "
+       "axis (Meister et al. 2020)",
+       twopoint_params, make_twopoint_encoder},
+      {"mlhcc",
+       "hierarchy cut code: ranks of origin and end point in nested BVH cuts, per-level widths (Xiang et al. 2023)",
+       mlhcc_params, make_mlhcc_encoder},
+  };
   return infos;
 }
 
 std::unique_ptr<Encoder> make_encoder(const PluginSpec& spec, const EncoderContext& context) {
-  ParamSet params(fmt::format("encoder '{}'", spec.name), spec.params);
-  for (const Entry& e : entries())
-    if (spec.name == e.info.name) return e.make(params, context);
-  std::vector<std::string> names;
-  for (const Entry& e : entries()) names.push_back(e.info.name);
-  throw Error(fmt::format("unknown encoder '{}'; valid encoders: {}", spec.name, join(names)));
+  const EncoderInfo& info = find_plugin(encoder_infos(), "encoder", spec.name);
+  ParamSet params(fmt::format("encoder '{}'", spec.name), spec.params, info.table());
+  return info.make(params, context);
 }
 
-int read_key_bits(ParamSet& params) { return params.get_choice("bits", "32", {"32", "64"}) == "64" ? 64 : 32; }
+ParamSpec key_bits_param() {
+  return choice_param("bits", "32", {"32", "64"}, "key width: the top bits of the 64-bit code");
+}
+
+ParamSpec end_point_param() {
+  return float_param("L", 0.25f, 0.f, 16.f, "end-point distance as a fraction of the longest scene extent");
+}
+
+int read_key_bits(ParamSet& params) { return params.get_choice("bits") == "64" ? 64 : 32; }
 
 std::string finish_encoder_params(ParamSet& params, const Bounds& box) {
   params.finish();

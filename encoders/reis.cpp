@@ -3,12 +3,16 @@
 // (encoders/origin.cpp: 8/7/7 bits of x/y/z), then the spherical direction's phi and theta, 21 bits each,
 // interleaved phi first; a 32-bit key holds phi and theta with 5 bits each.
 //
-// Parameters
-//   bits  int  32  32 | 64: key width, the top bits of the 64-bit code
+// Parameters: reis_params() below (the shared key_bits_param()).
 // Recorded with them: box=lo..hi, the scene bounds positions are quantised in.
 #include "encoders/key_encoder.h"
 
 namespace raycoh {
+
+const ParamTable& reis_params() {
+  static const ParamTable table = {key_bits_param()};
+  return table;
+}
 
 std::unique_ptr<Encoder> make_reis_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);

@@ -5,17 +5,20 @@
 // code (ax ay az bx by bz per level), keeping the top 64 of its 78 bits. A 32-bit key holds a 6/6/5 and b 5/5/5.
 // Rays that start and (probably) end near each other cross the same part of the tree.
 //
-// Parameters
-//   bits  int    32    32 | 64: key width, the top bits of the 64-bit code
-//   L     float  0.25  [0, 16]: end-point distance as a fraction of the longest scene extent (0: b = a)
+// Parameters: twopoint_params() below (the shared key_bits_param() and end_point_param(); L = 0: b = a).
 // Recorded with them: box=lo..hi, the scene bounds positions are quantised in and the end point is clamped to.
 #include "encoders/key_encoder.h"
 
 namespace raycoh {
 
+const ParamTable& twopoint_params() {
+  static const ParamTable table = {key_bits_param(), end_point_param()};
+  return table;
+}
+
 std::unique_ptr<Encoder> make_twopoint_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);
-  const float length = params.get_float("L", 0.25f, 0.f, 16.f);
+  const float length = params.get_float("L");
   const Bounds box = context.bounds;
   return make_key_encoder("twopoint", box, bits, finish_encoder_params(params, box),
                           [box, length](const Ray& r) { return twopoint_code(r.org, r.dir, r.tmax, box, length); });

@@ -1,5 +1,5 @@
 // Helpers every generator shares: material parameters, batch writing, statistics.
-#include "core/secondary_ray.h"
+#include "core/batch_view.h"
 #include "generators/generator.h"
 
 namespace raycoh {
@@ -24,14 +24,7 @@ std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vec
 }
 
 uint32_t emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s) {
-  const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, s);
-  out.rays[i] = r.ray;
-  out.weight[i] = r.weight;
-  out.normal[i] = r.normal;
-  out.pixel[i] = pixel;
-  out.pdf[i] = s.pdf;
-  out.material[i] = sp.cls;
-  return r.flags;
+  return write_ray(batch_view(out), i, sp, pixel, s);
 }
 
 void tally_ray(uint32_t flags, GenerationStats& stats) {

@@ -7,29 +7,37 @@
 // back-facing directions the paper shows. Transmissive pixels sample their own lobe. Rays are written in tile
 // order (row-major inside a tile).
 //
-// Parameters
-//   tile   WxH   8x8   each side in [1, 1024], W H <= 65536
+// Parameters: direct_params() below.
 #include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/own_lobe.h"
 #include "core/rng.h"
 #include "generators/tangent_reuse.h"
 #include "generators/tiles.h"
 
 namespace raycoh {
 
+const ParamTable& direct_params() {
+  static const ParamTable table = {
+      size_param("tile", {8, 8}, 1, 1024, "the tile sharing one world-space direction, at most 65536 pixels"),
+  };
+  return table;
+}
+
+std::unique_ptr<Generator> make_direct_generator(ParamSet& params) { return std::make_unique<DirectReuse>(params); }
+
 DirectReuse::DirectReuse(ParamSet& params) {
-  tile_ = params.get_size("tile", {8, 8}, 1, 1024);
+  tile_ = params.get_size("tile");
   if (tile_.first * tile_.second > 65536)
     throw Error(fmt::format("{}: tile={}x{} has more than 65536 pixels", params.owner(), tile_.first, tile_.second));
   params.finish();
   params_ = params.canonical();
 }
 
-void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, RayBatch& out,
-                           GenerationStats& stats) {
+void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, RayBatch& out, GenerationStats& stats) {
   const TileGrid grid(g.width, g.height, tile_.first, tile_.second);
   const std::vector<uint32_t> offsets = tile_hit_offsets(g, grid);
   out.width = g.width;
@@ -57,9 +65,7 @@ void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, 
     --donor;
     auto own_sample = [&](uint32_t p) {
       const ShadingPoint& sp = g.points[p];
-      return sample_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, sp.front_face,
-                              rng_float(seed, frame, p, kDimSecondary0), rng_float(seed, frame, p, kDimSecondary1),
-                              rng_float(seed, frame, p, kDimSecondaryLobe));
+      return sample_own_lobe(bsdf_params(scene.materials[sp.material]), sp, seed, frame, p);
     };
     const DirectionSample shared = own_sample(donor);
     uint32_t slot = offsets[t];

@@ -8,6 +8,7 @@
 
 #include "core/bsdf.h"
 #include "core/params.h"
+#include "core/plugin.h"
 #include "core/ray_batch.h"
 
 namespace raycoh {
@@ -22,11 +23,9 @@ class Generator {
   virtual std::string params() const = 0;
 };
 
-struct GeneratorInfo {
-  std::string name;
-  std::string summary;  // one line for `raycoh list`
-  std::string params;   // parameter table: name, type, default, range
-};
+// Reads its values from a ParamSet over the record's table; throws raycoh::Error for bad ones.
+using GeneratorFactory = std::unique_ptr<Generator> (*)(ParamSet& params);
+using GeneratorInfo = PluginInfo<GeneratorFactory>;
 
 const std::vector<GeneratorInfo>& generator_infos();
 // Throws raycoh::Error for unknown names or bad parameters, naming the valid choices.

@@ -3,25 +3,35 @@
 // numbers rng(seed, frame, pixel, kDimSecondary0/1, kDimSecondaryLobe), and the ray leaves from the hit point
 // offset along the geometric normal (Waechter & Binder) on the side the direction goes.
 //
-// Parameters
-//   order  string  tile      scanline | tile: batch order (DESIGN.md section 1; NoOpt gets the same compact
-//                            tile order as every generator, so no speedup is inflated by a scanline baseline)
-//   tile   WxH     8x8       [1, 4096] each: tile of the tile order
+// Parameters: noopt_params() below. NoOpt gets the same compact tile order as every generator (DESIGN.md
+// section 1), so no speedup is inflated by a scanline baseline.
+#include "generators/noopt.h"
+
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/bsdf.h"
+#include "core/own_lobe.h"
 #include "core/rng.h"
 #include "generators/generator.h"
-#include "generators/noopt.h"
 #include "generators/pixel_order.h"
 #include "generators/tiles.h"
 
 namespace raycoh {
 
+const ParamTable& noopt_params() {
+  static const ParamTable table = {
+      choice_param("order", "tile", ray_order_names(), "batch order: the image's rows, or W x H tiles"),
+      size_param("tile", {8, 8}, 1, 4096, "tile of the tile order"),
+  };
+  return table;
+}
+
+std::unique_ptr<Generator> make_noopt_generator(ParamSet& params) { return std::make_unique<NoOptGenerator>(params); }
+
 NoOptGenerator::NoOptGenerator(ParamSet& params) {
-  order_ = parse_ray_order(params.get_choice("order", "tile", ray_order_names()));
-  tile_ = params.get_size("tile", {8, 8}, 1, 4096);
+  order_ = parse_ray_order(params.get_choice("order"));
+  tile_ = params.get_size("tile");
   params.finish();
   params_ = params.canonical();
 }
@@ -29,8 +39,9 @@ NoOptGenerator::NoOptGenerator(ParamSet& params) {
 void NoOptGenerator::generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                               GenerationStats& stats) {
   // Scanline order is the tile order with one-row tiles; either way tiles are filled in parallel.
-  const TileGrid grid = order_ == RayOrder::Scanline ? TileGrid(gbuffer.width, gbuffer.height, gbuffer.width, 1)
-                                                     : TileGrid(gbuffer.width, gbuffer.height, tile_.first, tile_.second);
+  const TileGrid grid = order_ == RayOrder::Scanline
+                            ? TileGrid(gbuffer.width, gbuffer.height, gbuffer.width, 1)
+                            : TileGrid(gbuffer.width, gbuffer.height, tile_.first, tile_.second);
   const std::vector<uint32_t> offsets = tile_hit_offsets(gbuffer, grid);
   out.width = gbuffer.width;
   out.height = gbuffer.height;
@@ -49,10 +60,7 @@ void NoOptGenerator::generate(const Scene& scene, const GBuffer& gbuffer, uint32
           const uint32_t p = static_cast<uint32_t>(y * gbuffer.width + x);
           const ShadingPoint& sp = gbuffer.points[p];
           if (!sp.valid()) continue;
-          const DirectionSample s = sample_direction(
-              bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, sp.front_face,
-              rng_float(seed, frame, p, kDimSecondary0), rng_float(seed, frame, p, kDimSecondary1),
-              rng_float(seed, frame, p, kDimSecondaryLobe));
+          const DirectionSample s = sample_own_lobe(bsdf_params(scene.materials[sp.material]), sp, seed, frame, p);
           tally_ray(emit_ray(out, slot, sp, p, s), local);
           ++slot;
         }

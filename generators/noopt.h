@@ -16,11 +16,18 @@ class NoOptGenerator final : public Generator {
   void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                 GenerationStats& stats) override;
   std::string params() const override { return params_; }
+  // The typed configuration the GPU version runs (cuda/device_generators.h).
+  RayOrder order() const { return order_; }
+  std::pair<int, int> tile() const { return tile_; }
 
  private:
   RayOrder order_;
   std::pair<int, int> tile_;
   std::string params_;
 };
+
+// The parameter table and factory of `noopt` (noopt.cpp).
+const ParamTable& noopt_params();
+std::unique_ptr<Generator> make_noopt_generator(ParamSet& params);
 
 }  // namespace raycoh

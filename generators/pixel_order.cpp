@@ -1,10 +1,11 @@
 #include "generators/pixel_order.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+
 
 #include "core/error.h"
 #include "core/params.h"
+#include "core/tile_grid.h"
 
 namespace raycoh {
 
@@ -25,10 +26,11 @@ std::vector<uint32_t> make_pixel_order(int width, int height, RayOrder order, in
     for (int i = 0; i < width * height; ++i) out.push_back(static_cast<uint32_t>(i));
     return out;
   }
-  for (int ty = 0; ty < height; ty += tile_h)
-    for (int tx = 0; tx < width; tx += tile_w)
-      for (int y = ty; y < std::min(ty + tile_h, height); ++y)
-        for (int x = tx; x < std::min(tx + tile_w, width); ++x) out.push_back(static_cast<uint32_t>(y * width + x));
+  const TileGrid grid(width, height, tile_w, tile_h);  // the grid the GPU inverts (TileGrid::tile_major_slot)
+  for (int t = 0; t < grid.count(); ++t) {
+    const TileRect r = grid.rect(t);
+    for (uint32_t i = 0; i < r.area(); ++i) out.push_back(r.pixel(i, width));
+  }
   return out;
 }
 

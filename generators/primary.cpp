@@ -2,11 +2,14 @@
 // normals oriented towards the viewer, material class. Parallel over pixels with oneTBB.
 #include "generators/primary.h"
 
-#include <cmath>
 #include <tbb/parallel_for.h>
 
-#include "core/rng.h"
+#include <chrono>
+#include <cmath>
+
 #include "core/sampling.h"
+#include "generators/primary_ray.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 
@@ -24,11 +27,16 @@ void RayBatch::resize(size_t n, bool with_groups) {
 
 const char* to_string(GroupType t) {
   switch (t) {
-    case GroupType::Diffuse: return "diffuse";
-    case GroupType::Glossy: return "glossy";
-    case GroupType::Hybrid: return "hybrid";
-    case GroupType::WorldShared: return "world";
-    default: return "independent";
+    case GroupType::Diffuse:
+      return "diffuse";
+    case GroupType::Glossy:
+      return "glossy";
+    case GroupType::Hybrid:
+      return "hybrid";
+    case GroupType::WorldShared:
+      return "world";
+    default:
+      return "independent";
   }
 }
 
@@ -40,23 +48,10 @@ PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, cons
   out.frame = frame;
   out.rays.resize(order.size());
   out.pixel = order;
-  const Vec3 forward = normalize(camera.target - camera.eye);
-  const Vec3 right = normalize(cross(forward, camera.up));
-  const Vec3 up = cross(right, forward);
-  const float tan_half = std::tan(camera.vfov_deg * 0.5f * kPi / 180.f);
-  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  const PinholeCamera pinhole = make_pinhole_camera(camera, width, height);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
-      const uint32_t p = order[i];
-      const float jx = jitter ? rng_float(seed, frame, p, kDimPixelJitterX) : 0.5f;
-      const float jy = jitter ? rng_float(seed, frame, p, kDimPixelJitterY) : 0.5f;
-      const float sx = (2.f * ((static_cast<float>(p % width) + jx) / width) - 1.f) * tan_half * aspect;
-      const float sy = (1.f - 2.f * ((static_cast<float>(p / width) + jy) / height)) * tan_half;
-      Ray& ray = out.rays[i];
-      ray.org = camera.eye;
-      ray.dir = normalize(forward + right * sx + up * sy);
-      ray.tmin = 0.f;
-      ray.tmax = __builtin_huge_valf();
+      out.rays[i] = primary_ray(pinhole, order[i], seed, frame, jitter);
     }
   });
   return out;
@@ -96,6 +91,18 @@ GBuffer make_gbuffer(const Scene& scene, const PrimaryBatch& primary, const std:
   });
   for (const ShadingPoint& sp : g.points) g.hits += sp.valid();
   return g;
+}
+
+FirstHits first_hits(const Scene& scene, Tracer& tracer, int width, int height, const std::vector<uint32_t>& order,
+                     uint32_t seed, uint32_t frame, bool jitter) {
+  FirstHits f;
+  f.primary = make_primary_rays(scene.camera, width, height, order, seed, frame, jitter);
+  f.hits.resize(f.primary.rays.size());
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!f.hits.empty()) tracer.trace(f.primary.rays.data(), f.primary.rays.size(), f.hits.data());
+  f.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  f.gbuffer = make_gbuffer(scene, f.primary, f.hits);
+  return f;
 }
 
 }  // namespace raycoh

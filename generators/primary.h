@@ -8,6 +8,8 @@
 
 namespace raycoh {
 
+class Tracer;
+
 struct PrimaryBatch {
   int width = 0, height = 0;
   uint32_t frame = 0;
@@ -22,5 +24,17 @@ PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, cons
 
 // Shading points of the hits (hits[i] belongs to primary.rays[i]).
 GBuffer make_gbuffer(const Scene& scene, const PrimaryBatch& primary, const std::vector<Hit>& hits);
+
+// One frame's first hits: the camera rays in `order`, their closest hits and the G-buffer made from them.
+struct FirstHits {
+  PrimaryBatch primary;
+  std::vector<Hit> hits;  // hits[i] belongs to primary.rays[i]
+  GBuffer gbuffer;
+  double trace_seconds = 0.0;  // wall-clock time of the tracer call alone
+};
+
+// order -> primary rays -> trace -> G-buffer: the one way every command, benchmark and test gets its first hits.
+FirstHits first_hits(const Scene& scene, Tracer& tracer, int width, int height, const std::vector<uint32_t>& order,
+                     uint32_t seed, uint32_t frame, bool jitter = true);
 
 }  // namespace raycoh

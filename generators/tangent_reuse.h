@@ -1,20 +1,24 @@
-// The paper's generator (`ours`) and its contiguous-group ablation (`tile`); see tangent_reuse.cpp.
+// The paper's generator (`ours`) and its contiguous-group ablation (`contiguous`); see tangent_reuse.cpp.
 #pragma once
 
 #include <string>
 #include <utility>
 
 #include "generators/generator.h"
+#include "generators/grouping.h"
 
 namespace raycoh {
 
 class TangentSpaceReuse final : public Generator {
  public:
-  // interleaved = true: `ours` (shuffled, per-frame groups); false: `tile` (contiguous groups).
+  // interleaved = true: `ours` (shuffled, per-frame groups); false: `contiguous` (contiguous groups).
   TangentSpaceReuse(ParamSet& params, bool interleaved);
   void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                 GenerationStats& stats) override;
   std::string params() const override { return params_; }
+  // The grouping of one frame, as the CPU loop and the CUDA block phases read it.
+  GroupingConfig config(uint32_t seed, uint32_t frame) const;
+  std::pair<int, int> tile() const { return tile_; }
 
  private:
   bool interleaved_;
@@ -36,5 +40,13 @@ class DirectReuse final : public Generator {
   std::pair<int, int> tile_;
   std::string params_;
 };
+
+// Parameter tables and factories: `ours` and `contiguous` share ours_params() (tangent_reuse.cpp), `direct`
+// has direct_params() (direct_reuse.cpp).
+const ParamTable& ours_params();
+std::unique_ptr<Generator> make_ours_generator(ParamSet& params);
+std::unique_ptr<Generator> make_contiguous_generator(ParamSet& params);
+const ParamTable& direct_params();
+std::unique_ptr<Generator> make_direct_generator(ParamSet& params);
 
 }  // namespace raycoh

@@ -1,21 +1,10 @@
 #include "generators/tiles.h"
 
-#include <algorithm>
 #include <tbb/parallel_for.h>
 
 #include "core/rng.h"
 
 namespace raycoh {
-
-TileGrid::TileGrid(int w, int h, int tw, int th)
-    : width(w), height(h), tile_w(tw), tile_h(th), tiles_x((w + tw - 1) / tw), tiles_y((h + th - 1) / th) {}
-
-void TileGrid::rect(int t, int& x0, int& y0, int& w, int& h) const {
-  x0 = (t % tiles_x) * tile_w;
-  y0 = (t / tiles_x) * tile_h;
-  w = std::min(tile_w, width - x0);
-  h = std::min(tile_h, height - y0);
-}
 
 std::vector<uint32_t> tile_hit_offsets(const GBuffer& g, const TileGrid& grid) {
   std::vector<uint32_t> offsets(static_cast<size_t>(grid.count()) + 1, 0);

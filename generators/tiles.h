@@ -4,19 +4,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/tile_shuffle.h"
 #include "core/ray_batch.h"
+#include "core/tile_grid.h"
+#include "core/tile_shuffle.h"
 
 namespace raycoh {
-
-// W x H tiles covering the image in row-major tile order; tiles at the right and bottom borders are clipped.
-struct TileGrid {
-  int width = 0, height = 0, tile_w = 8, tile_h = 8, tiles_x = 0, tiles_y = 0;
-  TileGrid(int width, int height, int tile_w, int tile_h);
-  int count() const { return tiles_x * tiles_y; }
-  // Pixel rectangle of tile t.
-  void rect(int t, int& x0, int& y0, int& w, int& h) const;
-};
 
 // Hit pixels per tile and the batch slot where each tile's rays start in a tile-major batch (size count + 1).
 std::vector<uint32_t> tile_hit_offsets(const GBuffer& gbuffer, const TileGrid& grid);

@@ -12,8 +12,7 @@
 //           low columns, diffuse grass, dirt, stone, sand and snow blocks, and a few glossy blocks (gold ore, quartz)
 //           in the stone. Only faces not shared with a neighbouring block are emitted (the world's underside is not: it
 //           is never seen from above). Lit by sky + sun (no emitters); camera looking over the landscape from a corner.
-//           Parameters:
-//             size  int  default 64  range [4, 1024]  columns along x and z (about 5 size^2 triangles)
+//           Parameters: voxels_params() below (about 5 size^2 triangles).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -22,6 +21,7 @@
 #include "core/error.h"
 #include "core/params.h"
 #include "core/rng.h"
+#include "scenes/builtin_scenes.h"
 #include "scenes/scene.h"
 
 namespace raycoh {
@@ -227,16 +227,25 @@ Scene make_voxels(int size) {
   return s;
 }
 
-const std::vector<std::pair<std::string, std::string>>& builtin_table() {
-  static const std::vector<std::pair<std::string, std::string>> table = {
-      {"cornell",
-       "Cornell box (McGuire proportions): red/green/white diffuse walls, glossy metal tall block, "
-       "diffuse short block, emissive ceiling light; 32 triangles; no parameters"},
-      {"voxels",
-       "voxel landscape of unit cubes (heightmap, water, grass/dirt/stone/sand/snow, a few glossy "
-       "blocks), sky + sun lit; size (int, default 64, range [4, 1024]) = columns along x and z"},
-  };
+const ParamTable& no_params() {
+  static const ParamTable table;
   return table;
+}
+
+Scene make_cornell_scene(ParamSet& params) {
+  params.finish();
+  return make_cornell();
+}
+
+const ParamTable& voxels_params() {
+  static const ParamTable table = {int_param("size", 64, 4, 1024, "columns along x and z")};
+  return table;
+}
+
+Scene make_voxels_scene(ParamSet& params) {
+  const int size = params.get_int("size");
+  params.finish();
+  return make_voxels(size);
 }
 
 [[noreturn]] void unknown_builtin(const std::string& name) {
@@ -245,32 +254,41 @@ const std::vector<std::pair<std::string, std::string>>& builtin_table() {
 
 }  // namespace
 
+const std::vector<SceneInfo>& builtin_scene_infos() {
+  static const std::vector<SceneInfo> infos = {
+      {"cornell",
+       "Cornell box (McGuire proportions): red/green/white diffuse walls, glossy metal tall block, "
+       "diffuse short block, emissive ceiling light; 32 triangles",
+       no_params, make_cornell_scene},
+      {"voxels",
+       "voxel landscape of unit cubes (heightmap, water, grass/dirt/stone/sand/snow, a few glossy "
+       "blocks), sky + sun lit",
+       voxels_params, make_voxels_scene},
+  };
+  return infos;
+}
+
 std::vector<std::string> builtin_scene_names() {
   std::vector<std::string> names;
-  for (const auto& [name, summary] : builtin_table()) names.push_back(name);
+  for (const SceneInfo& info : builtin_scene_infos()) names.push_back(info.name);
   return names;
 }
 
 std::string builtin_scene_summary(const std::string& name) {
-  for (const auto& [n, summary] : builtin_table())
-    if (n == name) return summary;
+  for (const SceneInfo& info : builtin_scene_infos())
+    if (info.name == name)
+      return info.summary + (info.table().empty() ? "; no parameters" : "; params: " + info.params);
   unknown_builtin(name);
 }
 
 Scene make_builtin_scene(const std::string& spec) {
   const PluginSpec plugin = parse_plugin_spec(spec);
-  ParamSet params(fmt::format("scene '{}'", plugin.name), plugin.params);
-  Scene scene;
-  if (plugin.name == "cornell") {
-    params.finish();
-    scene = make_cornell();
-  } else if (plugin.name == "voxels") {
-    const int size = params.get_int("size", 64, 4, 1024);
-    params.finish();
-    scene = make_voxels(size);
-  } else {
-    unknown_builtin(plugin.name);
-  }
+  const auto& infos = builtin_scene_infos();
+  const auto it =
+      std::find_if(infos.begin(), infos.end(), [&](const SceneInfo& info) { return info.name == plugin.name; });
+  if (it == infos.end()) unknown_builtin(plugin.name);
+  ParamSet params(fmt::format("scene '{}'", plugin.name), plugin.params, it->table());
+  Scene scene = it->make(params);
   scene.name = plugin.name;
   scene.source = spec;
   finalize_scene(scene);

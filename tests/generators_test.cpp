@@ -1,25 +1,25 @@
 // Pixel orders, primary rays, G-buffer and the NoOpt generator: structure, determinism for any thread count,
 // and physically valid batches on the built-in scenes.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cstring>
 #include <set>
-#include <tbb/global_control.h>
 
-#include "core/error.h"
 #include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
+#include "core/error.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
 
 TEST(PixelOrder, IsAPermutationForAnyTileAndImage) {
-  for (auto [w, h, tw, th] : std::vector<std::array<int, 4>>{
-           {1, 1, 8, 8}, {13, 7, 8, 8}, {64, 64, 8, 8}, {5, 3, 16, 16}, {33, 17, 4, 8}}) {
+  for (auto [w, h, tw, th] :
+       std::vector<std::array<int, 4>>{{1, 1, 8, 8}, {13, 7, 8, 8}, {64, 64, 8, 8}, {5, 3, 16, 16}, {33, 17, 4, 8}}) {
     for (RayOrder order : {RayOrder::Scanline, RayOrder::Tile}) {
       std::vector<uint32_t> o = make_pixel_order(w, h, order, tw, th);
       ASSERT_EQ(o.size(), static_cast<size_t>(w * h));
@@ -44,10 +44,7 @@ struct Frame0 {
   GBuffer gbuffer;
   explicit Frame0(const std::string& spec, int w = 96, int h = 64) : scene(load_scene(spec)), bvh(build_bvh(scene)) {
     const auto order = make_pixel_order(w, h, RayOrder::Tile, 8, 8);
-    const PrimaryBatch primary = make_primary_rays(scene.camera, w, h, order, 1, 0, true);
-    std::vector<Hit> hits(primary.rays.size());
-    make_tracer({"cpu", ""}, scene, bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
-    gbuffer = make_gbuffer(scene, primary, hits);
+    gbuffer = first_hits(scene, *make_tracer({"cpu", ""}, scene, bvh), w, h, order, 1, 0).gbuffer;
   }
 };
 
@@ -75,6 +72,27 @@ TEST(GBuffer, ShadingPointsAreConsistent) {
     EXPECT_NEAR(length(sp.ns), 1.f, 1e-4f);
     EXPECT_TRUE(is_finite(sp.position));
   }
+}
+
+TEST(FirstHits, EqualsPrimaryRaysTraceAndGBufferDoneByHand) {
+  const Scene scene = load_scene("cornell");
+  const Bvh bvh = build_bvh(scene);
+  auto tracer = make_tracer({"cpu", ""}, scene, bvh);
+  const auto order = make_pixel_order(40, 30, RayOrder::Tile, 8, 8);
+  const FirstHits f = first_hits(scene, *tracer, 40, 30, order, 5, 2, false);
+  const PrimaryBatch primary = make_primary_rays(scene.camera, 40, 30, order, 5, 2, false);
+  std::vector<Hit> hits(primary.rays.size());
+  tracer->trace(primary.rays.data(), primary.rays.size(), hits.data());
+  const GBuffer g = make_gbuffer(scene, primary, hits);
+  ASSERT_EQ(f.primary.pixel, primary.pixel);
+  ASSERT_EQ(f.hits.size(), hits.size());
+  EXPECT_EQ(std::memcmp(f.primary.rays.data(), primary.rays.data(), hits.size() * sizeof(Ray)), 0);
+  EXPECT_EQ(std::memcmp(f.hits.data(), hits.data(), hits.size() * sizeof(Hit)), 0);
+  ASSERT_EQ(f.gbuffer.points.size(), g.points.size());
+  EXPECT_EQ(f.gbuffer.hits, g.hits);
+  EXPECT_EQ(f.gbuffer.frame, 2u);
+  EXPECT_EQ(std::memcmp(f.gbuffer.points.data(), g.points.data(), g.points.size() * sizeof(ShadingPoint)), 0);
+  EXPECT_GE(f.trace_seconds, 0.0);
 }
 
 TEST(NoOpt, OneRayPerHitPixelInTileOrder) {

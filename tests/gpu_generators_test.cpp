@@ -11,10 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/sampling.h"
-#include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"
@@ -22,6 +21,7 @@
 #include "generators/primary.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -172,11 +172,9 @@ void expect_same_batch(const RayBatch& gpu, const RayBatch& cpu, const Generatio
 }
 
 GBuffer frame_gbuffer(const Scene& scene, const Bvh& bvh, int width, int height, uint32_t frame, bool stiff) {
-  const PrimaryBatch primary = make_primary_rays(scene.camera, width, height,
-                                                 make_pixel_order(width, height, RayOrder::Tile, 8, 8), 1, frame, true);
-  std::vector<Hit> hits(primary.rays.size());
-  make_tracer({"cpu", ""}, scene, bvh)->trace(primary.rays.data(), hits.size(), hits.data());
-  GBuffer g = make_gbuffer(scene, primary, hits);
+  GBuffer g = first_hits(scene, *make_tracer({"cpu", ""}, scene, bvh), width, height,
+                         make_pixel_order(width, height, RayOrder::Tile, 8, 8), 1, frame)
+                  .gbuffer;
   if (stiff) {  // non-finite positions and normals, normals at the ONB's pole
     size_t seen = 0;
     for (ShadingPoint& sp : g.points) {
@@ -198,7 +196,7 @@ void expect_gpu_generator_matches(const Scene& scene, const GBuffer& g, const st
   RayBatch cpu_batch, gpu_batch;
   GenerationStats cpu_stats, gpu_stats;
   cpu->generate(scene, g, 7, cpu_batch, cpu_stats);
-  device.generate(g, 7, cuda::gpu_generator_config(spec.name, cpu->params()), gpu_batch, gpu_stats);
+  device.generate(g, 7, *cpu, gpu_batch, gpu_stats);
   EXPECT_GE(device.last_kernel_ms(), 0.f);
   expect_same_batch(gpu_batch, cpu_batch, gpu_stats, cpu_stats);
 }
@@ -219,8 +217,8 @@ const std::vector<std::string>& generator_specs() {
                                                  "ours:order=scanline",
                                                  "ours:seed=99",
                                                  "ours:tile=3x5,k=4",
-                                                 "tile",
-                                                 "tile:k=4,order=group"};
+                                                 "contiguous",
+                                                 "contiguous:k=4,order=group"};
   return specs;
 }
 
@@ -251,7 +249,7 @@ TEST(GpuGenerators, EdgeCasesEqualTheCpu) {
   for (auto [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {13, 9}, {5, 3}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
     const GBuffer g = frame_gbuffer(scene, bvh, w, h, 1, false);
-    for (const char* spec : {"noopt", "ours", "ours:tile=4x4,k=16", "ours:tile=4x4,k=3", "tile:tile=16x16,k=7"})
+    for (const char* spec : {"noopt", "ours", "ours:tile=4x4,k=16", "ours:tile=4x4,k=3", "contiguous:tile=16x16,k=7"})
       expect_gpu_generator_matches(scene, g, spec, device);
   }
   GBuffer empty = frame_gbuffer(scene, bvh, 16, 16, 0, false);
@@ -260,17 +258,11 @@ TEST(GpuGenerators, EdgeCasesEqualTheCpu) {
   for (const char* spec : {"noopt", "ours"}) expect_gpu_generator_matches(scene, empty, spec, device);
 }
 
-TEST(GpuGenerators, ConfigFollowsTheCpuParametersAndRejectsWhatTheGpuCannotDo) {
-  const cuda::GpuGeneratorConfig ours =
-      cuda::gpu_generator_config("ours", make_generator({"ours", "k=16,tile=16x8"})->params());
-  EXPECT_EQ(ours.kind, cuda::GpuGeneratorKind::Ours);
-  EXPECT_EQ(ours.tile_w, 16);
-  EXPECT_EQ(ours.tile_h, 8);
-  EXPECT_EQ(ours.k, 16);
-  EXPECT_EQ(cuda::gpu_generator_config("noopt", "order=scanline,tile=8x8").order, cuda::GpuBatchOrder::Scanline);
-  EXPECT_THROW(cuda::gpu_generator_config("direct", "tile=8x8"), Error);
-  EXPECT_THROW(cuda::gpu_generator_config("ours", "tile=64x64"), Error);  // 4096 pixels: over one block
-  EXPECT_THROW(cuda::gpu_generator_config("ours", "bogus=1"), Error);
+TEST(GpuGenerators, TakeTheCpuGeneratorsConfigAndRejectWhatTheGpuCannotDo) {
+  EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({"ours", "k=16,tile=16x8"})));
+  EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({"noopt", "order=scanline,tile=64x64"})));
+  EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"direct", ""})), Error);
+  EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"ours", "tile=64x64"})), Error);  // over one block
 }
 
 }  // namespace

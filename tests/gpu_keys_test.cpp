@@ -12,10 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/rng.h"
-#include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "cuda/device_keys.h"
 #include "encoders/encoder.h"
@@ -25,6 +24,7 @@
 #include "generators/primary.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -33,11 +33,9 @@ namespace {
   if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
 
 RayBatch secondary_batch(const Scene& scene, const Bvh& bvh, const std::string& generator) {
-  const PrimaryBatch primary =
-      make_primary_rays(scene.camera, 256, 192, make_pixel_order(256, 192, RayOrder::Tile, 8, 8), 1, 0, true);
-  std::vector<Hit> hits(primary.rays.size());
-  make_tracer({"cpu", ""}, scene, bvh)->trace(primary.rays.data(), hits.size(), hits.data());
-  const GBuffer g = make_gbuffer(scene, primary, hits);
+  const GBuffer g = first_hits(scene, *make_tracer({"cpu", ""}, scene, bvh), 256, 192,
+                               make_pixel_order(256, 192, RayOrder::Tile, 8, 8), 1, 0)
+                        .gbuffer;
   RayBatch batch;
   GenerationStats stats;
   make_generator(parse_plugin_spec(generator))->generate(scene, g, 1, batch, stats);

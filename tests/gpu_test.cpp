@@ -4,12 +4,12 @@
 #include <cstring>
 
 #include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
 #include "cuda/cuda_trace.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "tests/test_util.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -19,14 +19,15 @@ void expect_gpu_matches_cpu(const std::string& spec) {
   const Bvh bvh = build_bvh(scene);
   auto cpu = make_tracer({"cpu", ""}, scene, bvh);
   const auto order = make_pixel_order(256, 192, RayOrder::Tile, 8, 8);
-  const PrimaryBatch primary = make_primary_rays(scene.camera, 256, 192, order, 1, 0, true);
-  std::vector<Hit> cpu_hits(primary.rays.size()), gpu_hits(primary.rays.size());
-  cpu->trace(primary.rays.data(), primary.rays.size(), cpu_hits.data());
+  const FirstHits first = first_hits(scene, *cpu, 256, 192, order, 1, 0);
+  const PrimaryBatch& primary = first.primary;
+  std::vector<Hit> cpu_hits = first.hits;  // reused below for other batches
+  std::vector<Hit> gpu_hits(primary.rays.size());
   float ms = 0;
   cuda::trace_closest(bvh.view(), primary.rays.data(), primary.rays.size(), gpu_hits.data(), &ms);
   EXPECT_EQ(std::memcmp(cpu_hits.data(), gpu_hits.data(), cpu_hits.size() * sizeof(Hit)), 0) << spec;
 
-  const GBuffer g = make_gbuffer(scene, primary, cpu_hits);
+  const GBuffer& g = first.gbuffer;
   RayBatch batch;
   GenerationStats stats;
   make_generator({"noopt", ""})->generate(scene, g, 1, batch, stats);
@@ -35,8 +36,7 @@ void expect_gpu_matches_cpu(const std::string& spec) {
   cpu->trace(batch.rays.data(), batch.size(), cpu_hits.data());
   cuda::trace_closest(bvh.view(), batch.rays.data(), batch.size(), gpu_hits.data(), &ms);
   size_t differ = 0;
-  for (size_t i = 0; i < batch.size(); ++i)
-    differ += std::memcmp(&cpu_hits[i], &gpu_hits[i], sizeof(Hit)) != 0;
+  for (size_t i = 0; i < batch.size(); ++i) differ += std::memcmp(&cpu_hits[i], &gpu_hits[i], sizeof(Hit)) != 0;
   EXPECT_EQ(differ, 0u) << spec << ": " << differ << " of " << batch.size() << " secondary hits differ";
 }
 

@@ -13,19 +13,19 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/rng.h"
 #include "bvh/bvh_build.h"
+#include "core/error.h"
 #include "core/flush_denormals.h"
-#include "simt/simt.h"
-#include "tracers/tracer.h"
+#include "core/rng.h"
 #include "cuda/cuda_trace.h"
 #include "cuda/device_tracer.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "scenes/scene.h"
+#include "simt/simt.h"
 #include "tests/test_util.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -172,8 +172,8 @@ TEST(GpuTracerRegistry, ListedInCudaBuildsWithItsParameters) {
   const auto& infos = tracer_infos();
   const auto it = std::find_if(infos.begin(), infos.end(), [](const TracerInfo& i) { return i.name == "cuda"; });
   ASSERT_NE(it, infos.end());
-  EXPECT_NE(it->params.find("kernel=persistent|simple"), std::string::npos);
-  EXPECT_NE(it->params.find("counters=off|on"), std::string::npos);
+  EXPECT_EQ(default_params(it->table()), "kernel=persistent,block=128,counters=off,line=64");
+  EXPECT_EQ(it->table()[2].choices, (std::vector<std::string>{"off", "on"}));
 }
 
 TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {

@@ -5,12 +5,12 @@
 #include <cstring>
 
 #include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
 #include "encoders/encoder.h"
 #include "encoders/reorder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -19,12 +19,10 @@ TEST(Indirect, SameHitsAsPhysicalPermutationForEveryTracer) {
   const Scene scene = load_scene("voxels:size=32");
   const Bvh bvh = build_bvh(scene);
   const auto order = make_pixel_order(64, 48, RayOrder::Tile, 8, 8);
-  const PrimaryBatch primary = make_primary_rays(scene.camera, 64, 48, order, 1, 0, true);
-  std::vector<Hit> hits(primary.rays.size());
-  make_tracer({"cpu", ""}, scene, bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
+  const GBuffer gbuffer = first_hits(scene, *make_tracer({"cpu", ""}, scene, bvh), 64, 48, order, 1, 0).gbuffer;
   RayBatch batch, sorted;
   GenerationStats stats;
-  make_generator({"noopt", ""})->generate(scene, make_gbuffer(scene, primary, hits), 1, batch, stats);
+  make_generator({"noopt", ""})->generate(scene, gbuffer, 1, batch, stats);
   ASSERT_GT(batch.size(), 100u);
 
   for (const char* enc : {"origin", "twopoint", "mlhcc"}) {

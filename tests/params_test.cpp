@@ -1,8 +1,9 @@
 // Checked parameter sets and plugin lists.
+#include "core/params.h"
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "core/params.h"
 
 namespace raycoh {
 namespace {
@@ -28,7 +29,9 @@ TEST(Params, ErrorsNameTheOwnerAndTheValidChoices) {
   EXPECT_NE(message([] { ParamSet("tracer 't'", "k=0").get_int("k", 8, 1, 64); }).find("[1, 64]"), std::string::npos);
   EXPECT_NE(message([] { ParamSet("tracer 't'", "k=abc").get_int("k", 8, 1, 64); }).find("tracer 't'"),
             std::string::npos);
-  EXPECT_NE(message([] { ParamSet("g", "mode=x").get_choice("mode", "a", {"a", "b"}); }).find("a, b"),
+  EXPECT_NE(message([] {
+              ParamSet("g", "mode=x").get_choice("mode", "a", {"a", "b"});
+            }).find("a, b"),
             std::string::npos);
   EXPECT_NE(message([] {
               ParamSet p("g", "zz=1");
@@ -42,6 +45,66 @@ TEST(Params, ErrorsNameTheOwnerAndTheValidChoices) {
   EXPECT_THROW(parse_size("--res", "0x64", 1, 100), Error);
   EXPECT_THROW(parse_size("--res", "64x64x", 1, 100), Error);
   EXPECT_EQ(parse_size("--res", "64x32", 1, 100), std::make_pair(64, 32));
+}
+
+const ParamTable& test_table() {
+  static const ParamTable table = {
+      size_param("tile", {8, 8}, 1, 64, "the tile"),
+      int_param("k", 8, 1, 1024, "group size"),
+      float_param("lambda", 0.125f, 0.001f, 0.999f, "ratio"),
+      choice_param("order", "tile", {"tile", "scanline"}, "batch order"),
+      uint_param("seed", 0u, 0u, 0xFFFFFFFFu, "salt"),
+  };
+  return table;
+}
+
+std::string read_all(const std::string& text) {
+  ParamSet p("generator 'x'", text, test_table());
+  const auto tile = p.get_size("tile");
+  p.get_int_at_most("k", tile.first * tile.second);
+  p.get_float("lambda");
+  p.get_choice("order");
+  p.get_uint("seed");
+  p.finish();
+  return p.canonical();
+}
+
+TEST(Params, TableGivesDefaultsRangesAndTheCanonicalForm) {
+  EXPECT_EQ(read_all(""), "tile=8x8,k=8,lambda=0.125,order=tile,seed=0");
+  EXPECT_EQ(read_all(""), default_params(test_table()));
+  EXPECT_EQ(read_all("seed=7,k=16,tile=16x8"), "tile=16x8,k=16,lambda=0.125,order=tile,seed=7");
+  auto message = [](const std::string& text) {
+    try {
+      read_all(text);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // The same messages as reading with explicit defaults and ranges; k's upper end is W H.
+  EXPECT_EQ(message("k=65"), "generator 'x': k=65 is not valid; expected an integer in [1, 64]");
+  EXPECT_EQ(message("lambda=1"), "generator 'x': lambda=1 is not valid; expected a number in [0.001, 0.999]");
+  EXPECT_EQ(message("order=x"), "generator 'x': order=x is not valid; choose one of: tile, scanline");
+  EXPECT_EQ(message("zz=1"), "generator 'x': unknown parameter 'zz'; valid parameters: tile, k, lambda, order, seed");
+  EXPECT_NE(message("tile=65x1").find("[1, 64]"), std::string::npos);
+}
+
+TEST(Params, TableRowsThePluginDoesNotReadOrDeclareAreInternalErrors) {
+  ParamSet unread("g", "", test_table());
+  unread.get_size("tile");
+  EXPECT_THROW(unread.finish(), Error);  // k, lambda, ... declared but never read
+  ParamSet undeclared("g", "", test_table());
+  EXPECT_THROW(undeclared.get_int("size"), Error);
+  EXPECT_THROW(undeclared.get_float("k"), Error);  // declared as an int
+}
+
+TEST(Params, TablesPrintNameTypeDefaultRangeAndDoc) {
+  const std::string text = format_param_table(test_table(), "  ");
+  EXPECT_NE(text.find("  tile    WxH     8x8    [1, 64] each"), std::string::npos) << text;
+  EXPECT_NE(text.find("lambda  float   0.125  [0.001, 0.999]"), std::string::npos) << text;
+  EXPECT_NE(text.find("tile | scanline"), std::string::npos) << text;
+  EXPECT_EQ(format_param_table({}, "  "), "  (no parameters)\n");
+  EXPECT_EQ(param_summary(test_table()).substr(0, 22), "tile=8x8 ([1, 64] each");
 }
 
 TEST(Params, PluginListsKeepParametersWithTheirPlugin) {

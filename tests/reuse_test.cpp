@@ -140,8 +140,8 @@ TEST(Ours, GroupingChangesBetweenTilesAndFramesButNotForTheAblation) {
   int contiguous = 0;
   for (const auto& grp : groups_of_tile(f0, 0, 16)) contiguous += *grp.rbegin() - *grp.begin() == 7;
   EXPECT_LT(contiguous, 8);
-  const RayBatch t0 = run("tile", scene, flat_gbuffer(scene, 16, 8, 0));
-  const RayBatch t1 = run("tile", scene, flat_gbuffer(scene, 16, 8, 1));
+  const RayBatch t0 = run("contiguous", scene, flat_gbuffer(scene, 16, 8, 0));
+  const RayBatch t1 = run("contiguous", scene, flat_gbuffer(scene, 16, 8, 1));
   EXPECT_EQ(groups_of_tile(t0, 0, 16), groups_of_tile(t1, 0, 16));
   for (const auto& grp : groups_of_tile(t0, 0, 16)) EXPECT_EQ(*grp.rbegin() - *grp.begin(), 7u);
 }
@@ -194,7 +194,8 @@ TEST(Ours, EachDiffusePixelIsCosineDistributedAroundItsOwnNormal) {
       const Vec3 local = make_frame(g.points[b.pixel[i]].ns).to_local(b.rays[i].dir);
       ASSERT_GT(local.z, 0.f);
       const double u = local.z * local.z, v = (std::atan2(local.y, local.x) + kPi) / (2 * kPi);
-      const int bu = std::min(bins - 1, static_cast<int>(u * bins)), bv = std::min(bins - 1, static_cast<int>(v * bins));
+      const int bu = std::min(bins - 1, static_cast<int>(u * bins)),
+                bv = std::min(bins - 1, static_cast<int>(v * bins));
       ++per_pixel[b.pixel[i]][bu * bins + bv];
     }
   }
@@ -345,8 +346,9 @@ TEST(Generators, NoNonFiniteRayEverLeaves) {
     const Scene scene = material_scene(rough);
     GBuffer g = flat_gbuffer(scene, 16, 8, 7);
     const float nan = std::nanf(""), inf = __builtin_huge_valf();
-    const std::vector<Vec3> normals = {{0, 0, 1}, {0, 0, -1}, normalize(Vec3{1e-7f, 0, -1}), normalize(Vec3{0, 1e-7f, 1}),
-                                       {1, 0, 0}, {nan, 0, 1}, {inf, 0, 0}, {0, 0, 0}};
+    const std::vector<Vec3> normals = {
+        {0, 0, 1},   {0, 0, -1}, normalize(Vec3{1e-7f, 0, -1}), normalize(Vec3{0, 1e-7f, 1}), {1, 0, 0}, {nan, 0, 1},
+        {inf, 0, 0}, {0, 0, 0}};
     for (size_t i = 0; i < g.points.size(); ++i) {
       ShadingPoint& p = g.points[i];
       p.material = static_cast<uint32_t>(i % 4);
@@ -358,7 +360,7 @@ TEST(Generators, NoNonFiniteRayEverLeaves) {
       if (i % 13 == 0) p.position = {inf, 1e30f, -1e30f};
     }
     size_t flagged = 0;
-    for (const char* spec : {"noopt", "ours", "ours:k=1", "ours:k=64", "tile", "direct"}) {
+    for (const char* spec : {"noopt", "ours", "ours:k=1", "ours:k=64", "contiguous", "direct"}) {
       GenerationStats stats;
       const RayBatch b = run(spec, scene, g, 1, &stats);
       EXPECT_EQ(b.size(), g.points.size()) << spec;
@@ -372,7 +374,8 @@ TEST(Generators, NoNonFiniteRayEverLeaves) {
 TEST(Direct, SharesOneWorldDirectionPerTileAndCountsBackFacingUse) {
   const Scene scene = material_scene();
   GBuffer g = flat_gbuffer(scene, 16, 16, 0);
-  for (size_t i = 0; i < g.points.size(); ++i)  // half the pixels face another way: the shared direction can be behind them
+  for (size_t i = 0; i < g.points.size();
+       ++i)  // half the pixels face another way: the shared direction can be behind them
     if (i % 2) g.points[i].ns = g.points[i].ng = normalize(Vec3{0.f, 1.f, 0.1f});
   GenerationStats stats;
   const RayBatch b = run("direct", scene, g, 2, &stats);

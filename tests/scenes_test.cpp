@@ -700,7 +700,7 @@ TEST(Procedural, ParametersAreChecked) {
   EXPECT_NE(error_of([] { make_builtin_scene("sponge"); }).find("cornell, voxels"), std::string::npos);
   EXPECT_NE(error_of([] { builtin_scene_summary("sponge"); }).find("cornell, voxels"), std::string::npos);
   EXPECT_EQ(builtin_scene_names(), (std::vector<std::string>{"cornell", "voxels"}));
-  EXPECT_NE(builtin_scene_summary("voxels").find("size (int, default 64, range [4, 1024])"), std::string::npos);
+  EXPECT_NE(builtin_scene_summary("voxels").find("size=64 ([4, 1024])"), std::string::npos);
   EXPECT_FALSE(builtin_scene_summary("cornell").empty());
 }
 

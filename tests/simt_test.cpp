@@ -13,15 +13,15 @@
 #include <filesystem>
 #include <vector>
 
-#include "core/error.h"
 #include "bvh/bvh_build.h"
+#include "core/error.h"
 #include "core/flush_denormals.h"
-#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -262,10 +262,7 @@ Batch make_batch(const std::string& scene_spec, int w, int h, const std::string&
   Batch b{load_scene(scene_spec), {}, {}};
   b.bvh = build_bvh(b.scene);
   const auto order = make_pixel_order(w, h, RayOrder::Tile, 8, 8);
-  const PrimaryBatch primary = make_primary_rays(b.scene.camera, w, h, order, 1, 0, true);
-  std::vector<Hit> hits(primary.rays.size());
-  make_tracer({"cpu", ""}, b.scene, b.bvh)->trace(primary.rays.data(), primary.rays.size(), hits.data());
-  const GBuffer gbuffer = make_gbuffer(b.scene, primary, hits);
+  const GBuffer gbuffer = first_hits(b.scene, *make_tracer({"cpu", ""}, b.scene, b.bvh), w, h, order, 1, 0).gbuffer;
   RayBatch batch;
   GenerationStats stats;
   make_generator(parse_plugin_spec(generator))->generate(b.scene, gbuffer, 1, batch, stats);

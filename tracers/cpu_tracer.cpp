@@ -1,7 +1,7 @@
 // Tracer `cpu`: our own traversal (core/traverse.h, closest_hit with NoCounters) on the shared flat BVH2, run
 // over the batch with oneTBB, one task per block of consecutive rays.
 //
-// Parameters: none.
+// Parameters: none (cpu_params() is empty).
 //
 // Follows Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while traversal
 // of a two-boxes-per-node BVH2, with the watertight triangle test of Woop, Benthin and Wald (JCGT 2013). Every
@@ -11,9 +11,9 @@
 
 #include <memory>
 
-#include "core/traverse.h"
 #include "bvh/bvh_build.h"
 #include "core/flush_denormals.h"
+#include "core/traverse.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
@@ -49,6 +49,11 @@ class CpuTracer final : public Tracer {
 };
 
 }  // namespace
+
+const ParamTable& cpu_params() {
+  static const ParamTable table;
+  return table;
+}
 
 std::unique_ptr<Tracer> make_cpu_tracer(ParamSet& params, const Scene&, const Bvh& bvh) {
   params.finish();

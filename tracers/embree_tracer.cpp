@@ -2,13 +2,13 @@
 // oracle for our traversal. Embree builds its own acceleration structure from the scene's triangles in the
 // constructor (not part of the timed trace).
 //
-// Parameters:
-//   mode     choice, default single: single | packet16 | stream_coherent | stream_incoherent
+// Parameters: embree_params() below.
+//   mode
 //     single             rtcIntersect1 per ray (Embree ignores the coherence flag here)
 //     packet16           rtcIntersect16 on 16 consecutive rays of the batch, flag COHERENT
 //     stream_coherent    rtcIntersect1M on blocks of 256 consecutive rays, flag COHERENT
 //     stream_incoherent  rtcIntersect1M on blocks of 256 consecutive rays, flag INCOHERENT
-//   quality  choice, default high: high | medium
+//   quality
 //     high    RTC_BUILD_QUALITY_HIGH: SAH with spatial splits, Embree's best tree for static scenes
 //     medium  RTC_BUILD_QUALITY_MEDIUM: binned SAH, the builder our own BVH uses (for like-for-like runs)
 //
@@ -30,12 +30,12 @@
 #include <memory>
 #include <vector>
 
-#include "core/error.h"
 #include "bvh/bvh_build.h"
+#include "core/error.h"
 #include "core/flush_denormals.h"
 #include "embree/embree_device.h"
-#include "tracers/tracer.h"
 #include "scenes/scene.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -260,10 +260,18 @@ class EmbreeTracer final : public Tracer {
 
 }  // namespace
 
+const ParamTable& embree_params() {
+  static const ParamTable table = {
+      choice_param("mode", "single", {"single", "packet16", "stream_coherent", "stream_incoherent"},
+                   "Embree call per ray, per 16 rays, or per stream of 256 (see embree_tracer.cpp)"),
+      choice_param("quality", "high", {"high", "medium"}, "Embree's build: SAH with spatial splits, or binned SAH"),
+  };
+  return table;
+}
+
 std::unique_ptr<Tracer> make_embree_tracer(ParamSet& params, const Scene& scene, const Bvh&) {
-  const std::string mode =
-      params.get_choice("mode", "single", {"single", "packet16", "stream_coherent", "stream_incoherent"});
-  const std::string quality = params.get_choice("quality", "high", {"high", "medium"});
+  const std::string mode = params.get_choice("mode");
+  const std::string quality = params.get_choice("quality");
   params.finish();
   const Mode m = mode == "packet16"            ? Mode::Packet16
                  : mode == "stream_coherent"   ? Mode::StreamCoherent

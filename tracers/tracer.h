@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/params.h"
+#include "core/plugin.h"
 #include "core/ray.h"
 #include "core/warp_counters.h"
 
@@ -96,13 +97,12 @@ class Tracer {
   virtual double last_device_ms() const { return -1.0; }
 };
 
-struct TracerInfo {
-  std::string name;
-  std::string summary;  // one line for `raycoh list`
-  std::string params;   // "mode=single|packet16|stream_coherent|stream_incoherent (default single)"
-};
+// Reads its values from a ParamSet over the record's table; throws raycoh::Error for bad ones. The Scene and Bvh
+// must outlive the tracer.
+using TracerFactory = std::unique_ptr<Tracer> (*)(ParamSet& params, const Scene& scene, const Bvh& bvh);
+using TracerInfo = PluginInfo<TracerFactory>;
 
-// The explicit registry (adding a tracer = one file + one line in tracer_registry.cpp).
+// The explicit registry (adding a tracer = one file + one record in tracers/registry.cpp).
 const std::vector<TracerInfo>& tracer_infos();
 // Throws raycoh::Error for unknown names or bad parameters, naming the valid choices.
 std::unique_ptr<Tracer> make_tracer(const PluginSpec& spec, const Scene& scene, const Bvh& bvh);

@@ -1,0 +1,53 @@
+// A ray batch's arrays as plain pointers, and the one function that writes a ray into it: used by the CPU
+// generators (over a RayBatch's vectors) and by the CUDA kernels (over device buffers).
+#pragma once
+
+#include "core/bsdf.h"
+#include "core/platform.h"
+#include "core/ray_batch.h"
+#include "core/secondary_ray.h"
+
+namespace raycoh {
+
+struct BatchView {
+  Ray* rays;
+  uint32_t* pixel;
+  float* pdf;
+  Vec3* weight;
+  Vec3* normal;
+  MaterialClass* material;
+  uint32_t* tile;  // null for generators without groups
+  uint32_t* group;
+  GroupType* group_type;
+};
+
+// The batch's storage (it must already have its size: RayBatch::resize).
+inline BatchView batch_view(RayBatch& b) {
+  return BatchView{b.rays.data(),     b.pixel.data(), b.pdf.data(),   b.weight.data(),    b.normal.data(),
+                   b.material.data(), b.tile.data(),  b.group.data(), b.group_type.data()};
+}
+
+// Ray `slot` from a shading point and the direction chosen for it. The origin is offset along the geometric
+// normal on the side the direction leaves; a non-finite position yields a finite stand-in ray with weight 0,
+// flagged kSampleNonFinite in the returned flags.
+RAYCOH_HD RAYCOH_INLINE uint32_t write_ray(const BatchView& out, size_t slot, const ShadingPoint& sp, uint32_t pixel,
+                                           const DirectionSample& s) {
+  const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, s);
+  out.rays[slot] = r.ray;
+  out.weight[slot] = r.weight;
+  out.normal[slot] = r.normal;
+  out.pixel[slot] = pixel;
+  out.pdf[slot] = s.pdf;
+  out.material[slot] = sp.cls;
+  return r.flags;
+}
+
+// The group columns of ray `slot` (grouping generators).
+RAYCOH_HD RAYCOH_INLINE void write_group(const BatchView& out, size_t slot, uint32_t tile, uint32_t group,
+                                         GroupType type) {
+  out.tile[slot] = tile;
+  out.group[slot] = group;
+  out.group_type[slot] = type;
+}
+
+}  // namespace raycoh

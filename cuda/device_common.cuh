@@ -1,0 +1,77 @@
+// Block-level helpers of the generator kernels (cuda/device_primary.cu, device_generators.cu,
+// device_grouping.cu): statistics slots, block-wide counts, launch sizes. Included by .cu files only.
+#pragma once
+
+#include <cuda_runtime.h>
+
+#include <string>
+
+#include "core/batch_view.h"
+#include "core/error.h"
+#include "core/tile_grid.h"
+#include "generators/grouping.h"
+
+namespace raycoh::cuda {
+
+constexpr unsigned kFullMask = 0xffffffffu;
+constexpr int kMaxGroupTile = 1024;  // ours / contiguous: one thread per pixel of a tile
+
+// Statistics slots on the device (GenerationStats, in this order).
+enum StatSlot : int {
+  kStatRays = 0,
+  kStatBelowGeometric = 1,
+  kStatBelowShading = 2,
+  kStatNonFinite = 3,
+  kStatGroups = 4,  // 4 .. 8, indexed by GroupType
+  kStatHybridFallback = 9,
+  kStatReused = 10,
+  kStatCount = 11,
+};
+
+// Exclusive count of `flag` over the block's threads in thread order, and the block's total. Every thread of the
+// block calls it (blockDim.x a multiple of 32); warp_totals is __shared__ uint32_t[32].
+inline __device__ uint32_t block_exclusive_count(bool flag, uint32_t* warp_totals, uint32_t& total) {
+  const unsigned lane = threadIdx.x & 31u, warp = threadIdx.x >> 5;
+  const unsigned bits = __ballot_sync(kFullMask, flag);
+  if (lane == 0) warp_totals[warp] = static_cast<uint32_t>(__popc(bits));
+  __syncthreads();
+  uint32_t before = 0;
+  total = 0;
+  for (unsigned w = 0; w < (blockDim.x >> 5); ++w) {
+    const uint32_t v = warp_totals[w];
+    if (w < warp) before += v;
+    total += v;
+  }
+  __syncthreads();  // warp_totals may be rewritten by the next call
+  return before + static_cast<uint32_t>(__popc(bits & ((1u << lane) - 1u)));
+}
+
+// Adds each thread's tallies of emitted rays into the statistics (one atomic per counter and block).
+inline __device__ void tally_block(bool emitted, uint32_t flags, unsigned long long* stats) {
+  const int rays = __syncthreads_count(emitted);
+  const int below_geometric = __syncthreads_count(emitted && (flags & kSampleBelowGeometric));
+  const int below_shading = __syncthreads_count(emitted && (flags & kSampleBelowShading));
+  const int non_finite = __syncthreads_count(emitted && (flags & kSampleNonFinite));
+  if (threadIdx.x == 0) {
+    if (rays) atomicAdd(stats + kStatRays, static_cast<unsigned long long>(rays));
+    if (below_geometric) atomicAdd(stats + kStatBelowGeometric, static_cast<unsigned long long>(below_geometric));
+    if (below_shading) atomicAdd(stats + kStatBelowShading, static_cast<unsigned long long>(below_shading));
+    if (non_finite) atomicAdd(stats + kStatNonFinite, static_cast<unsigned long long>(non_finite));
+  }
+}
+
+inline unsigned blocks_for(size_t n, int block) {
+  const size_t blocks = (n + static_cast<size_t>(block) - 1) / static_cast<size_t>(block);
+  if (blocks > 0x7fffffffu) throw Error("cuda: " + std::to_string(n) + " threads are too many for one launch");
+  return static_cast<unsigned>(blocks);
+}
+
+inline int round_up_warp(int n) { return (n + 31) / 32 * 32; }
+
+// The grouping kernel (cuda/device_grouping.cu): one block per tile of `grid`, rays into `out`, statistics into
+// `stats` (kStatCount slots). offsets: first slot of each tile; scanline_slots: per pixel, for scanline order.
+void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
+                         const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
+                         const BatchView& out, unsigned long long* stats);
+
+}  // namespace raycoh::cuda

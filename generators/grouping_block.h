@@ -1,0 +1,166 @@
+// The paper's grouping in the block formulation of cuda/device_grouping.cu: one block per tile, one thread per
+// pixel number i (pixel phases) or per group q (group phases), barriers between phases. Every step is a function
+// of generators/grouping.h, so the block computes what the CPU tile loop computes; tests/grouping_test.cpp runs
+// these phases on the host, thread by thread, and compares the batch with the CPU generator's.
+#pragma once
+
+#include "core/batch_view.h"
+#include "core/tile_grid.h"
+#include "generators/grouping.h"
+
+namespace raycoh {
+
+enum PixelFlag : uint32_t { kPixelHit = 1u, kPixelMeanVote = 2u };
+
+// One tile's block-shared state (CUDA shared memory): [m] per pixel number, [g] per group of the full tile.
+struct TileGroups {
+  uint32_t* group_of;  // [m] group in tile
+  uint32_t* flags;     // [m] PixelFlag bits
+  uint32_t* pos;       // [m] position of a hit pixel among its tile's hits, group by group
+  Vec3* local;         // [m] tangent-space direction of a mean vote (kPixelMeanVote)
+  uint32_t* count;     // [g] hit members
+  uint32_t* diffuse;   // [g] diffuse-like members
+  uint32_t* start;     // [g] first position of the group
+  uint32_t* donor;     // [g] pixel (image index) of the donor
+  uint32_t* type;      // [g] GroupType
+  Vec3* shared_dir;    // [g] tangent-space direction of the diffuse members
+  MaterialClass* cls;  // [m] material class of a hit pixel
+};
+
+RAYCOH_HD RAYCOH_INLINE size_t tile_groups_bytes(uint32_t m, uint32_t g) {
+  return static_cast<size_t>(m) * (3 * sizeof(uint32_t) + sizeof(Vec3) + sizeof(MaterialClass)) +
+         static_cast<size_t>(g) * (5 * sizeof(uint32_t) + sizeof(Vec3));
+}
+
+// Lays the arrays out in `base` (tile_groups_bytes(m, g) bytes, 4-byte aligned); the byte-sized array last.
+RAYCOH_HD RAYCOH_INLINE TileGroups carve_tile_groups(unsigned char* base, uint32_t m, uint32_t g) {
+  TileGroups s;
+  auto u32 = [&base](uint32_t n) {
+    auto* p = reinterpret_cast<uint32_t*>(base);
+    base += sizeof(uint32_t) * n;
+    return p;
+  };
+  s.group_of = u32(m);
+  s.flags = u32(m);
+  s.pos = u32(m);
+  s.count = u32(g);
+  s.diffuse = u32(g);
+  s.start = u32(g);
+  s.donor = u32(g);
+  s.type = u32(g);
+  s.local = reinterpret_cast<Vec3*>(base);
+  s.shared_dir = s.local + m;
+  s.cls = reinterpret_cast<MaterialClass*>(s.shared_dir + g);
+  return s;
+}
+
+// What every phase of one tile reads.
+struct TileBlock {
+  GroupingConfig config;
+  TileRect rect;
+  uint32_t tile = 0, m = 0, groups = 0;
+  int image_width = 0;
+  const ShadingPoint* points = nullptr;
+  const BsdfParams* materials = nullptr;
+  TileGroups sh;
+};
+
+RAYCOH_HD RAYCOH_INLINE TileBlock make_tile_block(const GroupingConfig& c, const TileGrid& grid, uint32_t t,
+                                                  const ShadingPoint* points, const BsdfParams* materials,
+                                                  TileGroups sh) {
+  TileBlock b;
+  b.config = c;
+  b.rect = grid.rect(static_cast<int>(t));
+  b.tile = t;
+  b.m = b.rect.area();
+  b.groups = (b.m + c.k - 1) / c.k;
+  b.image_width = grid.width;
+  b.points = points;
+  b.materials = materials;
+  b.sh = sh;
+  return b;
+}
+
+// Phase 1 (pixel i < m): group and flags. Returns whether the pixel has a hit.
+RAYCOH_HD RAYCOH_INLINE bool phase_assign(const TileBlock& b, uint32_t i) {
+  const ShadingPoint& sp = b.points[b.rect.pixel(i, b.image_width)];
+  const bool hit = has_hit(sp);
+  b.sh.group_of[i] = group_in_tile(b.config, tile_shuffle(b.config, b.m, b.tile), i);
+  b.sh.flags[i] = hit ? kPixelHit : 0u;
+  b.sh.cls[i] = sp.cls;
+  return hit;
+}
+
+// Phase 2 (group q < groups): members and classification. The caller counts the group when census.count > 0.
+RAYCOH_HD RAYCOH_INLINE GroupCensus phase_census(const TileBlock& b, uint32_t q) {
+  GroupCensus census;
+  for (uint32_t j = 0; j < b.m; ++j)
+    if (b.sh.group_of[j] == q && (b.sh.flags[j] & kPixelHit)) census.add(b.sh.cls[j]);
+  b.sh.count[q] = census.count;
+  b.sh.diffuse[q] = census.diffuse;
+  b.sh.type[q] = static_cast<uint32_t>(census.type());
+  return census;
+}
+
+// Phase 3 (one thread): first position of each group.
+RAYCOH_HD RAYCOH_INLINE void phase_starts(const TileBlock& b) {
+  uint32_t s = 0;
+  for (uint32_t q = 0; q < b.groups; ++q) {
+    b.sh.start[q] = s;
+    s += b.sh.count[q];
+  }
+}
+
+// Phase 4 (group q < groups with members): member positions in row-major order and the donor.
+RAYCOH_HD RAYCOH_INLINE void phase_positions(const TileBlock& b, uint32_t q) {
+  DonorSearch donor{donor_rank(b.config, group_id(b.config, b.tile, q), b.sh.diffuse[q])};
+  uint32_t position = b.sh.start[q];
+  for (uint32_t j = 0; j < b.m; ++j) {
+    if (b.sh.group_of[j] != q || !(b.sh.flags[j] & kPixelHit)) continue;
+    b.sh.pos[j] = position++;
+    donor.offer(b.sh.cls[j], b.rect.pixel(j, b.image_width));
+  }
+  b.sh.donor[q] = donor.pixel;
+}
+
+// Batch slot of hit pixel i; rank is its rank among the tile's hits in row-major order.
+RAYCOH_HD RAYCOH_INLINE size_t pixel_slot(const TileBlock& b, uint32_t i, uint32_t rank, const uint32_t* offsets,
+                                          const uint32_t* scanline_slots) {
+  if (b.config.scanline) return scanline_slots[b.rect.pixel(i, b.image_width)];
+  return offsets[b.tile] + (b.config.group_order ? b.sh.pos[i] : rank);
+}
+
+RAYCOH_HD RAYCOH_INLINE uint32_t write_pixel(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot,
+                                             const DirectionSample& s) {
+  const uint32_t p = b.rect.pixel(i, b.image_width), q = b.sh.group_of[i];
+  return write_group_ray(out, slot, b.points[p], p, s, b.tile, group_id(b.config, b.tile, q),
+                         static_cast<GroupType>(b.sh.type[q]));
+}
+
+// Phase 5 (hit pixel i that is not diffuse-like): its own lobe, and its mean vote. Returns the sample flags.
+RAYCOH_HD RAYCOH_INLINE uint32_t phase_own_lobe(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot) {
+  const uint32_t p = b.rect.pixel(i, b.image_width);
+  const ShadingPoint& sp = b.points[p];
+  const DirectionSample s = sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p);
+  if (mean_vote(sp, s, b.sh.local[i])) b.sh.flags[i] |= kPixelMeanVote;
+  return write_pixel(b, out, i, slot, s);
+}
+
+// Phase 6 (group q < groups with diffuse members): their tangent-space direction.
+RAYCOH_HD RAYCOH_INLINE SharedDirection phase_shared_direction(const TileBlock& b, uint32_t q) {
+  GlossyMean mean;
+  for (uint32_t j = 0; j < b.m; ++j)
+    if (b.sh.group_of[j] == q && (b.sh.flags[j] & kPixelMeanVote)) mean.add(b.sh.local[j]);
+  const SharedDirection d = shared_direction(b.config, static_cast<GroupType>(b.sh.type[q]), mean, b.sh.donor[q]);
+  b.sh.shared_dir[q] = d.local;
+  return d;
+}
+
+// Phase 7 (diffuse-like hit pixel i): the group's direction in its own frame. Returns the sample flags.
+RAYCOH_HD RAYCOH_INLINE uint32_t phase_reuse(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot) {
+  const ShadingPoint& sp = b.points[b.rect.pixel(i, b.image_width)];
+  const Vec3 local = b.sh.shared_dir[b.sh.group_of[i]];
+  return write_pixel(b, out, i, slot, diffuse_from_local(b.materials[sp.material], sp.ns, sp.ng, local));
+}
+
+}  // namespace raycoh
