@@ -5,19 +5,8 @@
 // Its hits equal the `cpu` tracer's bit for bit; its products are the CoherenceCounters of last_counters(),
 // with the modeled kernel time, never its own wall-clock time.
 //
-// Parameters
-//   preset    string  rtx3060     rtx3060 | h100: the modelled GPU (simt/gpu_presets.cpp, every value cited)
-//   kernel    string  persistent  persistent | simple: the `cuda` tracer's kernels (warp placement, tail)
-//   block     int     128         [32, 1024], a multiple of 32: threads per block, as the `cuda` tracer's
-//   warp      int     32          [1, 64]: lanes per warp (the timing model places warps of this size)
-//   line      int     64          64 | 128: bytes per line of the counted node/triangle transactions
-//   regs      int     preset      [16, 255]: registers per thread of the modelled kernel (occupancy)
-//   resident  int     0           [0, 64]: resident warps per SM; 0 = the kernel's occupancy
-//   sms       int     preset      [1, 1024]: SMs
-//   l1_kb     int     preset      [1, 65536]: L1 per SM, KiB (4 sets, ways = l1_kb * 2)
-//   l2_mb     float   preset      [0.002, 4096]: shared L2, MiB (16 ways; rounded down to whole sets)
-//   dram_gbs  float   preset      [1, 100000]: DRAM bandwidth, GB/s (what-if studies)
-//   l2_bpc    float   preset      [1, 1000000]: L2 bandwidth, bytes per cycle (what-if studies)
+// Parameters: simt_params() below. Rows whose default is "preset" take the preset's value (simt/gpu_presets.cpp);
+// they exist for what-if studies (a GPU with half the DRAM bandwidth, another occupancy).
 //
 // Determinism and speed: everything depends on the batch and its order only, never on the thread count. Warps are
 // traced in parallel with oneTBB, a chunk at a time, each producing its step trace; the timing model replays the
@@ -151,24 +140,61 @@ class SimtTracer final : public Tracer {
 
 }  // namespace
 
+const ParamTable& simt_params() {
+  auto preset_row = [](const char* name, ParamType type, double lo, double hi, const char* doc) {
+    return ParamSpec{name, type, "preset", lo, hi, {}, doc};
+  };
+  static const ParamTable table = {
+      choice_param("preset", "rtx3060", gpu_preset_names(), "the modelled GPU (simt/gpu_presets.cpp)"),
+      choice_param("kernel", "persistent", {"persistent", "simple"}, "the `cuda` tracer's kernel: warp placement"),
+      int_param("block", 128, 32, 1024, "threads per block, a multiple of 32, as the `cuda` tracer's"),
+      int_param("warp", 32, 1, 64, "lanes per warp"),
+      choice_param("line", "64", {"64", "128"}, "bytes per line of the counted transactions"),
+      preset_row("regs", ParamType::Int, 16, 255, "registers per thread of the modelled kernel (occupancy)"),
+      int_param("resident", 0, 0, 64, "resident warps per SM; 0 = the kernel's occupancy"),
+      preset_row("sms", ParamType::Int, 1, 1024, "streaming multiprocessors"),
+      preset_row("l1_kb", ParamType::Int, 1, 65536, "L1 per SM in KiB (4 sets)"),
+      preset_row("l2_mb", ParamType::Float, 0.002, 4096, "L2 in MiB (16 ways, whole sets)"),
+      preset_row("dram_gbs", ParamType::Float, 1, 100000, "DRAM bandwidth in GB/s"),
+      preset_row("l2_bpc", ParamType::Float, 1, 1e6, "L2 bandwidth in bytes per cycle"),
+  };
+  return table;
+}
+
+namespace {
+
+// A row whose default is the preset's value: its range from the table.
+const ParamSpec& simt_row(const std::string& name) {
+  for (const ParamSpec& s : simt_params())
+    if (s.name == name) return s;
+  invariant_failed("a simt_params() row", __FILE__, __LINE__, name);
+}
+int preset_int(ParamSet& p, const std::string& key, uint64_t preset_value) {
+  const ParamSpec& s = simt_row(key);
+  return p.get_int(key, static_cast<int>(preset_value), static_cast<int>(s.lo), static_cast<int>(s.hi));
+}
+float preset_float(ParamSet& p, const std::string& key, double preset_value) {
+  const ParamSpec& s = simt_row(key);
+  return p.get_float(key, static_cast<float>(preset_value), static_cast<float>(s.lo), static_cast<float>(s.hi));
+}
+
+}  // namespace
+
 std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const Bvh& bvh) {
-  GpuModelConfig gpu = gpu_preset(params.get_choice("preset", "rtx3060", gpu_preset_names()));
+  GpuModelConfig gpu = gpu_preset(params.get_choice("preset"));
   KernelSpec& kernel = gpu.kernel;
-  kernel.kind = params.get_choice("kernel", "persistent", {"persistent", "simple"}) == "persistent"
-                    ? TraceKernel::Persistent
-                    : TraceKernel::Simple;
-  kernel.block_threads = static_cast<uint32_t>(params.get_int("block", 128, 32, 1024));
-  const int warp = params.get_int("warp", 32, 1, static_cast<int>(kMaxWarpSize));
-  const int line = std::stoi(params.get_choice("line", "64", {"64", "128"}));
-  kernel.regs_per_thread =
-      static_cast<uint32_t>(params.get_int("regs", static_cast<int>(kernel.regs_per_thread), 16, 255));
-  gpu.resident_override = static_cast<uint32_t>(params.get_int("resident", 0, 0, 64));
+  kernel.kind = params.get_choice("kernel") == "persistent" ? TraceKernel::Persistent : TraceKernel::Simple;
+  kernel.block_threads = static_cast<uint32_t>(params.get_int("block"));
+  const int warp = params.get_int("warp");
+  const int line = std::stoi(params.get_choice("line"));
+  kernel.regs_per_thread = static_cast<uint32_t>(preset_int(params, "regs", kernel.regs_per_thread));
+  gpu.resident_override = static_cast<uint32_t>(params.get_int("resident"));
   CacheModelConfig& cache = gpu.cache;
-  cache.sms = static_cast<uint32_t>(params.get_int("sms", static_cast<int>(cache.sms), 1, 1024));
-  const int l1_kb = params.get_int("l1_kb", static_cast<int>(cache.l1.bytes >> 10), 1, 65536);
-  const float l2_mb = params.get_float("l2_mb", static_cast<float>(cache.l2.bytes) / float(1 << 20), 0.002f, 4096.f);
-  gpu.gpu.dram_gb_s = params.get_float("dram_gbs", static_cast<float>(gpu.gpu.dram_gb_s), 1.f, 100000.f);
-  gpu.gpu.l2_bytes_per_clk = params.get_float("l2_bpc", static_cast<float>(gpu.gpu.l2_bytes_per_clk), 1.f, 1e6f);
+  cache.sms = static_cast<uint32_t>(preset_int(params, "sms", cache.sms));
+  const int l1_kb = preset_int(params, "l1_kb", cache.l1.bytes >> 10);
+  const float l2_mb = preset_float(params, "l2_mb", double(cache.l2.bytes) / double(1 << 20));
+  gpu.gpu.dram_gb_s = preset_float(params, "dram_gbs", gpu.gpu.dram_gb_s);
+  gpu.gpu.l2_bytes_per_clk = preset_float(params, "l2_bpc", gpu.gpu.l2_bytes_per_clk);
   params.finish();
 
   if (kernel.block_threads % 32 != 0)

@@ -329,7 +329,7 @@ TEST_P(SimtOnScene, HitsEqualTheCpuTracerBitForBit) {
   auto cpu = make_tracer({"cpu", ""}, b.scene, b.bvh);
   std::vector<Hit> expect(b.rays.size());
   cpu->trace(b.rays.data(), b.rays.size(), expect.data());
-  for (const std::string params : {"", "warp=13,line=128,block=3", "preset=h100,warp=64"}) {
+  for (const std::string params : {"", "warp=13,line=128,kernel=simple,block=96", "preset=h100,warp=64"}) {
     SCOPED_TRACE(params);
     auto simt = make_tracer({"simt", params}, b.scene, b.bvh);
     std::vector<Hit> hits(b.rays.size());
