@@ -1,4 +1,4 @@
-// raycoh_bench_simt: the `simt` tracer (simt/simt.h, simt/cache_model.h) on real secondary-ray batches, with its
+// raycoh_bench_simt: the `simt` tracer (simt/simt.h, simt/cache_model.h, simt/timed_replay.h) on real secondary-ray batches, with its
 // coherence counters as benchmark counters, registered at run time per scene, generator and tracer.
 //
 //   simt/<scene>/<generator>/<tracer>   one Tracer::trace call over the batch (wall-clock of the model, not a
@@ -7,7 +7,7 @@
 //     nodes/ray  per-ray node visits (speculative walks included)
 //     nlines/ray node transactions (distinct lines per node step) per ray; tlines/ray the same for triangles
 //     fetch/ray  sectors requested from L1 per ray; l1miss/ray, l2miss/ray in sectors; dram_B/ray bytes
-//     cost/ray   modeled cost (cycles) per ray
+//     modeled_mray_s  the timing model's MRay/s on the preset GPU (modeled, simt/timed_replay.h)
 //   Batches: frame 0 of the G-buffer from jittered camera rays (seed 1), secondary rays from the generator, in
 //   its batch order. Generators: noopt (tile order, the default) and noopt:order=scanline.
 //   Tracers: simt (preset rtx3060) and simt:preset=h100.
