@@ -16,7 +16,7 @@ class App;
 namespace raycoh {
 
 struct BoundCommand {
-  CLI::App* app = nullptr;                     // parsed() tells whether the user chose it
+  CLI::App* app = nullptr;                    // parsed() tells whether the user chose it
   std::function<int(const Provenance&)> run;  // converts the bound text and runs; returns the exit code
 };
 using BindCommand = BoundCommand (*)(CLI::App& parent);

@@ -1,6 +1,5 @@
 // `raycoh compare TEST REFERENCE`: every metric of shading/metrics.h for two image files.
 #include <CLI/CLI.hpp>
-
 #include <cmath>
 #include <cstdio>
 
@@ -25,7 +24,6 @@ int run_compare(const CompareOptions& o) {
               static_cast<unsigned long long>(m.inf_pixels));
   return 0;
 }
-
 
 BoundCommand bind_compare(CLI::App& parent) {
   auto o = std::make_shared<CompareOptions>();

@@ -9,9 +9,9 @@
 //                           (> 1: the generator reaches it sooner).
 // Curves are read by interpolating linearly in (log time, log error) between frames (error_at_time,
 // time_to_error in curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -182,8 +182,8 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
   for (size_t gi = 0; gi < generators_.size(); ++gi) {
     Run run;
     run.label = o.generators[gi].text();
-    run.pt = std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi],
-                                          settings_of(o.common, o.common.seed));
+    run.pt =
+        std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi], settings_of(o.common, o.common.seed));
     run.acc = Accumulator(o.common.width, o.common.height);
     runs_.push_back(std::move(run));
   }
@@ -295,10 +295,11 @@ SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const 
 void ConvergeRun::summarize() {
   const std::string summary_path = stem_path(o_.out) + "-summary.csv";
   RecordCsv<SummaryRow> summary(summary_path, summary_schema(), CsvWriter::Resume::No);
-  std::printf("\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
-              "baseline %s\n\n",
-              ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames,
-              ref_.kind.c_str(), kRelMseEpsilon, runs_[0].label.c_str());
+  std::printf(
+      "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
+      "baseline %s\n\n",
+      ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames, ref_.kind.c_str(),
+      kRelMseEpsilon, runs_[0].label.c_str());
   std::printf("| generator | frames | final relMSE | final PSNR |\n|---|---:|---:|---:|\n");
   for (const Run& r : runs_)
     std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
@@ -339,8 +340,8 @@ BoundCommand bind_converge(CLI::App& parent) {
   auto s = std::make_shared<State>();
   s->generators = join_specs(s->o.generators);
   s->time = fmt::format("{}s", s->o.time_s);
-  CLI::App* cmd = parent.add_subcommand(
-      "converge", "error against wall-clock and trace time; equal-time and equal-error ratios");
+  CLI::App* cmd =
+      parent.add_subcommand("converge", "error against wall-clock and trace time; equal-time and equal-error ratios");
   cmd->add_option("--scene", s->o.scene, "scene")->capture_default_str();
   cmd->add_option("--generators", s->generators, "comma-separated generators, the first is the baseline")
       ->capture_default_str();

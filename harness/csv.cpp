@@ -1,8 +1,9 @@
 #include "harness/csv.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <filesystem>
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "harness/exit_codes.h"
@@ -59,7 +60,8 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& co
     std::ifstream in(partial_path(), std::ios::binary);
     std::string line;
     std::vector<std::string> fields;
-    if (allow_resume == Resume::Yes && in && std::getline(in, line) && !in.eof() && csv_parse_line(line, fields) && fields == columns) {
+    if (allow_resume == Resume::Yes && in && std::getline(in, line) && !in.eof() && csv_parse_line(line, fields) &&
+        fields == columns) {
       resume = true;
       keep_bytes = line.size() + 1;
       while (std::getline(in, line)) {
@@ -93,7 +95,8 @@ std::string CsvWriter::csv_line(const std::vector<std::string>& fields) {
 void CsvWriter::put(const std::string& text) {
   out_ << text;
   out_.flush();
-  if (!out_) throw WriteError(fmt::format("--out {}: writing {} failed (disk full or file removed?)", path_, partial_path()));
+  if (!out_)
+    throw WriteError(fmt::format("--out {}: writing {} failed (disk full or file removed?)", path_, partial_path()));
 }
 
 size_t CsvWriter::column(const std::string& name) const {
@@ -103,7 +106,8 @@ size_t CsvWriter::column(const std::string& name) const {
 }
 
 void CsvWriter::write_row(const std::vector<std::string>& values) {
-  RAYCOH_CHECK(values.size() == columns_.size(), fmt::format("{} values for {} columns", values.size(), columns_.size()));
+  RAYCOH_CHECK(values.size() == columns_.size(),
+               fmt::format("{} values for {} columns", values.size(), columns_.size()));
   // One string, one write: a crash leaves at most one torn line, which a resume drops.
   put(csv_line(values));
   ++rows_;

@@ -135,7 +135,11 @@ class ExperimentRun {
 };
 
 ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
-    : o_(o), provenance_(p), generators_(checked_generators(o)), permute_(parse_permute_mode(o.permute)), csv_(o.out, experiment_schema()) {
+    : o_(o),
+      provenance_(p),
+      generators_(checked_generators(o)),
+      permute_(parse_permute_mode(o.permute)),
+      csv_(o.out, experiment_schema()) {
   // Rows of another code revision are never reused, and are not kept either: one file, one revision.
   const size_t stale =
       csv_.keep_resumed_if([&](const ExperimentRow& r) { return r.provenance.git_revision == p.git_revision; });

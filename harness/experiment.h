@@ -24,13 +24,13 @@ struct Method {
 // value (the one validation layer) and names the option in its error.
 struct ExperimentOptions {
   std::vector<std::string> scenes;
-  std::vector<Method> methods;                // must contain the baseline labelled "noopt"
+  std::vector<Method> methods;                   // must contain the baseline labelled "noopt"
   std::vector<PluginSpec> tracers{{"cpu", ""}};  // `auto`: cuda with a GPU, else cpu and simt
-  int width = 320, height = 240;              // --res, each in [1, 16384]
-  int frames = 4;                             // --frames [1, 100000]
-  uint32_t seed = 1;                          // --seed
-  int repeats = 3;                            // --repeat [1, 1000]: timed traces per batch; the median is reported
-  std::string permute = "physical";           // physical | indirect: how a reordering is applied (encoders/permute.h)
+  int width = 320, height = 240;                 // --res, each in [1, 16384]
+  int frames = 4;                                // --frames [1, 100000]
+  uint32_t seed = 1;                             // --seed
+  int repeats = 3;                               // --repeat [1, 1000]: timed traces per batch; the median is reported
+  std::string permute = "physical";  // physical | indirect: how a reordering is applied (encoders/permute.h)
   std::string out;
 };
 

@@ -1,6 +1,5 @@
 // `raycoh list`: every plugin with its parameters (type, default, range), rendered from the registries.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "harness/command.h"

@@ -1,8 +1,8 @@
 // raycoh command line: a list of commands (harness/command.h), each bound in its own file. Every failure ends in
 // one line on stderr and an exit code of harness/exit_codes.h (user errors: 2).
-#include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <new>
@@ -18,7 +18,7 @@ namespace {
 using namespace raycoh;
 
 // In the order `raycoh --help` lists them.
-const BindCommand kCommands[] = {bind_list,    bind_scenes_info, bind_table,    bind_sweep,  bind_render,
+const BindCommand kCommands[] = {bind_list,    bind_scenes_info, bind_table,   bind_sweep, bind_render,
                                  bind_quality, bind_converge,    bind_compare, bind_rays};
 
 std::string one_line(std::string text) {
@@ -62,8 +62,7 @@ bool check_command_word(const CLI::App& app, int argc, char** argv) {
       continue;
     }
     if (std::find(names.begin(), names.end(), arg) != names.end()) return true;
-    std::fprintf(stderr, "raycoh: error: unknown command '%s'; valid commands: %s\n", arg.c_str(),
-                 join(names).c_str());
+    std::fprintf(stderr, "raycoh: error: unknown command '%s'; valid commands: %s\n", arg.c_str(), join(names).c_str());
     return false;
   }
   return true;

@@ -1,7 +1,8 @@
 #include "harness/provenance.h"
 
-#include <ctime>
 #include <embree3/rtcore_config.h>
+
+#include <ctime>
 #include <fstream>
 #include <thread>
 

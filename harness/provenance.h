@@ -13,11 +13,11 @@ struct Provenance {
   std::string git_revision;
   std::string build_type;
   std::string compiler;
-  std::string cpu;       // model name and logical core count
-  std::string device;    // "cpu", or the CUDA device's name on rows a cuda tracer measured (device_of)
+  std::string cpu;     // model name and logical core count
+  std::string device;  // "cpu", or the CUDA device's name on rows a cuda tracer measured (device_of)
   std::string embree_version;
-  int threads = 0;       // worker threads in use
-  std::string timestamp; // UTC, ISO 8601, when the run started
+  int threads = 0;        // worker threads in use
+  std::string timestamp;  // UTC, ISO 8601, when the run started
   std::string command_line;
 };
 

@@ -11,9 +11,9 @@
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
 // Images of every render 0, the reference and the crops go to --images. Resume: rows already in <out>.partial
 // from an interrupted run with the same settings, scene, method and git revision are kept, not rendered again.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -45,8 +45,8 @@ void check_quality(const QualityOptions& o) {
   if (o.scenes.empty()) throw Error("--scenes: empty list");
   for (const std::string& s : o.scenes) check_scene_spec("--scenes", s);
   if (!o.reference.empty() && o.scenes.size() != 1)
-    throw Error(fmt::format("--reference {}: an explicit reference image needs exactly one scene (got {})",
-                            o.reference, o.scenes.size()));
+    throw Error(fmt::format("--reference {}: an explicit reference image needs exactly one scene (got {})", o.reference,
+                            o.scenes.size()));
   if (!o.reference.empty() && !fs::is_regular_file(o.reference))
     throw Error(fmt::format("--reference {}: no such image file", o.reference));
   check_crops(o.crops, o.common.width, o.common.height);
@@ -78,9 +78,8 @@ struct ImageSink {
   }
 };
 
-Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generator& generator,
-                         const std::string& label, const Image& ref, const ToneMap& tm, const ImageSink& sink,
-                         size_t item, size_t items) {
+Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generator& generator, const std::string& label,
+                         const Image& ref, const ToneMap& tm, const ImageSink& sink, size_t item, size_t items) {
   Renders out;
   Accumulator mean_acc(o.common.width, o.common.height);
   Progress bar;
@@ -155,8 +154,8 @@ void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows)
       "render s | MRay/s |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const QualityRow& r : rows)
     std::printf("| %s | %s | %.3g | %.2f | %.2f | %.4f | %.4g | %.4g | %.3g | %.3g | %llu | %.1f | %.2f |\n",
-                r.scene.c_str(), r.method.c_str(), r.exposure, r.psnr, r.psnr_std, r.ssim, r.rmse, r.rel_mse,
-                r.bias2, r.variance, static_cast<unsigned long long>(r.non_finite_samples), r.render_s, r.mray_s);
+                r.scene.c_str(), r.method.c_str(), r.exposure, r.psnr, r.psnr_std, r.ssim, r.rmse, r.rel_mse, r.bias2,
+                r.variance, static_cast<unsigned long long>(r.non_finite_samples), r.render_s, r.mray_s);
 }
 
 class QualityRun {
@@ -302,8 +301,7 @@ BoundCommand bind_quality(CLI::App& parent) {
   auto s = std::make_shared<State>();
   s->scenes = join(s->o.scenes, ",");
   s->generators = join_specs(s->o.generators);
-  CLI::App* cmd =
-      parent.add_subcommand("quality", "image error of each generator against a NoOpt reference (Table 2)");
+  CLI::App* cmd = parent.add_subcommand("quality", "image error of each generator against a NoOpt reference (Table 2)");
   cmd->add_option("--scenes", s->scenes, "comma-separated scenes")->capture_default_str();
   cmd->add_option("--generators", s->generators, "comma-separated generators")->capture_default_str();
   cmd->add_option("--frames", s->o.frames, "frames per render")->capture_default_str();

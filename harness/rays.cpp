@@ -1,8 +1,8 @@
 #include "harness/rays.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <tuple>
@@ -46,18 +46,30 @@ const Schema<RayRow>& all_ray_columns() {
   using namespace csv_format;
   using R = RayRow;
   static const Schema<R> schema = {
-      column("index", &R::index, Integer<size_t>{}),       column("pixel_x", &R::pixel_x, Integer<uint32_t>{}),
-      column("pixel_y", &R::pixel_y, Integer<uint32_t>{}), column("frame", &R::frame, Integer<int>{}),
-      column("org_x", &R::org_x, Float9{}),                column("org_y", &R::org_y, Float9{}),
-      column("org_z", &R::org_z, Float9{}),                column("dir_x", &R::dir_x, Float9{}),
-      column("dir_y", &R::dir_y, Float9{}),                column("dir_z", &R::dir_z, Float9{}),
-      column("tmin", &R::tmin, Float9{}),                  column("tmax", &R::tmax, Float9{}),
-      column("normal_x", &R::normal_x, Float9{}),          column("normal_y", &R::normal_y, Float9{}),
-      column("normal_z", &R::normal_z, Float9{}),          column("material_class", &R::material_class, Text{}),
-      column("pdf", &R::pdf, Float9{}),                    column("weight_r", &R::weight_r, Float9{}),
-      column("weight_g", &R::weight_g, Float9{}),          column("weight_b", &R::weight_b, Float9{}),
-      column("tile", &R::tile, Integer<uint32_t>{}),       column("group", &R::group, Integer<uint32_t>{}),
-      column("group_type", &R::group_type, Text{}),        column("key", &R::key, Text{}),
+      column("index", &R::index, Integer<size_t>{}),
+      column("pixel_x", &R::pixel_x, Integer<uint32_t>{}),
+      column("pixel_y", &R::pixel_y, Integer<uint32_t>{}),
+      column("frame", &R::frame, Integer<int>{}),
+      column("org_x", &R::org_x, Float9{}),
+      column("org_y", &R::org_y, Float9{}),
+      column("org_z", &R::org_z, Float9{}),
+      column("dir_x", &R::dir_x, Float9{}),
+      column("dir_y", &R::dir_y, Float9{}),
+      column("dir_z", &R::dir_z, Float9{}),
+      column("tmin", &R::tmin, Float9{}),
+      column("tmax", &R::tmax, Float9{}),
+      column("normal_x", &R::normal_x, Float9{}),
+      column("normal_y", &R::normal_y, Float9{}),
+      column("normal_z", &R::normal_z, Float9{}),
+      column("material_class", &R::material_class, Text{}),
+      column("pdf", &R::pdf, Float9{}),
+      column("weight_r", &R::weight_r, Float9{}),
+      column("weight_g", &R::weight_g, Float9{}),
+      column("weight_b", &R::weight_b, Float9{}),
+      column("tile", &R::tile, Integer<uint32_t>{}),
+      column("group", &R::group, Integer<uint32_t>{}),
+      column("group_type", &R::group_type, Text{}),
+      column("key", &R::key, Text{}),
   };
   return schema;
 }
@@ -138,11 +150,12 @@ int run_rays(const RaysOptions& o, const Provenance& provenance) {
     csv.write(row);
   }
   csv.finish();
-  std::printf("wrote %zu rays of %s / %s [%s], frame %d, %dx%d, seed %u to %s (%zu below the geometric surface, "
-              "%zu below the shading hemisphere, %zu non-finite; %s)\n",
-              batch.size(), scene.name.c_str(), o.generator.name.c_str(), generator->params().c_str(), o.frame,
-              o.width, o.height, o.seed, o.out.c_str(), stats.below_geometric, stats.below_shading, stats.non_finite,
-              provenance.git_revision.c_str());
+  std::printf(
+      "wrote %zu rays of %s / %s [%s], frame %d, %dx%d, seed %u to %s (%zu below the geometric surface, "
+      "%zu below the shading hemisphere, %zu non-finite; %s)\n",
+      batch.size(), scene.name.c_str(), o.generator.name.c_str(), generator->params().c_str(), o.frame, o.width,
+      o.height, o.seed, o.out.c_str(), stats.below_geometric, stats.below_shading, stats.non_finite,
+      provenance.git_revision.c_str());
   return 0;
 }
 

@@ -1,8 +1,8 @@
 // `raycoh render`: one scene, one generator, N frames (frames 0..N-1, seed --seed) through shading/path_tracer.h;
 // writes the mean image (.exr float, .png tone-mapped, .pfm) and the --crop regions beside it.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 

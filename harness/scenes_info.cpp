@@ -1,6 +1,5 @@
 // `raycoh scenes info SCENE`: a scene's features, the stages it skips, its camera and BVH statistics.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 #include <memory>
 

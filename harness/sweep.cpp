@@ -2,9 +2,9 @@
 // the paper's Table 3 layout per tracer (MRay/s, or modeled cost per ray for modelling tracers).
 #include "harness/sweep.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <climits>
 #include <cstdio>
 
@@ -39,9 +39,10 @@ void print_sweep(const SweepOptions& o, const SceneResult& r, const std::string&
   auto value = [&](const Accumulated& a) { return model ? a.per_ray(a.cost_w) : a.mray_s(); };
   const double base = value(m.at("noopt"));
   if (model)
-    std::printf("\n%s, tracer %s: modeled cost per ray of %s (modeled speedup over noopt, %.0f per ray); %dx%d, "
-                "%d frame(s)\n\n",
-                r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);
+    std::printf(
+        "\n%s, tracer %s: modeled cost per ray of %s (modeled speedup over noopt, %.0f per ray); %dx%d, "
+        "%d frame(s)\n\n",
+        r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);
   else
     std::printf("\n%s, tracer %s: secondary MRay/s of %s (ratio to noopt %.2f MRay/s); %dx%d, %d frame(s)\n\n",
                 r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);

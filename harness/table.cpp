@@ -2,9 +2,9 @@
 // MRay/s with ratios to noopt (or, for modelling tracers, coherence counters), then a generation table.
 #include "harness/table.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <set>
@@ -33,9 +33,11 @@ std::string row_name(const std::string& label) {
 }
 
 void print_generation(const std::vector<SceneResult>& results, const std::vector<Method>& methods) {
-  std::printf("\nSecondary-ray generation per frame: time, groups by type (diffuse/glossy/hybrid/independent/world), "
-              "rays reusing another pixel's direction, rays below the geometric surface (weight 0)\n\n");
-  std::printf("| scene | generator | gen ms | groups d/g/h/i/w | reused | below geometric |\n|---|---|---:|---|---:|---:|\n");
+  std::printf(
+      "\nSecondary-ray generation per frame: time, groups by type (diffuse/glossy/hybrid/independent/world), "
+      "rays reusing another pixel's direction, rays below the geometric surface (weight 0)\n\n");
+  std::printf(
+      "| scene | generator | gen ms | groups d/g/h/i/w | reused | below geometric |\n|---|---|---:|---|---:|---:|\n");
   for (const SceneResult& r : results) {
     std::set<std::string> shown;
     for (const Method& m : methods) {
@@ -43,8 +45,8 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
       const GenerationStats& g = r.generation.at(m.label);
       const double rays = g.rays > 0 ? static_cast<double>(g.rays) : 1.0;
       std::printf("| %s | %s | %.2f | %zu/%zu/%zu/%zu/%zu | %.1f%% | %.2f%% |\n", r.scene.c_str(),
-                  m.generator.text().c_str(), r.gen_ms.at(m.label), g.groups[1], g.groups[2], g.groups[3],
-                  g.groups[0], g.groups[4], 100.0 * g.reused_rays / rays, 100.0 * g.below_geometric / rays);
+                  m.generator.text().c_str(), r.gen_ms.at(m.label), g.groups[1], g.groups[2], g.groups[3], g.groups[0],
+                  g.groups[4], 100.0 * g.reused_rays / rays, 100.0 * g.below_geometric / rays);
     }
   }
 }
@@ -53,9 +55,10 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
 // cost(noopt) / cost(method), the ranking the cost model gives (simt/).
 void print_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
                     const std::string& header) {
-  std::printf("\n### %s: SIMT efficiency, L1 / L2 sector misses per ray, modeled cost per ray (modeled speedup over "
-              "noopt)\n\n%s\n",
-              tl.c_str(), header.c_str());
+  std::printf(
+      "\n### %s: SIMT efficiency, L1 / L2 sector misses per ray, modeled cost per ray (modeled speedup over "
+      "noopt)\n\n%s\n",
+      tl.c_str(), header.c_str());
   for (const std::string& label : row_labels(methods)) {
     std::string line = row_name(label);
     for (const SceneResult& r : results) {
@@ -72,9 +75,10 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
 // Timing tracers: trace-only MRay/s, then end to end with the overhead share.
 void print_speeds(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
                   const std::string& header, const ExperimentOptions& o) {
-  std::printf("\n### %s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
-              "%d traces\n\n%s\n",
-              tl.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
+  std::printf(
+      "\n### %s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
+      "%d traces\n\n%s\n",
+      tl.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
   for (const std::string& label : row_labels(methods)) {
     std::string line = row_name(label);
     for (const SceneResult& r : results) {
@@ -83,9 +87,10 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
     }
     std::printf("%s\n", line.c_str());
   }
-  std::printf("\n### %s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
-              "overhead share\n\n%s\n",
-              tl.c_str(), header.c_str());
+  std::printf(
+      "\n### %s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
+      "overhead share\n\n%s\n",
+      tl.c_str(), header.c_str());
   for (const Method& method : methods) {
     std::string line = "| " + method.label + " |";
     for (const SceneResult& r : results) {

@@ -37,8 +37,8 @@ TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
   ASSERT_EQ(complete.size(), 1u + 2 * 2 * 2);
   // An interrupted run: the header, three finished rows and a torn fourth one.
   std::filesystem::remove(out);
-  write_file(out.string() + ".partial",
-             complete[0] + "\n" + complete[1] + "\n" + complete[2] + "\n" + complete[3] + "\n" + complete[4].substr(0, 20));
+  write_file(out.string() + ".partial", complete[0] + "\n" + complete[1] + "\n" + complete[2] + "\n" + complete[3] +
+                                            "\n" + complete[4].substr(0, 20));
   const CommandResult r = run_raycoh(args);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("resuming: 3 rows"), std::string::npos) << r.output;
@@ -65,8 +65,10 @@ TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
 
 TEST(CliExperiment, SweepPrintsTheTileByGroupTable) {
   const auto out = temp_dir("cli_sweep") / "s.csv";
-  const CommandResult r = run_raycoh("sweep --scene cornell --tiles 4x4,8x8 --groups 4,32 --res 32x32 --frames 1 "
-                                     "--repeat 1 --out " + out.string());
+  const CommandResult r = run_raycoh(
+      "sweep --scene cornell --tiles 4x4,8x8 --groups 4,32 --res 32x32 --frames 1 "
+      "--repeat 1 --out " +
+      out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("| (W,H) | K = 4 | K = 32 |"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("| (4,4) |"), std::string::npos);
@@ -80,9 +82,10 @@ TEST(CliExperiment, SweepPrintsTheTileByGroupTable) {
 
 TEST(CliExperiment, TableWithEncodersReportsTraceOnlyAndEndToEnd) {
   const auto out = temp_dir("cli_enc") / "e.csv";
-  const CommandResult r = run_raycoh("table --scenes cornell --generators noopt,ours --encoders none,origin,mlhcc "
-                                     "--permute indirect --tracers cpu --res 32x24 --frames 1 --repeat 1 --out " +
-                                     out.string());
+  const CommandResult r = run_raycoh(
+      "table --scenes cornell --generators noopt,ours --encoders none,origin,mlhcc "
+      "--permute indirect --tracers cpu --res 32x24 --frames 1 --repeat 1 --out " +
+      out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* s : {"| noopt+origin |", "| ours+mlhcc |", "end to end", "permute indirect"})
     EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
@@ -99,7 +102,8 @@ TEST(CliExperiment, TableWithEncodersReportsTraceOnlyAndEndToEnd) {
 TEST(CliExperiment, ADamagedPartialFileIsADistinctOneLineError) {
   const auto dir = temp_dir("cli_damaged");
   const auto out = dir / "d.csv";
-  const std::string args = "table --scenes cornell --res 24x16 --frames 1 --repeat 1 --tracers cpu --out " + out.string();
+  const std::string args =
+      "table --scenes cornell --res 24x16 --frames 1 --repeat 1 --tracers cpu --out " + out.string();
   ASSERT_EQ(run_raycoh(args).exit_code, 0);
   auto lines = read_lines(out);
   ASSERT_EQ(lines.size(), 3u);

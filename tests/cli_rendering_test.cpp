@@ -25,8 +25,10 @@ TEST(CliRendering, RenderingCommandsCheckTheirInputs) {
 TEST(CliRendering, QualityResumesFinishedRowsAndConvergeWritesItsSummary) {
   const auto dir = temp_dir("cli_quality");
   const auto out = dir / "q.csv";
-  const std::string args = "quality --scenes cornell --generators noopt,ours --frames 1 --ref-frames 2 "
-                           "--bias-renders 2 --res 16x12 --cache " + (dir / "cache").string() + " --out " + out.string();
+  const std::string args =
+      "quality --scenes cornell --generators noopt,ours --frames 1 --ref-frames 2 "
+      "--bias-renders 2 --res 16x12 --cache " +
+      (dir / "cache").string() + " --out " + out.string();
   CommandResult r = run_raycoh(args);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("| generator | cornell |"), std::string::npos) << r.output;

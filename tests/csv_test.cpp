@@ -1,11 +1,12 @@
 // The CSV layer of the harness: escaping, the column schemas (round trip, damaged values, resume keys), and
 // write errors.
+#include "harness/csv.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
-#include "harness/csv.h"
 #include "harness/exit_codes.h"
 #include "harness/experiment_row.h"
 #include "harness/quality_row.h"
@@ -27,22 +28,66 @@ TEST(Csv, EscapesAndParsesQuotedFields) {
 // The experiment CSV's column order is part of every file already written: pinned here.
 TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
   const std::vector<std::string> names = column_names(experiment_schema());
-  const std::vector<std::string> expected = {
-      "scene", "scene_triangles", "pass", "method", "generator", "generator_params", "tracer", "tracer_params",
-      "width", "height", "frame", "seed", "rays", "gen_ms", "trace_ms", "trace_ms_min", "repeats", "mray_s",
-      "below_geometric", "below_shading", "non_finite", "groups_diffuse", "groups_glossy", "groups_hybrid",
-      "groups_independent", "groups_world", "hybrid_mean_fallback", "reused_rays", "encoder", "encoder_params",
-      "permute", "key_ms", "sort_ms", "permute_ms", "e2e_ms", "e2e_mray_s", "simt_efficiency",
-      "node_simt_efficiency", "lines_per_ray", "fetches_per_ray", "l1_misses_per_ray", "l2_misses_per_ray",
-      "dram_bytes_per_ray", "modeled_cost_per_ray", "git_revision", "build_type", "compiler", "cpu", "device",
-      "embree_version", "threads", "started_utc", "command_line"};
+  const std::vector<std::string> expected = {"scene",
+                                             "scene_triangles",
+                                             "pass",
+                                             "method",
+                                             "generator",
+                                             "generator_params",
+                                             "tracer",
+                                             "tracer_params",
+                                             "width",
+                                             "height",
+                                             "frame",
+                                             "seed",
+                                             "rays",
+                                             "gen_ms",
+                                             "trace_ms",
+                                             "trace_ms_min",
+                                             "repeats",
+                                             "mray_s",
+                                             "below_geometric",
+                                             "below_shading",
+                                             "non_finite",
+                                             "groups_diffuse",
+                                             "groups_glossy",
+                                             "groups_hybrid",
+                                             "groups_independent",
+                                             "groups_world",
+                                             "hybrid_mean_fallback",
+                                             "reused_rays",
+                                             "encoder",
+                                             "encoder_params",
+                                             "permute",
+                                             "key_ms",
+                                             "sort_ms",
+                                             "permute_ms",
+                                             "e2e_ms",
+                                             "e2e_mray_s",
+                                             "simt_efficiency",
+                                             "node_simt_efficiency",
+                                             "lines_per_ray",
+                                             "fetches_per_ray",
+                                             "l1_misses_per_ray",
+                                             "l2_misses_per_ray",
+                                             "dram_bytes_per_ray",
+                                             "modeled_cost_per_ray",
+                                             "git_revision",
+                                             "build_type",
+                                             "compiler",
+                                             "cpu",
+                                             "device",
+                                             "embree_version",
+                                             "threads",
+                                             "started_utc",
+                                             "command_line"};
   EXPECT_EQ(names, expected);
   std::vector<std::string> key;
   for (const auto& c : experiment_schema())
     if (c.key) key.push_back(c.name);
   EXPECT_EQ(key, (std::vector<std::string>{"scene", "pass", "method", "generator_params", "tracer", "tracer_params",
-                                           "width", "height", "frame", "seed", "repeats", "encoder_params",
-                                           "permute", "git_revision"}));
+                                           "width", "height", "frame", "seed", "repeats", "encoder_params", "permute",
+                                           "git_revision"}));
 }
 
 TEST(Csv, RowsRoundTripThroughTheirSchema) {
@@ -105,8 +150,7 @@ TEST(Csv, ADamagedPartialFileIsADamagedFileError) {
     RecordCsv<ExperimentRow> csv(path, experiment_schema());
     FAIL() << "no error";
   } catch (const DamagedFileError& e) {
-    EXPECT_NE(std::string(e.what()).find("e.csv.partial line 2: column frame: 'first'"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("e.csv.partial line 2: column frame: 'first'"), std::string::npos) << e.what();
   }
 }
 
