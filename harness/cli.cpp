@@ -55,6 +55,7 @@ void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& t) {
   t.tracer = c.tracer.text();
   t.res = fmt::format("{}x{}", c.width, c.height);
   t.tone_map = c.tone_map.kind == ToneMapKind::Aces ? "aces" : "clamp";
+  t.exposure = c.tone_map.auto_exposure ? "auto" : fmt::format("{}", c.tone_map.exposure);
   cmd->add_option("--tracer", t.tracer, "tracer of every bounce (cpu or embree)")->capture_default_str();
   cmd->add_option("--res", t.res, "resolution WxH")->capture_default_str();
   cmd->add_option("--seed", c.seed, "random seed")->capture_default_str();

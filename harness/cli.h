@@ -27,7 +27,7 @@ void resolve_experiment(ExperimentOptions& o, const ExperimentText& text);
 
 // --tracer, --res, --seed, --max-depth, --rr-depth, --tone-map, --exposure of the rendering commands.
 struct RenderText {
-  std::string tracer, res, tone_map, exposure = "auto";
+  std::string tracer, res, tone_map, exposure;  // defaults from RenderCommon
   std::vector<std::string> crops;
 };
 void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& text);

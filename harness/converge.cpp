@@ -335,7 +335,7 @@ BoundCommand bind_converge(CLI::App& parent) {
   struct State {
     ConvergeOptions o;
     RenderText text;
-    std::string generators, time = "10s";
+    std::string generators, time;  // defaults from ConvergeOptions
   };
   auto s = std::make_shared<State>();
   s->generators = join_specs(s->o.generators);
