@@ -1,10 +1,12 @@
 #include "harness/csv.h"
 
-#include <algorithm>
-#include <filesystem>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <filesystem>
+
 #include "core/error.h"
+#include "harness/exit_codes.h"
 
 namespace raycoh {
 
@@ -58,7 +60,8 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& co
     std::ifstream in(partial_path(), std::ios::binary);
     std::string line;
     std::vector<std::string> fields;
-    if (allow_resume == Resume::Yes && in && std::getline(in, line) && !in.eof() && csv_parse_line(line, fields) && fields == columns) {
+    if (allow_resume == Resume::Yes && in && std::getline(in, line) && !in.eof() && csv_parse_line(line, fields) &&
+        fields == columns) {
       resume = true;
       keep_bytes = line.size() + 1;
       while (std::getline(in, line)) {
@@ -77,11 +80,23 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& co
   }
   if (!out_) throw Error(fmt::format("--out {}: cannot write {}", path, partial_path()));
   if (!resume) {
-    if (!comment.empty()) out_ << "# " << comment << '\n';
-    for (size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << csv_escape(columns[i]);
-    out_ << '\n';
-    out_.flush();
+    std::string head;
+    if (!comment.empty()) head = "# " + comment + '\n';
+    put(head + csv_line(columns));
   }
+}
+
+std::string CsvWriter::csv_line(const std::vector<std::string>& fields) {
+  std::string line;
+  for (size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + csv_escape(fields[i]);
+  return line + '\n';
+}
+
+void CsvWriter::put(const std::string& text) {
+  out_ << text;
+  out_.flush();
+  if (!out_)
+    throw WriteError(fmt::format("--out {}: writing {} failed (disk full or file removed?)", path_, partial_path()));
 }
 
 size_t CsvWriter::column(const std::string& name) const {
@@ -91,36 +106,28 @@ size_t CsvWriter::column(const std::string& name) const {
 }
 
 void CsvWriter::write_row(const std::vector<std::string>& values) {
-  RAYCOH_CHECK(values.size() == columns_.size(), fmt::format("{} values for {} columns", values.size(), columns_.size()));
+  RAYCOH_CHECK(values.size() == columns_.size(),
+               fmt::format("{} values for {} columns", values.size(), columns_.size()));
   // One string, one write: a crash leaves at most one torn line, which a resume drops.
-  std::string line;
-  for (size_t i = 0; i < values.size(); ++i) line += (i ? "," : "") + csv_escape(values[i]);
-  line += '\n';
-  out_ << line;
-  out_.flush();
+  put(csv_line(values));
   ++rows_;
 }
 
 void CsvWriter::rewrite_partial() {
   out_.close();
   out_.open(partial_path(), std::ios::out | std::ios::trunc);
-  if (!out_) throw Error(fmt::format("--out {}: cannot write {}", path_, partial_path()));
-  std::string text;
-  for (size_t i = 0; i < columns_.size(); ++i) text += (i ? "," : "") + csv_escape(columns_[i]);
-  text += '\n';
-  for (const auto& row : resumed_) {
-    for (size_t i = 0; i < row.size(); ++i) text += (i ? "," : "") + csv_escape(row[i]);
-    text += '\n';
-  }
-  out_ << text;
-  out_.flush();
+  if (!out_) throw WriteError(fmt::format("--out {}: cannot rewrite {}", path_, partial_path()));
+  std::string text = csv_line(columns_);
+  for (const auto& row : resumed_) text += csv_line(row);
+  put(text);
 }
 
 void CsvWriter::finish() {
   out_.close();
+  if (out_.fail()) throw WriteError(fmt::format("--out {}: closing {} failed", path_, partial_path()));
   std::error_code ec;
   std::filesystem::rename(partial_path(), path_, ec);
-  if (ec) throw Error(fmt::format("--out {}: cannot rename {}: {}", path_, partial_path(), ec.message()));
+  if (ec) throw WriteError(fmt::format("--out {}: cannot rename {}: {}", path_, partial_path(), ec.message()));
 }
 
 void CsvWriter::discard_if_empty() {

@@ -20,8 +20,9 @@ class CsvWriter {
   // A non-empty comment (Resume::No only) is written first as "# comment" lines, before the header.
   CsvWriter(const std::string& path, const std::vector<std::string>& columns, Resume resume = Resume::Yes,
             const std::string& comment = "");
+  // Throws WriteError (harness/exit_codes.h) when the row cannot be written and flushed.
   void write_row(const std::vector<std::string>& values);
-  // Renames <path>.partial to <path>.
+  // Renames <path>.partial to <path>; throws WriteError when closing or renaming fails.
   void finish();
   // Keeps only the resumed rows `keep` accepts, rewriting <path>.partial without the others; returns how many
   // were dropped.
@@ -48,6 +49,8 @@ class CsvWriter {
 
  private:
   void rewrite_partial();
+  static std::string csv_line(const std::vector<std::string>& fields);
+  void put(const std::string& text);  // writes and flushes; throws WriteError on failure
   std::string path_;
   std::ofstream out_;
   std::vector<std::string> columns_;

@@ -1,8 +1,9 @@
 #include "harness/progress.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
-#include <unistd.h>
 
 namespace raycoh {
 

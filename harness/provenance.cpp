@@ -1,11 +1,15 @@
 #include "harness/provenance.h"
 
-#include <ctime>
 #include <embree3/rtcore_config.h>
+
+#include <ctime>
 #include <fstream>
 #include <thread>
 
 #include "raycoh_git.h"
+#if defined(RAYCOH_HAVE_CUDA)
+#include "cuda/cuda_trace.h"
+#endif
 
 #ifndef RAYCOH_BUILD_TYPE
 #define RAYCOH_BUILD_TYPE "unknown"
@@ -44,7 +48,7 @@ Provenance collect_provenance(int argc, char** argv, int threads) {
   p.compiler = std::string("g++ ") + __VERSION__;
 #endif
   p.cpu = cpu_model() + " x" + std::to_string(std::thread::hardware_concurrency());
-  p.device = "cpu only";
+  p.device = "cpu";
   p.embree_version = RTC_VERSION_STRING;
   p.threads = threads;
   char buf[32];
@@ -55,14 +59,29 @@ Provenance collect_provenance(int argc, char** argv, int threads) {
   return p;
 }
 
-std::vector<std::string> provenance_columns() {
-  return {"git_revision", "build_type", "compiler", "cpu", "device", "embree_version", "threads", "started_utc",
-          "command_line"};
+std::string device_of(const PluginSpec& tracer) {
+#if defined(RAYCOH_HAVE_CUDA)
+  if (tracer.name == "cuda") return cuda::device_name();
+#endif
+  (void)tracer;
+  return "cpu";
 }
 
-std::vector<std::string> provenance_values(const Provenance& p) {
-  return {p.git_revision, p.build_type, p.compiler,       p.cpu,         p.device,
-          p.embree_version, std::to_string(p.threads), p.timestamp, p.command_line};
+const Schema<Provenance>& provenance_schema() {
+  using namespace csv_format;
+  using P = Provenance;
+  static const Schema<P> schema = {
+      column("git_revision", &P::git_revision, Text{}, Key::Yes),
+      column("build_type", &P::build_type, Text{}),
+      column("compiler", &P::compiler, Text{}),
+      column("cpu", &P::cpu, Text{}),
+      column("device", &P::device, Text{}),
+      column("embree_version", &P::embree_version, Text{}),
+      column("threads", &P::threads, Integer<int>{}),
+      column("started_utc", &P::timestamp, Text{}),
+      column("command_line", &P::command_line, Text{}),
+  };
+  return schema;
 }
 
 }  // namespace raycoh

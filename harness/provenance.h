@@ -3,7 +3,9 @@
 #pragma once
 
 #include <string>
-#include <vector>
+
+#include "core/params.h"
+#include "harness/schema.h"
 
 namespace raycoh {
 
@@ -11,18 +13,20 @@ struct Provenance {
   std::string git_revision;
   std::string build_type;
   std::string compiler;
-  std::string cpu;       // model name and logical core count
-  std::string device;    // "cpu only" or the GPU's name
+  std::string cpu;     // model name and logical core count
+  std::string device;  // "cpu", or the CUDA device's name on rows a cuda tracer measured (device_of)
   std::string embree_version;
-  int threads = 0;       // worker threads in use
-  std::string timestamp; // UTC, ISO 8601, when the run started
+  int threads = 0;        // worker threads in use
+  std::string timestamp;  // UTC, ISO 8601, when the run started
   std::string command_line;
 };
 
 Provenance collect_provenance(int argc, char** argv, int threads);
 
-// Column names and values, in a fixed order.
-std::vector<std::string> provenance_columns();
-std::vector<std::string> provenance_values(const Provenance& p);
+// The device a tracer runs on, for the `device` column: the CUDA device's name for `cuda`, else "cpu".
+std::string device_of(const PluginSpec& tracer);
+
+// The provenance columns every CSV ends with; git_revision is part of the resume key.
+const Schema<Provenance>& provenance_schema();
 
 }  // namespace raycoh

@@ -1,9 +1,11 @@
-// Rendering and image-quality experiments (DESIGN.md section 5): `render`, `quality` (the paper's Table 2
-// layout), `converge` (error against time, equal-time error and equal-error time) and `compare`. CSV schemas
-// are in results/README.md; methods in quality.cpp's doc block.
+// The options and runners of the rendering and image-quality commands (DESIGN.md section 5): `render`, `quality`
+// (the paper's Table 2 layout), `converge` (error against time, equal-time error and equal-error time) and
+// `compare`, each in its own .cpp with its CLI binding; shared checks and the reference in render_common.h. CSV
+// schemas are in results/README.md; methods in quality.cpp's and converge.cpp's doc blocks.
 //
-// Defaults are small enough for a 2-core machine (160x120, 32 frames, 512-frame references). Every value is
-// validated before anything is rendered; errors are raycoh::Error naming the option (e.g. "--frames 0: ...").
+// Defaults are written here once (the CLI shows them) and are small enough for a 2-core machine (160x120,
+// 32 frames, 512-frame references). The runners validate every value before anything is rendered (the one
+// validation layer); errors are raycoh::Error naming the option (e.g. "--frames 0: ...").
 #pragma once
 
 #include <string>

@@ -1,7 +1,6 @@
-// `raycoh table` (the paper's Table 1 layout) and `raycoh sweep` (its Table 3 layout: tile size x group size).
+// `raycoh table`: the paper's Table 1 layout (methods down, scenes across, one table per tracer).
 #pragma once
 
-#include <string>
 #include <vector>
 
 #include "harness/experiment.h"
@@ -9,31 +8,18 @@
 namespace raycoh {
 
 struct TableOptions {
-  std::vector<std::string> scenes{"cornell", "voxels"};
+  ExperimentOptions experiment;  // its methods are made from generators x encoders
   std::vector<PluginSpec> generators{{"noopt", ""}};
   std::vector<PluginSpec> encoders{{"none", ""}};
-  std::vector<PluginSpec> tracers{{"cpu", ""}, {"embree", ""}};
-  int width = 320, height = 240;
-  int frames = 4;
-  uint32_t seed = 1;
-  int repeats = 3;  // timed traces per measurement; the median is reported
-  std::string permute = "physical";
-  std::string out = "raycoh-table.csv";
+  TableOptions() {
+    experiment.scenes = {"cornell", "voxels"};
+    experiment.tracers = {{"cpu", ""}, {"embree", ""}};
+    experiment.out = "raycoh-table.csv";
+  }
 };
 int run_table(const TableOptions& options, const Provenance& provenance);
 
-struct SweepOptions {
-  std::string scene;
-  std::string generator = "ours";  // or "tile"
-  std::vector<std::pair<int, int>> tiles{{8, 8}, {16, 8}, {16, 16}, {32, 8}};
-  std::vector<int> groups{8, 16, 32, 64};
-  std::vector<PluginSpec> tracers{{"cpu", ""}};
-  int width = 320, height = 240;
-  int frames = 4;
-  uint32_t seed = 1;
-  int repeats = 3;
-  std::string out = "raycoh-sweep.csv";
-};
-int run_sweep(const SweepOptions& options, const Provenance& provenance);
+// "12.34 (1.05x)": a value and its ratio to the baseline; shared by the table and sweep printouts.
+std::string ratio_cell(double value, double base);
 
 }  // namespace raycoh

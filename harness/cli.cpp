@@ -1,0 +1,88 @@
+#include "harness/cli.h"
+
+#include <fmt/format.h>
+
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+
+#include "core/error.h"
+
+namespace raycoh {
+
+std::string join_specs(const std::vector<PluginSpec>& specs) {
+  std::vector<std::string> texts;
+  for (const PluginSpec& s : specs) texts.push_back(s.text());
+  return join(texts, ",");
+}
+
+std::vector<std::string> split_scenes(const std::string& option, const std::string& text) {
+  std::vector<std::string> out;
+  for (const PluginSpec& s : split_plugin_list(text)) out.push_back(s.text());
+  if (out.empty()) throw Error(option + ": empty list");
+  return out;
+}
+
+std::vector<PluginSpec> split_nonempty(const std::string& option, const std::string& text) {
+  auto list = split_plugin_list(text);
+  if (list.empty()) throw Error(fmt::format("{}: empty list", option));
+  return list;
+}
+
+std::pair<int, int> parse_res(const std::string& option, const std::string& text) {
+  return parse_size(option, text, 0, INT_MAX);
+}
+
+void bind_experiment(CLI::App* cmd, ExperimentOptions& o, ExperimentText& t) {
+  t.tracers = join_specs(o.tracers);
+  t.res = fmt::format("{}x{}", o.width, o.height);
+  cmd->add_option("--tracers", t.tracers,
+                  "comma-separated tracers, e.g. cpu,embree:mode=packet16,simt; auto = cuda with a GPU, else cpu,simt")
+      ->capture_default_str();
+  cmd->add_option("--res", t.res, "resolution WxH")->capture_default_str();
+  cmd->add_option("--frames", o.frames, "frames per scene")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "random seed")->capture_default_str();
+  cmd->add_option("--repeat", o.repeats, "timed traces per batch (median reported)")->capture_default_str();
+  cmd->add_option("--out", o.out, "CSV file to write")->capture_default_str();
+}
+
+void resolve_experiment(ExperimentOptions& o, const ExperimentText& t) {
+  o.tracers = split_nonempty("--tracers", t.tracers);
+  std::tie(o.width, o.height) = parse_res("--res", t.res);
+}
+
+void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& t) {
+  t.tracer = c.tracer.text();
+  t.res = fmt::format("{}x{}", c.width, c.height);
+  t.tone_map = c.tone_map.kind == ToneMapKind::Aces ? "aces" : "clamp";
+  t.exposure = c.tone_map.auto_exposure ? "auto" : fmt::format("{}", c.tone_map.exposure);
+  cmd->add_option("--tracer", t.tracer, "tracer of every bounce (cpu or embree)")->capture_default_str();
+  cmd->add_option("--res", t.res, "resolution WxH")->capture_default_str();
+  cmd->add_option("--seed", c.seed, "random seed")->capture_default_str();
+  cmd->add_option("--max-depth", c.max_depth, "scattering events per path")->capture_default_str();
+  cmd->add_option("--rr-depth", c.rr_depth, "Russian roulette from this bounce on")->capture_default_str();
+  cmd->add_option("--tone-map", t.tone_map, "aces or clamp (PNG output, PSNR and SSIM)")->capture_default_str();
+  cmd->add_option("--exposure", t.exposure, "auto (0.18 / log-average luminance of the reference) or a number")
+      ->capture_default_str();
+}
+
+void resolve_render_common(RenderCommon& c, const RenderText& t) {
+  c.tracer = parse_plugin_spec(t.tracer);
+  std::tie(c.width, c.height) = parse_res("--res", t.res);
+  c.tone_map.kind = parse_tone_map(t.tone_map);
+  c.tone_map.auto_exposure = t.exposure == "auto";
+  if (!c.tone_map.auto_exposure) {
+    char* end = nullptr;
+    c.tone_map.exposure = std::strtof(t.exposure.c_str(), &end);
+    if (t.exposure.empty() || *end != '\0')
+      throw Error("--exposure: '" + t.exposure + "' is not valid; expected auto or a positive number");
+  }
+}
+
+std::vector<Crop> parse_crops(const std::vector<std::string>& texts) {
+  std::vector<Crop> crops;
+  for (const std::string& t : texts) crops.push_back(parse_crop("--crop", t));
+  return crops;
+}
+
+}  // namespace raycoh

@@ -1,0 +1,37 @@
+// Option bindings several commands share (CLI11 included here, never in the commands' public headers). They only
+// convert text to values; range checks are the runners' (run_experiment, check_common in render_common.h).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "core/params.h"
+#include "harness/experiment.h"
+#include "harness/quality.h"
+
+namespace raycoh {
+
+std::string join_specs(const std::vector<PluginSpec>& specs);
+std::vector<std::string> split_scenes(const std::string& option, const std::string& text);
+std::vector<PluginSpec> split_nonempty(const std::string& option, const std::string& text);
+// "WxH" without a range (the runner checks it).
+std::pair<int, int> parse_res(const std::string& option, const std::string& text);
+
+// --tracers, --res, --frames, --seed, --repeat, --out of `table` and `sweep`; defaults from `o`.
+struct ExperimentText {
+  std::string tracers, res;
+};
+void bind_experiment(CLI::App* cmd, ExperimentOptions& o, ExperimentText& text);
+void resolve_experiment(ExperimentOptions& o, const ExperimentText& text);
+
+// --tracer, --res, --seed, --max-depth, --rr-depth, --tone-map, --exposure of the rendering commands.
+struct RenderText {
+  std::string tracer, res, tone_map, exposure;  // defaults from RenderCommon
+  std::vector<std::string> crops;
+};
+void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& text);
+void resolve_render_common(RenderCommon& c, const RenderText& text);
+std::vector<Crop> parse_crops(const std::vector<std::string>& texts);
+
+}  // namespace raycoh

@@ -1,0 +1,363 @@
+// `raycoh converge`: per generator, frames are rendered round-robin (one frame of each in turn, so that load changes
+// on the machine hit all of them alike) until each has rendered --time seconds of frames (wall clock of the frames
+// themselves; the error evaluation after each frame is not counted). One CSV row per generator and frame:
+// cumulative wall and trace time and the error of the running mean against the reference. Ratios against the
+// first generator (the baseline), on relMSE, for both clocks, go to <out stem>-summary.csv:
+//   equal-time error ratio  e_g(T) / e_base(T) at T = the shorter of the two curves' last times
+//                           (< 1: the generator is more accurate in the same time);
+//   equal-error speedup     t_base(E) / t_g(E) with E = the larger of the two final errors, the error both reach
+//                           (> 1: the generator reaches it sooner).
+// Curves are read by interpolating linearly in (log time, log error) between frames (error_at_time,
+// time_to_error in curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "core/error.h"
+#include "harness/cli.h"
+#include "harness/command.h"
+#include "harness/progress.h"
+#include "harness/record_csv.h"
+#include "harness/render_common.h"
+#include "shading/metrics.h"
+
+namespace raycoh {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One generator's running mean after one more frame.
+struct ConvergeRow {
+  std::string scene, scene_spec, method, generator, generator_params, tracer, tracer_params;
+  int width = 0, height = 0;
+  uint32_t seed = 0;
+  std::optional<int> ref_frames;  // absent for an explicit --reference file
+  int max_depth = 0, rr_depth = 0;
+  std::string tone_map, reference;
+  int frame = 0;  // frames rendered so far
+  double wall_s = 0, trace_s = 0, gen_s = 0, frame_wall_ms = 0, frame_trace_ms = 0;
+  uint64_t rays = 0;
+  double rel_mse = 0, mse = 0, rmse = 0, psnr = 0, ssim = 0;
+  uint64_t non_finite_samples = 0;
+  Provenance provenance;
+};
+
+const Schema<ConvergeRow>& converge_schema() {
+  using namespace csv_format;
+  using R = ConvergeRow;
+  using G = GeneralOrEmpty;
+  static const Schema<R> schema = [] {
+    Schema<R> s = {
+        column("scene", &R::scene, Text{}),
+        column("scene_spec", &R::scene_spec, Text{}),
+        column("method", &R::method, Text{}),
+        column("generator", &R::generator, Text{}),
+        column("generator_params", &R::generator_params, Text{}),
+        column("tracer", &R::tracer, Text{}),
+        column("tracer_params", &R::tracer_params, Text{}),
+        column("width", &R::width, Integer<int>{}),
+        column("height", &R::height, Integer<int>{}),
+        column("seed", &R::seed, Integer<uint32_t>{}),
+        column("ref_frames", &R::ref_frames, Optional<Integer<int>>{}),
+        column("max_depth", &R::max_depth, Integer<int>{}),
+        column("rr_depth", &R::rr_depth, Integer<int>{}),
+        column("tone_map", &R::tone_map, Text{}),
+        column("reference", &R::reference, Text{}),
+        column("frame", &R::frame, Integer<int>{}),
+        column("wall_s", &R::wall_s, G{}),
+        column("trace_s", &R::trace_s, G{}),
+        column("gen_s", &R::gen_s, G{}),
+        column("frame_wall_ms", &R::frame_wall_ms, G{}),
+        column("frame_trace_ms", &R::frame_trace_ms, G{}),
+        column("rays", &R::rays, Integer<uint64_t>{}),
+        column("rel_mse", &R::rel_mse, G{}),
+        column("mse", &R::mse, G{}),
+        column("rmse", &R::rmse, G{}),
+        column("psnr", &R::psnr, G{}),
+        column("ssim", &R::ssim, G{}),
+        column("non_finite_samples", &R::non_finite_samples, Integer<uint64_t>{}),
+    };
+    append_columns(s, provenance_schema(), &R::provenance);
+    return s;
+  }();
+  return schema;
+}
+
+// One generator against the baseline on one clock.
+struct SummaryRow {
+  std::string scene, method, baseline, metric, clock;
+  double horizon_s = 0, error = 0, baseline_error = 0, equal_time_error_ratio = 0, target_error = 0, time_s = 0,
+         baseline_time_s = 0, equal_error_speedup = 0;
+  int frames = 0, baseline_frames = 0;
+  Provenance provenance;
+};
+
+const Schema<SummaryRow>& summary_schema() {
+  using namespace csv_format;
+  using R = SummaryRow;
+  using G = GeneralOrEmpty;
+  static const Schema<R> schema = [] {
+    Schema<R> s = {
+        column("scene", &R::scene, Text{}),
+        column("method", &R::method, Text{}),
+        column("baseline", &R::baseline, Text{}),
+        column("metric", &R::metric, Text{}),
+        column("clock", &R::clock, Text{}),
+        column("horizon_s", &R::horizon_s, G{}),
+        column("error", &R::error, G{}),
+        column("baseline_error", &R::baseline_error, G{}),
+        column("equal_time_error_ratio", &R::equal_time_error_ratio, G{}),
+        column("target_error", &R::target_error, G{}),
+        column("time_s", &R::time_s, G{}),
+        column("baseline_time_s", &R::baseline_time_s, G{}),
+        column("equal_error_speedup", &R::equal_error_speedup, G{}),
+        column("frames", &R::frames, Integer<int>{}),
+        column("baseline_frames", &R::baseline_frames, Integer<int>{}),
+    };
+    append_columns(s, provenance_schema(), &R::provenance);
+    return s;
+  }();
+  return schema;
+}
+
+void check_converge(const ConvergeOptions& o) {
+  check_common(o.common, true);
+  check_frames("--max-frames", o.max_frames);
+  check_frames("--ref-frames", o.ref_frames);
+  if (!(o.time_s > 0) || !std::isfinite(o.time_s) || o.time_s > 1e6)
+    throw Error(fmt::format("--time {}: must be more than 0 and at most 1e6 seconds", o.time_s));
+  check_scene_spec("--scene", o.scene);
+  if (!o.reference.empty() && !fs::is_regular_file(o.reference))
+    throw Error(fmt::format("--reference {}: no such image file", o.reference));
+}
+
+// One generator's progress.
+struct Run {
+  std::string label;
+  std::unique_ptr<PathTracer> pt;
+  Accumulator acc;
+  FrameStats total;
+  int frames = 0;
+  std::vector<CurvePoint> by_wall, by_trace;
+  bool active = true;
+};
+
+class ConvergeRun {
+ public:
+  ConvergeRun(const ConvergeOptions& o, const Provenance& p);
+  void render();
+  void summarize();
+
+ private:
+  bool render_round();
+  ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m) const;
+  SummaryRow compare(const Run& run, const std::string& clock) const;
+
+  const ConvergeOptions& o_;
+  Provenance provenance_;  // with this run's device
+  std::vector<std::unique_ptr<Generator>> generators_;
+  std::unique_ptr<LoadedScene> ls_;
+  ReferenceImage ref_;
+  ToneMap tm_;  // resolved on the reference, the same for every generator
+  std::vector<Run> runs_;
+  // A convergence curve is one timed measurement: an interrupted run starts again rather than resuming.
+  RecordCsv<ConvergeRow> csv_;
+};
+
+ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
+    : o_(o),
+      provenance_(p),
+      generators_(make_generators("--generators", o.generators)),
+      ls_(load(o.scene, o.common.tracer)),
+      ref_(obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference)),
+      tm_(resolved(o.common.tone_map, ref_.image)),
+      csv_(o.out, converge_schema(), CsvWriter::Resume::No) {
+  provenance_.device = device_of(o.common.tracer);
+  for (size_t gi = 0; gi < generators_.size(); ++gi) {
+    Run run;
+    run.label = o.generators[gi].text();
+    run.pt =
+        std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi], settings_of(o.common, o.common.seed));
+    run.acc = Accumulator(o.common.width, o.common.height);
+    runs_.push_back(std::move(run));
+  }
+}
+
+ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m) const {
+  const Run& run = runs_[gi];
+  ConvergeRow r;
+  r.scene = ls_->scene.name;
+  r.scene_spec = o_.scene;
+  r.method = run.label;
+  r.generator = o_.generators[gi].name;
+  r.generator_params = generators_[gi]->params();
+  r.tracer = o_.common.tracer.name;
+  r.tracer_params = ls_->tracer->params();
+  r.width = o_.common.width;
+  r.height = o_.common.height;
+  r.seed = o_.common.seed;
+  if (ref_.kind != "file") r.ref_frames = o_.ref_frames;
+  r.max_depth = o_.common.max_depth;
+  r.rr_depth = o_.common.rr_depth;
+  r.tone_map = describe(tm_);
+  r.reference = ref_.path;
+  r.frame = run.frames;
+  r.wall_s = run.total.wall_s;
+  r.trace_s = run.total.trace_s;
+  r.gen_s = run.total.gen_s;
+  r.frame_wall_ms = f.wall_s * 1e3;
+  r.frame_trace_ms = f.trace_s * 1e3;
+  r.rays = run.total.rays();
+  r.rel_mse = m.rel_mse;
+  r.mse = m.mse;
+  r.rmse = m.rmse;
+  r.psnr = m.psnr;
+  r.ssim = m.ssim;
+  r.non_finite_samples = run.total.non_finite;
+  r.provenance = provenance_;
+  return r;
+}
+
+// One frame of every generator still short of its time; false when none is left.
+bool ConvergeRun::render_round() {
+  bool any = false;
+  for (size_t gi = 0; gi < runs_.size(); ++gi) {
+    Run& run = runs_[gi];
+    if (!run.active) continue;
+    const FrameStats f = run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc);
+    run.total.add(f);
+    ++run.frames;
+    const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_);
+    run.by_wall.push_back({run.total.wall_s, m.rel_mse});
+    run.by_trace.push_back({run.total.trace_s, m.rel_mse});
+    csv_.write(row_of(gi, f, m));
+    run.active = run.total.wall_s < o_.time_s && run.frames < o_.max_frames;
+    any = any || run.active;
+  }
+  return any;
+}
+
+void ConvergeRun::render() {
+  Progress bar;
+  const double budget = o_.time_s * static_cast<double>(runs_.size());
+  try {
+    for (bool any = true; any;) {
+      any = render_round();
+      // Progress in hundredths of the whole time budget (the bar counts them as its steps).
+      double done = 0;
+      for (const Run& r : runs_) done += std::min(r.total.wall_s, o_.time_s);
+      bar.update(0, 1, static_cast<int>(100 * done / budget), 100,
+                 fmt::format("{}: {:.0f} of {:.0f} s", ls_->scene.name, done, budget));
+    }
+  } catch (const Error& e) {
+    bar.clear();
+    csv_.discard_if_empty();
+    if (csv_.rows() == 0) throw;
+    throw Error(
+        fmt::format("{} ({} rows measured before this are kept in {})", e.what(), csv_.rows(), csv_.partial_path()));
+  }
+  bar.clear();
+  csv_.finish();
+}
+
+SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const {
+  const Run& base = runs_[0];
+  const bool wall = clock == "wall";
+  const auto& c = wall ? run.by_wall : run.by_trace;
+  const auto& b = wall ? base.by_wall : base.by_trace;
+  SummaryRow r;
+  r.scene = ls_->scene.name;
+  r.method = run.label;
+  r.baseline = base.label;
+  r.metric = "rel_mse";
+  r.clock = clock;
+  r.horizon_s = std::min(c.back().time, b.back().time);
+  r.error = error_at_time(c, r.horizon_s);
+  r.baseline_error = error_at_time(b, r.horizon_s);
+  r.equal_time_error_ratio = r.error / r.baseline_error;
+  r.target_error = std::max(c.back().error, b.back().error);
+  r.time_s = time_to_error(c, r.target_error);
+  r.baseline_time_s = time_to_error(b, r.target_error);
+  r.equal_error_speedup = r.baseline_time_s / r.time_s;
+  r.frames = run.frames;
+  r.baseline_frames = base.frames;
+  r.provenance = provenance_;
+  return r;
+}
+
+// Ratios against the baseline (the first generator), on relMSE, for the wall and the trace clock.
+void ConvergeRun::summarize() {
+  const std::string summary_path = stem_path(o_.out) + "-summary.csv";
+  RecordCsv<SummaryRow> summary(summary_path, summary_schema(), CsvWriter::Resume::No);
+  std::printf(
+      "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
+      "baseline %s\n\n",
+      ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames, ref_.kind.c_str(),
+      kRelMseEpsilon, runs_[0].label.c_str());
+  std::printf("| generator | frames | final relMSE | final PSNR |\n|---|---:|---:|---:|\n");
+  for (const Run& r : runs_)
+    std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
+                psnr(r.acc.mean(), ref_.image, tm_));
+  std::printf(
+      "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
+      "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (size_t gi = 1; gi < runs_.size(); ++gi) {
+    for (const char* clock : {"wall", "trace"}) {
+      const SummaryRow r = compare(runs_[gi], clock);
+      summary.write(r);
+      std::printf("| %s | %s | %.3g | %.4g | %.4g | %.3f | %.4g | %.3g | %.3g | %.3f |\n", r.method.c_str(), clock,
+                  r.horizon_s, r.error, r.baseline_error, r.equal_time_error_ratio, r.target_error, r.time_s,
+                  r.baseline_time_s, r.equal_error_speedup);
+    }
+  }
+  summary.finish();
+  std::printf("\nWrote %s and %s (%s, %d threads)\n", o_.out.c_str(), summary_path.c_str(),
+              provenance_.git_revision.c_str(), provenance_.threads);
+}
+
+}  // namespace
+
+int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
+  check_converge(o);
+  ConvergeRun run(o, provenance);
+  run.render();
+  run.summarize();
+  return 0;
+}
+
+BoundCommand bind_converge(CLI::App& parent) {
+  struct State {
+    ConvergeOptions o;
+    RenderText text;
+    std::string generators, time;  // defaults from ConvergeOptions
+  };
+  auto s = std::make_shared<State>();
+  s->generators = join_specs(s->o.generators);
+  s->time = fmt::format("{}s", s->o.time_s);
+  CLI::App* cmd =
+      parent.add_subcommand("converge", "error against wall-clock and trace time; equal-time and equal-error ratios");
+  cmd->add_option("--scene", s->o.scene, "scene")->capture_default_str();
+  cmd->add_option("--generators", s->generators, "comma-separated generators, the first is the baseline")
+      ->capture_default_str();
+  cmd->add_option("--time", s->time, "render time per generator (60s, 1.5m, 500ms)")->capture_default_str();
+  cmd->add_option("--max-frames", s->o.max_frames, "stop a generator after this many frames");
+  cmd->add_option("--ref-frames", s->o.ref_frames, "NoOpt frames of the reference")->capture_default_str();
+  cmd->add_option("--cache", s->o.cache_dir, "reference cache folder");
+  cmd->add_option("--reference", s->o.reference, "use this .exr/.pfm as the reference");
+  cmd->add_option("--out", s->o.out, "CSV file to write")->capture_default_str();
+  bind_render_common(cmd, s->o.common, s->text);
+  return {cmd, [s](const Provenance& provenance) {
+            resolve_render_common(s->o.common, s->text);
+            s->o.generators = split_nonempty("--generators", s->generators);
+            s->o.time_s = parse_duration("--time", s->time);
+            return run_converge(s->o, provenance);
+          }};
+}
+
+}  // namespace raycoh

@@ -1,0 +1,78 @@
+// The readings of `converge` (parse_duration for --time; error curves read at equal time and equal error).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "harness/quality.h"
+
+namespace raycoh {
+
+double parse_duration(const std::string& what, const std::string& text) {
+  size_t end = 0;
+  double v = std::nan("");
+  try {
+    v = std::stod(text, &end);
+  } catch (const std::exception&) {
+    end = 0;
+  }
+  const std::string unit = end > 0 ? text.substr(end) : std::string();
+  double scale = 0;
+  if (unit.empty() || unit == "s")
+    scale = 1;
+  else if (unit == "ms")
+    scale = 1e-3;
+  else if (unit == "m" || unit == "min")
+    scale = 60;
+  else if (unit == "h")
+    scale = 3600;
+  if (end == 0 || scale == 0)
+    throw Error(fmt::format("{} '{}': expected a duration such as 60s, 1.5m, 500ms or 2h", what, text));
+  v *= scale;
+  if (!(v > 0) || !std::isfinite(v) || v > 1e6)
+    throw Error(fmt::format("{} '{}': must be more than 0 and at most 1e6 seconds", what, text));
+  return v;
+}
+
+namespace {
+
+// Log when both values are positive (the usual case), else the value itself, so that interpolation degrades to
+// linear for zero errors or times.
+double lg(double v, bool use_log) { return use_log ? std::log(v) : v; }
+
+}  // namespace
+
+double error_at_time(const std::vector<CurvePoint>& c, double t) {
+  if (c.empty() || !(t >= c.front().time) || !(t <= c.back().time)) return std::nan("");
+  for (size_t k = 0; k + 1 < c.size(); ++k) {
+    if (t > c[k + 1].time) continue;
+    const CurvePoint& a = c[k];
+    const CurvePoint& b = c[k + 1];
+    if (!(b.time > a.time)) return b.error;
+    const bool log_t = a.time > 0, log_e = a.error > 0 && b.error > 0;
+    const double f = (lg(t, log_t) - lg(a.time, log_t)) / (lg(b.time, log_t) - lg(a.time, log_t));
+    const double v = lg(a.error, log_e) + f * (lg(b.error, log_e) - lg(a.error, log_e));
+    return log_e ? std::exp(v) : v;
+  }
+  return c.back().error;
+}
+
+double time_to_error(const std::vector<CurvePoint>& c, double e) {
+  for (size_t k = 0; k < c.size(); ++k) {
+    if (!(c[k].error <= e)) continue;
+    if (k == 0) return c[0].time;
+    const CurvePoint& a = c[k - 1];
+    const CurvePoint& b = c[k];
+    const bool log_t = a.time > 0, log_e = b.error > 0 && e > 0;
+    double f = 1.0;
+    if (lg(a.error, log_e) != lg(b.error, log_e))
+      f = (lg(a.error, log_e) - lg(e, log_e)) / (lg(a.error, log_e) - lg(b.error, log_e));
+    const double v = lg(a.time, log_t) + std::clamp(f, 0.0, 1.0) * (lg(b.time, log_t) - lg(a.time, log_t));
+    return log_t ? std::exp(v) : v;
+  }
+  return std::nan("");
+}
+
+}  // namespace raycoh

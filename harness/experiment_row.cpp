@@ -1,0 +1,123 @@
+#include "harness/experiment_row.h"
+
+namespace raycoh {
+
+const Schema<ExperimentRow>& experiment_schema() {
+  using namespace csv_format;
+  using R = ExperimentRow;
+  using Count = Optional<Integer<size_t>>;
+  static const Schema<R> schema = [] {
+    Schema<R> s = {
+        column("scene", &R::scene, Text{}, Key::Yes),
+        column("scene_triangles", &R::scene_triangles, Integer<size_t>{}),
+        column("pass", &R::pass, Text{}, Key::Yes),
+        column("method", &R::method, Text{}, Key::Yes),
+        column("generator", &R::generator, Text{}),
+        column("generator_params", &R::generator_params, Text{}, Key::Yes),
+        column("tracer", &R::tracer, Text{}, Key::Yes),
+        column("tracer_params", &R::tracer_params, Text{}, Key::Yes),
+        column("width", &R::width, Integer<int>{}, Key::Yes),
+        column("height", &R::height, Integer<int>{}, Key::Yes),
+        column("frame", &R::frame, Integer<int>{}, Key::Yes),
+        column("seed", &R::seed, Integer<uint32_t>{}, Key::Yes),
+        column("rays", &R::rays, Integer<size_t>{}),
+        column("gen_ms", &R::gen_ms, Fixed<4>{}),
+        column("trace_ms", &R::trace_ms, Fixed<4>{}),
+        column("trace_ms_min", &R::trace_ms_min, Fixed<4>{}),
+        column("repeats", &R::repeats, Integer<int>{}, Key::Yes),
+        column("mray_s", &R::mray_s, Fixed<3>{}),
+        column("below_geometric", &R::below_geometric, Count{}),
+        column("below_shading", &R::below_shading, Count{}),
+        column("non_finite", &R::non_finite, Count{}),
+        column("groups_diffuse", &R::groups_diffuse, Count{}),
+        column("groups_glossy", &R::groups_glossy, Count{}),
+        column("groups_hybrid", &R::groups_hybrid, Count{}),
+        column("groups_independent", &R::groups_independent, Count{}),
+        column("groups_world", &R::groups_world, Count{}),
+        column("hybrid_mean_fallback", &R::hybrid_mean_fallback, Count{}),
+        column("reused_rays", &R::reused_rays, Count{}),
+        column("encoder", &R::encoder, Text{}),
+        column("encoder_params", &R::encoder_params, Text{}, Key::Yes),
+        column("permute", &R::permute, Text{}, Key::Yes),
+        column("key_ms", &R::key_ms, Fixed<4>{}),
+        column("sort_ms", &R::sort_ms, Fixed<4>{}),
+        column("permute_ms", &R::permute_ms, Fixed<4>{}),
+        column("e2e_ms", &R::e2e_ms, Fixed<4>{}),
+        column("e2e_mray_s", &R::e2e_mray_s, Fixed<3>{}),
+        column("simt_efficiency", &R::simt_efficiency, Optional<General>{}),
+        column("node_simt_efficiency", &R::node_simt_efficiency, Optional<General>{}),
+        column("lines_per_ray", &R::lines_per_ray, Optional<General>{}),
+        column("fetches_per_ray", &R::fetches_per_ray, Optional<General>{}),
+        column("l1_misses_per_ray", &R::l1_misses_per_ray, Optional<General>{}),
+        column("l2_misses_per_ray", &R::l2_misses_per_ray, Optional<General>{}),
+        column("dram_bytes_per_ray", &R::dram_bytes_per_ray, Optional<General>{}),
+        column("modeled_cost_per_ray", &R::modeled_cost_per_ray, Optional<General>{}),
+    };
+    append_columns(s, provenance_schema(), &R::provenance);
+    return s;
+  }();
+  return schema;
+}
+
+void set_generation(ExperimentRow& row, const GenerationStats& g) {
+  row.below_geometric = g.below_geometric;
+  row.below_shading = g.below_shading;
+  row.non_finite = g.non_finite;
+  row.groups_diffuse = g.groups[1];
+  row.groups_glossy = g.groups[2];
+  row.groups_hybrid = g.groups[3];
+  row.groups_independent = g.groups[0];
+  row.groups_world = g.groups[4];
+  row.hybrid_mean_fallback = g.hybrid_mean_fallback;
+  row.reused_rays = g.reused_rays;
+}
+
+GenerationStats generation_of(const ExperimentRow& row) {
+  GenerationStats g;
+  g.rays = row.rays;
+  g.below_geometric = row.below_geometric.value_or(0);
+  g.below_shading = row.below_shading.value_or(0);
+  g.non_finite = row.non_finite.value_or(0);
+  g.groups[1] = row.groups_diffuse.value_or(0);
+  g.groups[2] = row.groups_glossy.value_or(0);
+  g.groups[3] = row.groups_hybrid.value_or(0);
+  g.groups[0] = row.groups_independent.value_or(0);
+  g.groups[4] = row.groups_world.value_or(0);
+  g.hybrid_mean_fallback = row.hybrid_mean_fallback.value_or(0);
+  g.reused_rays = row.reused_rays.value_or(0);
+  return g;
+}
+
+void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,
+                SceneResult& res) {
+  Accumulated& acc = res.by_tracer[tracer_label][row.method];
+  const double rays = static_cast<double>(row.rays);
+  acc.rays += rays;
+  acc.trace_s += row.trace_ms * 1e-3;
+  acc.gen_s += row.gen_ms * 1e-3;
+  acc.reorder_s += (row.key_ms + row.sort_ms + row.permute_ms) * 1e-3;
+  ++acc.frames;
+  if (row.simt_efficiency) {
+    acc.has_counters = true;
+    acc.simt_eff_w += rays * *row.simt_efficiency;
+    acc.lines_w += rays * row.lines_per_ray.value_or(0);
+    acc.l1_w += rays * row.l1_misses_per_ray.value_or(0);
+    acc.l2_w += rays * row.l2_misses_per_ray.value_or(0);
+    acc.dram_w += rays * row.dram_bytes_per_ray.value_or(0);
+    acc.cost_w += rays * row.modeled_cost_per_ray.value_or(0);
+  }
+  if (row.pass != "secondary" || !first_tracer) return;
+  res.rays_per_frame = rays;
+  res.gen_ms[row.method] += row.gen_ms / frames;
+  const GenerationStats g = generation_of(row);
+  GenerationStats& sum = res.generation[row.method];
+  sum.rays += g.rays;
+  sum.below_geometric += g.below_geometric;
+  sum.below_shading += g.below_shading;
+  sum.non_finite += g.non_finite;
+  for (int i = 0; i < 5; ++i) sum.groups[i] += g.groups[i];
+  sum.hybrid_mean_fallback += g.hybrid_mean_fallback;
+  sum.reused_rays += g.reused_rays;
+}
+
+}  // namespace raycoh

@@ -1,0 +1,75 @@
+// The record of one experiment measurement (`table`, `sweep`): one row per scene x pass x method x tracer x frame,
+// its CSV column table (results/README.md) and the per-scene sums the console tables are printed from.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/ray_batch.h"
+#include "harness/provenance.h"
+#include "harness/schema.h"
+
+namespace raycoh {
+
+struct ExperimentRow {
+  std::string scene;
+  size_t scene_triangles = 0;
+  std::string pass;  // "primary" or "secondary"
+  std::string method, generator, generator_params, tracer, tracer_params;
+  int width = 0, height = 0, frame = 0;
+  uint32_t seed = 0;
+  size_t rays = 0;
+  double gen_ms = 0, trace_ms = 0, trace_ms_min = 0;
+  int repeats = 0;
+  double mray_s = 0;
+  // Generation statistics of the secondary batch (absent for the primary pass).
+  std::optional<size_t> below_geometric, below_shading, non_finite, groups_diffuse, groups_glossy, groups_hybrid,
+      groups_independent, groups_world, hybrid_mean_fallback, reused_rays;
+  std::string encoder, encoder_params, permute;
+  double key_ms = 0, sort_ms = 0, permute_ms = 0, e2e_ms = 0, e2e_mray_s = 0;
+  // Coherence counters per ray of modelling tracers (`simt`); absent for timing tracers.
+  std::optional<double> simt_efficiency, node_simt_efficiency, lines_per_ray, fetches_per_ray, l1_misses_per_ray,
+      l2_misses_per_ray, dram_bytes_per_ray, modeled_cost_per_ray;
+  Provenance provenance;
+};
+
+// The experiment CSV's columns, in file order, provenance last.
+const Schema<ExperimentRow>& experiment_schema();
+
+// Copies the generation statistics into / out of a row.
+void set_generation(ExperimentRow& row, const GenerationStats& g);
+GenerationStats generation_of(const ExperimentRow& row);
+
+// Sums over frames for one tracer and method.
+struct Accumulated {
+  double rays = 0, trace_s = 0, gen_s = 0, reorder_s = 0;  // reorder = key + sort + permute
+  int frames = 0;
+  double mray_s() const { return trace_s > 0 ? rays / trace_s * 1e-6 : 0.0; }
+  // End to end: generation + reordering + trace.
+  double e2e_s() const { return gen_s + reorder_s + trace_s; }
+  double e2e_mray_s() const { return e2e_s() > 0 ? rays / e2e_s() * 1e-6 : 0.0; }
+  double overhead_share() const { return e2e_s() > 0 ? (gen_s + reorder_s) / e2e_s() : 0.0; }
+  // Coherence counters of modelling tracers (`simt`), per ray, weighted by rays over frames.
+  bool has_counters = false;
+  double simt_eff_w = 0, lines_w = 0, l1_w = 0, l2_w = 0, dram_w = 0, cost_w = 0;
+  double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
+};
+
+struct SceneResult {
+  std::string scene;
+  size_t triangles = 0;
+  double rays_per_frame = 0;
+  std::vector<std::string> tracer_labels;
+  std::map<std::string, std::map<std::string, Accumulated>> by_tracer;  // tracer label -> method label ("primary" too)
+  std::map<std::string, GenerationStats> generation;                    // method label -> sums over frames
+  std::map<std::string, double> gen_ms;                                 // method label -> mean per frame
+};
+
+// Adds one row (measured now or resumed) to the scene's sums. The generation statistics are the same in every
+// tracer's row of a batch, so only the first tracer's rows count them.
+void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,
+                SceneResult& res);
+
+}  // namespace raycoh

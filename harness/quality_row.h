@@ -1,0 +1,36 @@
+// The record of one `raycoh quality` row (one scene x generator) and its CSV column table (results/README.md).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "harness/provenance.h"
+#include "harness/schema.h"
+
+namespace raycoh {
+
+struct QualityRow {
+  std::string scene, scene_spec;
+  size_t scene_triangles = 0;
+  std::string method, generator, generator_params, tracer_spec, tracer, tracer_params;
+  int width = 0, height = 0, frames = 0, ref_frames = 0, bias_renders = 0;
+  uint32_t seed = 0;
+  std::optional<uint32_t> ref_seed;  // absent for an explicit --reference file
+  int max_depth = 0, rr_depth = 0;
+  std::string tone_map;  // as given (exposure=auto before resolving)
+  double exposure = 0;   // resolved on the reference
+  std::string reference_kind, reference;
+  // NaN (written empty) where undefined, e.g. bias2 and variance for one render.
+  double psnr = 0, psnr_std = 0, ssim = 0, rmse = 0, rel_mse = 0, mse = 0, mse_of_mean = 0, bias2 = 0, variance = 0;
+  uint64_t non_finite_samples = 0, non_finite_pixels = 0, ref_non_finite_samples = 0;
+  double render_s = 0, trace_s = 0, gen_ms = 0;
+  uint64_t rays = 0;
+  double mray_s = 0;
+  size_t below_geometric = 0, reused_rays = 0;
+  Provenance provenance;
+};
+
+const Schema<QualityRow>& quality_schema();
+
+}  // namespace raycoh

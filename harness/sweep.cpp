@@ -1,0 +1,119 @@
+// `raycoh sweep`: noopt and one `ours` (or `tile`) method per tile size x group size cell, on one scene; prints
+// the paper's Table 3 layout per tracer (MRay/s, or modeled cost per ray for modelling tracers).
+#include "harness/sweep.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <climits>
+#include <cstdio>
+
+#include "core/error.h"
+#include "harness/cli.h"
+#include "harness/command.h"
+#include "harness/table.h"
+
+namespace raycoh {
+
+namespace {
+
+void check_sweep(const SweepOptions& o) {
+  if (o.generator != "ours" && o.generator != "tile")
+    throw Error(fmt::format("--generator {}: sweep varies tile and group size; choose ours or tile", o.generator));
+  if (o.tiles.empty()) throw Error("--tiles: empty list");
+  if (o.groups.empty()) throw Error("--groups: empty list");
+  for (const auto& [w, h] : o.tiles)
+    if (w < 1 || w > 1024 || h < 1 || h > 1024)
+      throw Error(fmt::format("--tiles {}x{}: width and height must be in [1, 1024]", w, h));
+  for (int k : o.groups)
+    if (k < 1 || k > 65536) throw Error(fmt::format("--groups {}: must be in [1, 65536]", k));
+}
+
+// One tracer's tile x K table.
+void print_sweep(const SweepOptions& o, const SceneResult& r, const std::string& tl,
+                 const std::vector<std::vector<std::string>>& labels) {
+  const ExperimentOptions& e = o.experiment;
+  const auto& m = r.by_tracer.at(tl);
+  // A modelling tracer's wall time is the model's: its cells are modeled cost per ray (speedup over noopt).
+  const bool model = m.at("noopt").has_counters;
+  auto value = [&](const Accumulated& a) { return model ? a.per_ray(a.cost_w) : a.mray_s(); };
+  const double base = value(m.at("noopt"));
+  if (model)
+    std::printf(
+        "\n%s, tracer %s: modeled cost per ray of %s (modeled speedup over noopt, %.0f per ray); %dx%d, "
+        "%d frame(s)\n\n",
+        r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);
+  else
+    std::printf("\n%s, tracer %s: secondary MRay/s of %s (ratio to noopt %.2f MRay/s); %dx%d, %d frame(s)\n\n",
+                r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);
+  std::string header = "| (W,H) |", rule = "|---|";
+  for (int k : o.groups) {
+    header += fmt::format(" K = {} |", k);
+    rule += "---:|";
+  }
+  std::printf("%s\n%s\n", header.c_str(), rule.c_str());
+  for (size_t ti = 0; ti < o.tiles.size(); ++ti) {
+    std::string line = fmt::format("| ({},{}) |", o.tiles[ti].first, o.tiles[ti].second);
+    for (const std::string& label : labels[ti])
+      line += label.empty() ? " — |"
+              : model       ? fmt::format(" {:.0f} ({:.2f}x) |", value(m.at(label)), base / value(m.at(label)))
+                            : " " + ratio_cell(value(m.at(label)), base) + " |";
+    std::printf("%s\n", line.c_str());
+  }
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& o, const Provenance& provenance) {
+  check_sweep(o);
+  ExperimentOptions e = o.experiment;
+  e.methods = {{"noopt", {"noopt", ""}}};
+  std::vector<std::vector<std::string>> labels(o.tiles.size());  // per tile, per K: method label ("" = no cell)
+  for (size_t ti = 0; ti < o.tiles.size(); ++ti) {
+    const auto [tw, th] = o.tiles[ti];
+    for (int k : o.groups) {
+      if (k > tw * th) {  // K larger than a tile is not a grouping: the cell stays empty
+        labels[ti].push_back("");
+        continue;
+      }
+      const std::string params = fmt::format("tile={}x{},k={}", tw, th, k);
+      labels[ti].push_back(o.generator + ":" + params);
+      e.methods.push_back({labels[ti].back(), {o.generator, params}});
+    }
+  }
+  e.tracers = expand_auto(e.tracers);
+  const std::vector<SceneResult> results = run_experiment(e, provenance);
+  for (const std::string& tl : results.front().tracer_labels) print_sweep(o, results.front(), tl, labels);
+  std::printf("\nWrote %s (%s)\n", e.out.c_str(), provenance.git_revision.c_str());
+  return 0;
+}
+
+BoundCommand bind_sweep(CLI::App& parent) {
+  struct State {
+    SweepOptions o;
+    ExperimentText text;
+    std::string scene, tiles, groups;
+  };
+  auto s = std::make_shared<State>();
+  for (const auto& [w, h] : s->o.tiles) s->tiles += fmt::format("{}{}x{}", s->tiles.empty() ? "" : ",", w, h);
+  for (int k : s->o.groups) s->groups += fmt::format("{}{}", s->groups.empty() ? "" : ",", k);
+  CLI::App* cmd = parent.add_subcommand("sweep", "tile size x group size of ours (the paper's Table 3 layout)");
+  cmd->add_option("--scene", s->scene, "scene")->required();
+  cmd->add_option("--generator", s->o.generator, "ours or tile")->capture_default_str();
+  cmd->add_option("--tiles", s->tiles, "comma-separated tile sizes WxH")->capture_default_str();
+  cmd->add_option("--groups", s->groups, "comma-separated group sizes K")->capture_default_str();
+  bind_experiment(cmd, s->o.experiment, s->text);
+  return {cmd, [s](const Provenance& provenance) {
+            s->o.experiment.scenes = {s->scene};
+            s->o.tiles.clear();
+            for (const PluginSpec& t : split_nonempty("--tiles", s->tiles))
+              s->o.tiles.push_back(parse_res("--tiles", t.text()));
+            s->o.groups.clear();
+            for (const PluginSpec& k : split_nonempty("--groups", s->groups))
+              s->o.groups.push_back(parse_int("--groups", k.text(), INT_MIN, INT_MAX));
+            resolve_experiment(s->o.experiment, s->text);
+            return run_sweep(s->o, provenance);
+          }};
+}
+
+}  // namespace raycoh

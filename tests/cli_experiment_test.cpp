@@ -1,0 +1,137 @@
+// `table` and `sweep` from the command line: CSV rows, rows kept after an error, resume, printed tables.
+#include <gtest/gtest.h>
+
+#include "tests/cli_util.h"
+
+namespace raycoh::test {
+namespace {
+
+TEST(CliExperiment, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
+  const auto dir = temp_dir("cli_table");
+  const auto out = dir / "t.csv";
+  CommandResult r = run_raycoh("table --scenes cornell --res 32x24 --frames 2 --repeat 1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("### cpu: secondary rays traced"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| noopt | "), std::string::npos) << r.output;
+  // 1 header + 2 frames x 2 tracers x (primary + noopt)
+  EXPECT_EQ(count_lines(out), 1 + 2 * 2 * 2);
+  EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+
+  const auto bad = dir / "bad.glb";
+  write_file(bad, "glTF this is not a binary gltf");
+  const auto out2 = dir / "t2.csv";
+  r = run_raycoh("table --scenes cornell," + bad.string() + " --res 32x24 --frames 1 --repeat 1 --out " +
+                 out2.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.glb"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out2));
+  EXPECT_EQ(count_lines(out2.string() + ".partial"), 1 + 2 * 2);
+}
+
+TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
+  const auto dir = temp_dir("cli_resume");
+  const auto out = dir / "r.csv";
+  const std::string args = "table --scenes cornell --res 24x16 --frames 2 --repeat 1 --out " + out.string();
+  ASSERT_EQ(run_raycoh(args).exit_code, 0);
+  const auto complete = read_lines(out);
+  ASSERT_EQ(complete.size(), 1u + 2 * 2 * 2);
+  // An interrupted run: the header, three finished rows and a torn fourth one.
+  std::filesystem::remove(out);
+  write_file(out.string() + ".partial", complete[0] + "\n" + complete[1] + "\n" + complete[2] + "\n" + complete[3] +
+                                            "\n" + complete[4].substr(0, 20));
+  const CommandResult r = run_raycoh(args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming: 3 rows"), std::string::npos) << r.output;
+  const auto resumed = read_lines(out);
+  ASSERT_EQ(resumed.size(), complete.size());
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(resumed[i], complete[i]);  // kept as measured, not measured again
+  EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+
+  // A row of another code revision is neither reused nor kept.
+  std::string stale = complete[1];
+  const size_t at = stale.find(",Release,");
+  ASSERT_NE(at, std::string::npos) << stale;
+  const size_t rev = stale.rfind(',', at - 1);
+  stale = stale.substr(0, rev + 1) + "0000000old" + stale.substr(at);
+  std::filesystem::remove(out);
+  write_file(out.string() + ".partial", complete[0] + "\n" + stale + "\n");
+  const CommandResult again = run_raycoh(args);
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("dropped 1 rows of another code revision"), std::string::npos) << again.output;
+  const auto fresh = read_lines(out);
+  EXPECT_EQ(fresh.size(), complete.size());
+  for (const auto& line : fresh) EXPECT_EQ(line.find("0000000old"), std::string::npos);
+}
+
+TEST(CliExperiment, SweepPrintsTheTileByGroupTable) {
+  const auto out = temp_dir("cli_sweep") / "s.csv";
+  const CommandResult r = run_raycoh(
+      "sweep --scene cornell --tiles 4x4,8x8 --groups 4,32 --res 32x32 --frames 1 "
+      "--repeat 1 --out " +
+      out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("| (W,H) | K = 4 | K = 32 |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| (4,4) |"), std::string::npos);
+  EXPECT_NE(r.output.find(" — |"), std::string::npos) << "K = 32 > 4x4 must be an empty cell\n" << r.output;
+  // noopt + 3 valid cells, 1 tracer, 1 frame, plus primary and header
+  EXPECT_EQ(count_lines(out), 1 + 1 + 4);
+  expect_error("sweep --scene cornell --tiles 0x8", "--tiles");
+  expect_error("sweep --scene cornell --groups 0", "--groups");
+  expect_error("sweep --scene cornell --generator noopt", "ours or tile");
+}
+
+TEST(CliExperiment, TableWithEncodersReportsTraceOnlyAndEndToEnd) {
+  const auto out = temp_dir("cli_enc") / "e.csv";
+  const CommandResult r = run_raycoh(
+      "table --scenes cornell --generators noopt,ours --encoders none,origin,mlhcc "
+      "--permute indirect --tracers cpu --res 32x24 --frames 1 --repeat 1 --out " +
+      out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* s : {"| noopt+origin |", "| ours+mlhcc |", "end to end", "permute indirect"})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+  const auto lines = read_lines(out);
+  EXPECT_EQ(lines.size(), 1u + 1 + 6);  // header, primary, 2 generators x 3 encoders
+  int indirect = 0;
+  for (const auto& l : lines)
+    indirect += l.find(",origin,\"bits=32") != std::string::npos && l.find(",indirect,") != std::string::npos;
+  EXPECT_EQ(indirect, 2);
+  expect_error("table --encoders zorder --res 8x8", "valid encoders: none, origin");
+  expect_error("table --encoders origin --permute sideways --res 8x8", "physical");
+}
+
+TEST(CliExperiment, ADamagedPartialFileIsADistinctOneLineError) {
+  const auto dir = temp_dir("cli_damaged");
+  const auto out = dir / "d.csv";
+  const std::string args =
+      "table --scenes cornell --res 24x16 --frames 1 --repeat 1 --tracers cpu --out " + out.string();
+  ASSERT_EQ(run_raycoh(args).exit_code, 0);
+  auto lines = read_lines(out);
+  ASSERT_EQ(lines.size(), 3u);
+  // The scene_triangles field (2nd column) of a complete row no longer holds a number.
+  std::string row = lines[1];
+  const size_t first = row.find(','), second = row.find(',', first + 1);
+  row = row.substr(0, first + 1) + "12x4" + row.substr(second);
+  std::filesystem::remove(out);
+  write_file(out.string() + ".partial", lines[0] + "\n" + row + "\n");
+  const CommandResult r = run_raycoh(args);
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("column scene_triangles: '12x4' is not an integer"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("d.csv.partial line 2"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("terminate"), std::string::npos) << r.output;
+}
+
+TEST(CliExperiment, AWriteFailureIsReportedNotWritten) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const auto dir = temp_dir("cli_full");
+  const auto out = dir / "f.csv";
+  std::filesystem::create_symlink("/dev/full", out.string() + ".partial");
+  // A ray dump never resumes, so the .partial (a full disk here) is only written, never read.
+  const CommandResult r = run_raycoh("rays --scene cornell --res 16x16 --out " + out.string());
+  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_NE(r.output.find("write failed"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace raycoh::test

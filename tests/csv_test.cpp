@@ -1,0 +1,166 @@
+// The CSV layer of the harness: escaping, the column schemas (round trip, damaged values, resume keys), and
+// write errors.
+#include "harness/csv.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "harness/exit_codes.h"
+#include "harness/experiment_row.h"
+#include "harness/quality_row.h"
+#include "harness/record_csv.h"
+#include "tests/cli_util.h"
+
+namespace raycoh::test {
+namespace {
+
+TEST(Csv, EscapesAndParsesQuotedFields) {
+  EXPECT_EQ(csv_escape("a,b"), "\"a,b\"");
+  EXPECT_EQ(csv_escape("say \"hi\""), "\"say \"\"hi\"\"\"");
+  std::vector<std::string> fields;
+  ASSERT_TRUE(csv_parse_line("x,\"a,b\",\"q\"\"q\",", fields));
+  EXPECT_EQ(fields, (std::vector<std::string>{"x", "a,b", "q\"q", ""}));
+  EXPECT_FALSE(csv_parse_line("\"open", fields));
+}
+
+// The experiment CSV's column order is part of every file already written: pinned here.
+TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
+  const std::vector<std::string> names = column_names(experiment_schema());
+  const std::vector<std::string> expected = {"scene",
+                                             "scene_triangles",
+                                             "pass",
+                                             "method",
+                                             "generator",
+                                             "generator_params",
+                                             "tracer",
+                                             "tracer_params",
+                                             "width",
+                                             "height",
+                                             "frame",
+                                             "seed",
+                                             "rays",
+                                             "gen_ms",
+                                             "trace_ms",
+                                             "trace_ms_min",
+                                             "repeats",
+                                             "mray_s",
+                                             "below_geometric",
+                                             "below_shading",
+                                             "non_finite",
+                                             "groups_diffuse",
+                                             "groups_glossy",
+                                             "groups_hybrid",
+                                             "groups_independent",
+                                             "groups_world",
+                                             "hybrid_mean_fallback",
+                                             "reused_rays",
+                                             "encoder",
+                                             "encoder_params",
+                                             "permute",
+                                             "key_ms",
+                                             "sort_ms",
+                                             "permute_ms",
+                                             "e2e_ms",
+                                             "e2e_mray_s",
+                                             "simt_efficiency",
+                                             "node_simt_efficiency",
+                                             "lines_per_ray",
+                                             "fetches_per_ray",
+                                             "l1_misses_per_ray",
+                                             "l2_misses_per_ray",
+                                             "dram_bytes_per_ray",
+                                             "modeled_cost_per_ray",
+                                             "git_revision",
+                                             "build_type",
+                                             "compiler",
+                                             "cpu",
+                                             "device",
+                                             "embree_version",
+                                             "threads",
+                                             "started_utc",
+                                             "command_line"};
+  EXPECT_EQ(names, expected);
+  std::vector<std::string> key;
+  for (const auto& c : experiment_schema())
+    if (c.key) key.push_back(c.name);
+  EXPECT_EQ(key, (std::vector<std::string>{"scene", "pass", "method", "generator_params", "tracer", "tracer_params",
+                                           "width", "height", "frame", "seed", "repeats", "encoder_params", "permute",
+                                           "git_revision"}));
+}
+
+TEST(Csv, RowsRoundTripThroughTheirSchema) {
+  ExperimentRow r;
+  r.scene = "cornell";
+  r.generator_params = "tile=8x8,k=8";
+  r.rays = 12345;
+  r.trace_ms = 1.23456;
+  r.mray_s = 10.0;
+  r.groups_diffuse = 7;
+  r.simt_efficiency = 0.123456789;
+  r.provenance.threads = 2;
+  const auto text = write_row(experiment_schema(), r);
+  EXPECT_EQ(text[14], "1.2346");  // trace_ms: 4 decimals
+  EXPECT_EQ(text[17], "10.000");  // mray_s: 3 decimals
+  EXPECT_EQ(text[18], "");        // below_geometric: absent
+  EXPECT_EQ(text[21], "7");
+  EXPECT_EQ(text[36], "0.123457");  // counters: 6 significant digits
+  const ExperimentRow back = read_row(experiment_schema(), text);
+  EXPECT_EQ(write_row(experiment_schema(), back), text);  // text -> record -> text is exact
+  EXPECT_FALSE(back.below_geometric.has_value());
+  EXPECT_EQ(back.groups_diffuse, 7u);
+
+  QualityRow q;
+  q.psnr = 31.5;
+  q.bias2 = std::nan("");
+  const auto qt = write_row(quality_schema(), q);
+  const QualityRow qb = read_row(quality_schema(), qt);
+  EXPECT_TRUE(std::isnan(qb.bias2));  // written empty, read back as NaN
+  EXPECT_EQ(write_row(quality_schema(), qb), qt);
+}
+
+TEST(Csv, DamagedValuesNameTheirColumn) {
+  auto text = write_row(experiment_schema(), ExperimentRow{});
+  text[12] = "lots";
+  try {
+    read_row(experiment_schema(), text);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("column rays: 'lots' is not an integer"), std::string::npos) << e.what();
+  }
+  text[12] = "-3";
+  EXPECT_THROW(read_row(experiment_schema(), text), std::invalid_argument);
+  text[12] = "3";
+  text[14] = "1.5ms";
+  EXPECT_THROW(read_row(experiment_schema(), text), std::invalid_argument);
+}
+
+TEST(Csv, ADamagedPartialFileIsADamagedFileError) {
+  const auto dir = temp_dir("csv_damaged");
+  const auto path = (dir / "e.csv").string();
+  std::string header;
+  for (const auto& n : column_names(experiment_schema())) header += (header.empty() ? "" : ",") + n;
+  auto row = write_row(experiment_schema(), ExperimentRow{});
+  row[10] = "first";  // frame
+  std::string line;
+  for (size_t i = 0; i < row.size(); ++i) line += (i ? "," : "") + csv_escape(row[i]);
+  write_file(path + ".partial", header + "\n" + line + "\n");
+  try {
+    RecordCsv<ExperimentRow> csv(path, experiment_schema());
+    FAIL() << "no error";
+  } catch (const DamagedFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("e.csv.partial line 2: column frame: 'first'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Csv, WriteFailuresAreErrors) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const auto dir = temp_dir("csv_full");
+  const auto path = (dir / "full.csv").string();
+  std::filesystem::create_symlink("/dev/full", path + ".partial");
+  EXPECT_THROW(CsvWriter(path, {"a", "b"}, CsvWriter::Resume::No), WriteError);
+}
+
+}  // namespace
+}  // namespace raycoh::test
