@@ -30,5 +30,6 @@ BoundCommand bind_render(CLI::App& parent);
 BoundCommand bind_quality(CLI::App& parent);
 BoundCommand bind_converge(CLI::App& parent);
 BoundCommand bind_compare(CLI::App& parent);
+BoundCommand bind_validate(CLI::App& parent);
 
 }  // namespace raycoh

@@ -17,6 +17,8 @@
 #include "generators/primary.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
+#include "simt/pipeline_model.h"
+#include "simt/timed_replay.h"
 #include "tracers/tracer.h"
 #if defined(RAYCOH_HAVE_CUDA)
 #include "cuda/cuda_trace.h"
@@ -117,8 +119,9 @@ class ExperimentRun {
   bool frame_resumed(int frame);
   template <class Fn>
   Timing measure(size_t ti, Fn&& trace_once);
+  ModeledStages model_stages(const GpuModelConfig& gpu, size_t mi, bool reordered) const;
   void record(ExperimentRow row, size_t ti, double gen_s, const Timing& t, const GenerationStats* gs,
-              const ReorderTimings& rt);
+              const ReorderTimings& rt, const ModeledStages& stages);
 
   const ExperimentOptions& o_;
   const Provenance& provenance_;
@@ -257,8 +260,22 @@ Timing ExperimentRun::measure(size_t ti, Fn&& trace_once) {
   return time_repeats(wall, o_.repeats);
 }
 
+// The stages around the trace on a modelling tracer's GPU (simt/pipeline_model.h): generation of the batch,
+// and for a reordering its keys, sort and (physical mode) permutation. Indirect mode has no permutation kernel;
+// the modeled trace then reads the rays in sorted order as if gathered (docs/simt-model.md, section 3).
+ModeledStages ExperimentRun::model_stages(const GpuModelConfig& gpu, size_t mi, bool reordered) const {
+  ModeledStages m;
+  m.gen_ms = modeled_generation_ms(gpu, size_t(o_.width) * size_t(o_.height), batch_.size());
+  if (!reordered) return m;
+  const int bits = setup_->encoders[mi]->key_bits();
+  m.key_ms = modeled_key_ms(gpu, batch_.size(), bits);
+  m.sort_ms = modeled_sort_ms(gpu, batch_.size(), bits);
+  if (permute_ == PermuteMode::Physical) m.permute_ms = modeled_permute_ms(gpu, order_.data(), order_.size());
+  return m;
+}
+
 void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timing& t, const GenerationStats* gs,
-                           const ReorderTimings& rt) {
+                           const ReorderTimings& rt, const ModeledStages& stages) {
   const double rays = static_cast<double>(r.rays);
   const double e2e_s = gen_s + rt.total_ms() * 1e-3 + t.median;
   r.gen_ms = gen_s * 1e3;
@@ -279,7 +296,14 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
     r.l1_misses_per_ray = c->l1_misses_per_ray();
     r.l2_misses_per_ray = c->l2_misses_per_ray();
     r.dram_bytes_per_ray = c->dram_bytes_per_ray();
-    r.modeled_cost_per_ray = c->cost_per_ray();
+    if (c->modeled.ms > 0) {
+      const double e2e_ms = c->modeled.ms + stages.gen_ms + stages.reorder_ms();
+      r.modeled_ms = c->modeled.ms;
+      r.modeled_mray_s = c->modeled_mray_s();
+      r.modeled_e2e_ms = e2e_ms;
+      r.modeled_e2e_mray_s = rays / e2e_ms * 1e-3;
+      r.modeled_limiter = modeled_limiter(c->modeled);
+    }
   }
   csv_.write(r);
   accumulate(r, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
@@ -296,7 +320,7 @@ void ExperimentRun::run_frame(int frame) {
     if (resumed(r, ti)) continue;
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), hits_.data()); });
     r.rays = rays.size();
-    record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{});
+    record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{}, ModeledStages{});
   }
   run_methods(frame, first.gbuffer);
 }
@@ -332,7 +356,8 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
           tracer.trace(rays.data(), rays.size(), hits_.data());
       });
       r.rays = batch_.size();
-      record(std::move(r), ti, gen_s, t, &gs, rt);
+      const GpuModelConfig* gpu = tracer.gpu_model();
+      record(std::move(r), ti, gen_s, t, &gs, rt, gpu ? model_stages(*gpu, mi, reordered) : ModeledStages{});
     }
   }
 }

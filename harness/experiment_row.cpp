@@ -51,7 +51,11 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("l1_misses_per_ray", &R::l1_misses_per_ray, Optional<General>{}),
         column("l2_misses_per_ray", &R::l2_misses_per_ray, Optional<General>{}),
         column("dram_bytes_per_ray", &R::dram_bytes_per_ray, Optional<General>{}),
-        column("modeled_cost_per_ray", &R::modeled_cost_per_ray, Optional<General>{}),
+        column("modeled_ms", &R::modeled_ms, Optional<General>{}),
+        column("modeled_mray_s", &R::modeled_mray_s, Optional<General>{}),
+        column("modeled_e2e_ms", &R::modeled_e2e_ms, Optional<General>{}),
+        column("modeled_e2e_mray_s", &R::modeled_e2e_mray_s, Optional<General>{}),
+        column("modeled_limiter", &R::modeled_limiter, Text{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
     return s;
@@ -104,7 +108,12 @@ void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool 
     acc.l1_w += rays * row.l1_misses_per_ray.value_or(0);
     acc.l2_w += rays * row.l2_misses_per_ray.value_or(0);
     acc.dram_w += rays * row.dram_bytes_per_ray.value_or(0);
-    acc.cost_w += rays * row.modeled_cost_per_ray.value_or(0);
+  }
+  if (row.modeled_ms) {
+    acc.has_model = true;
+    acc.modeled_s += *row.modeled_ms * 1e-3;
+    acc.modeled_e2e_s += row.modeled_e2e_ms.value_or(0) * 1e-3;
+    acc.modeled_limiter = row.modeled_limiter;
   }
   if (row.pass != "secondary" || !first_tracer) return;
   res.rays_per_frame = rays;

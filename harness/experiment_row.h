@@ -31,7 +31,12 @@ struct ExperimentRow {
   double key_ms = 0, sort_ms = 0, permute_ms = 0, e2e_ms = 0, e2e_mray_s = 0;
   // Coherence counters per ray of modelling tracers (`simt`); absent for timing tracers.
   std::optional<double> simt_efficiency, node_simt_efficiency, lines_per_ray, fetches_per_ray, l1_misses_per_ray,
-      l2_misses_per_ray, dram_bytes_per_ray, modeled_cost_per_ray;
+      l2_misses_per_ray, dram_bytes_per_ray;
+  // The GPU timing model of modelling tracers (`simt`): modeled, not measured, never mixed with the columns
+  // above. The trace kernel (simt/timed_replay.h), then generation + key + sort + permute + trace, all modeled
+  // on the tracer's preset (simt/pipeline_model.h); the port that bounded the trace kernel.
+  std::optional<double> modeled_ms, modeled_mray_s, modeled_e2e_ms, modeled_e2e_mray_s;
+  std::string modeled_limiter;
   Provenance provenance;
 };
 
@@ -53,7 +58,14 @@ struct Accumulated {
   double overhead_share() const { return e2e_s() > 0 ? (gen_s + reorder_s) / e2e_s() : 0.0; }
   // Coherence counters of modelling tracers (`simt`), per ray, weighted by rays over frames.
   bool has_counters = false;
-  double simt_eff_w = 0, lines_w = 0, l1_w = 0, l2_w = 0, dram_w = 0, cost_w = 0;
+  double simt_eff_w = 0, lines_w = 0, l1_w = 0, l2_w = 0, dram_w = 0;
+  // The timing model's figures (modeled seconds, summed over frames): trace, and end to end.
+  bool has_model = false;
+  double modeled_s = 0, modeled_e2e_s = 0;
+  std::string modeled_limiter;  // of the last frame
+  double modeled_mray_s() const { return modeled_s > 0 ? rays / modeled_s * 1e-6 : 0.0; }
+  double modeled_e2e_mray_s() const { return modeled_e2e_s > 0 ? rays / modeled_e2e_s * 1e-6 : 0.0; }
+  double modeled_overhead_share() const { return modeled_e2e_s > 0 ? 1.0 - modeled_s / modeled_e2e_s : 0.0; }
   double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
 };
 

@@ -1,5 +1,6 @@
 // `raycoh table`: runs every generator with every encoder and prints, per tracer, trace-only and end-to-end
-// MRay/s with ratios to noopt (or, for modelling tracers, coherence counters), then a generation table.
+// MRay/s with ratios to noopt (for `simt`: the GPU timing model's modeled MRay/s, labelled modeled, with the
+// coherence counters), then a generation table.
 #include "harness/table.h"
 
 #include <fmt/format.h>
@@ -51,22 +52,39 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
   }
 }
 
-// Modelling tracers (`simt`): coherence counters per ray instead of wall-clock speed. The modeled speedup is
-// cost(noopt) / cost(method), the ranking the cost model gives (simt/).
+// Counting and modelling tracers (`simt`, `cuda:counters=on`): the coherence counters per ray, and for `simt` the
+// GPU timing model's figures, labelled modeled: trace-only MRay/s with the ratio to noopt and the port that
+// bounded the kernel, then end to end with every stage modeled on the same GPU (never a CPU time).
 void print_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
                     const std::string& header) {
-  std::printf(
-      "\n### %s: SIMT efficiency, L1 / L2 sector misses per ray, modeled cost per ray (modeled speedup over "
-      "noopt)\n\n%s\n",
-      tl.c_str(), header.c_str());
+  const bool model = results.front().by_tracer.at(tl).at("noopt").has_model;
+  std::printf("\n### %s: %sSIMT efficiency, L1 / L2 sector misses per ray\n\n%s\n", tl.c_str(),
+              model ? "MODELED GPU trace, not measured: modeled MRay/s (ratio to noopt), limiter; " : "",
+              header.c_str());
   for (const std::string& label : row_labels(methods)) {
     std::string line = row_name(label);
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
       const Accumulated& a = m.at(label);
-      const double base = m.at("noopt").per_ray(m.at("noopt").cost_w), cost = a.per_ray(a.cost_w);
-      line += fmt::format(" {:.3f}, {:.2f} / {:.2f}, {:.0f} ({:.2f}x) |", a.per_ray(a.simt_eff_w), a.per_ray(a.l1_w),
-                          a.per_ray(a.l2_w), cost, cost > 0 ? base / cost : 0.0);
+      if (model)
+        line += fmt::format(" {}, {};", ratio_cell(a.modeled_mray_s(), m.at("noopt").modeled_mray_s()),
+                            a.modeled_limiter);
+      line += fmt::format(" {:.3f}, {:.2f} / {:.2f} |", a.per_ray(a.simt_eff_w), a.per_ray(a.l1_w), a.per_ray(a.l2_w));
+    }
+    std::printf("%s\n", line.c_str());
+  }
+  if (!model) return;
+  std::printf(
+      "\n### %s: MODELED end to end (generation + key + sort + permute + trace, each modeled on the same GPU), "
+      "modeled MRay/s (ratio to noopt), overhead share\n\n%s\n",
+      tl.c_str(), header.c_str());
+  for (const Method& method : methods) {
+    std::string line = "| " + method.label + " |";
+    for (const SceneResult& r : results) {
+      const auto& m = r.by_tracer.at(tl);
+      const Accumulated& a = m.at(method.label);
+      line += fmt::format(" {}, {:.0f}% |", ratio_cell(a.modeled_e2e_mray_s(), m.at("noopt").modeled_e2e_mray_s()),
+                          100 * a.modeled_overhead_share());
     }
     std::printf("%s\n", line.c_str());
   }

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Tile size x group size heatmap (the paper's Table 3) from a `raycoh sweep` CSV.
 
-Rows of the secondary pass whose generator is ours or tile are placed by the tile (W x H) and group size K of
+Rows of the secondary pass whose generator is ours or contiguous (tile, its old name) are placed by the tile (W x H) and group size K of
 their generator_params ("tile=8x8,k=16,..."); each cell is sum(rays) / sum(trace_ms) over frames, shown as the
 ratio to noopt on the same scene and tracer (--value speedup, the default) or in MRay/s (--value mray).
 One panel per scene and tracer. Cells the sweep did not run (K larger than the tile) stay empty.
@@ -13,7 +13,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from plotlib import cost_time, fail, number, parse_params, plt, read_csv, save, tracer_label
+from plotlib import cost_time, fail, is_modeled, number, parse_params, plt, read_csv, save, tracer_label
 
 
 def tile_key(tile):
@@ -43,27 +43,27 @@ def main():
             continue
         if r["generator"] == "noopt" and r.get("encoder", "none") in ("", "none"):
             tile, k = "noopt", 0
-        elif r["generator"] in ("ours", "tile"):
+        elif r["generator"] in ("ours", "contiguous", "tile"):
             p = parse_params(r["generator_params"])
             if "tile" not in p or "k" not in p:
                 fail(f"method {r['method']}: generator_params '{r['generator_params']}' lacks tile= or k=")
             tile, k = p["tile"], int(p["k"])
         else:
             continue
-        panel = (r["scene"], tracer_label(r))
+        panel = (r["scene"], tracer_label(r) + (" (MODELED GPU time)" if is_modeled(r) else ""))
         if panel not in panels:
             panels.append(panel)
         sums[panel + (tile, k)][0] += number(r, "rays")
         sums[panel + (tile, k)][1] += t
     if not panels:
-        fail("no secondary-pass rows of ours/tile" + (f" for tracer {a.tracer}" if a.tracer else ""))
+        fail("no secondary-pass rows of ours/contiguous" + (f" for tracer {a.tracer}" if a.tracer else ""))
 
     fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.2), squeeze=False)
     for ax, panel in zip(axes[0], panels):
         tiles = sorted({key[2] for key in sums if key[:2] == panel and key[2] != "noopt"}, key=tile_key)
         ks = sorted({key[3] for key in sums if key[:2] == panel and key[2] != "noopt"})
         if not tiles:
-            fail(f"scene {panel[0]}, tracer {panel[1]}: no ours/tile rows")
+            fail(f"scene {panel[0]}, tracer {panel[1]}: no ours/contiguous rows")
         base = sums.get(panel + ("noopt", 0))
         if a.value == "speedup" and not base:
             fail(f"scene {panel[0]}, tracer {panel[1]}: no noopt rows for the speedup (use --value mray)")

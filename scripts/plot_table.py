@@ -14,7 +14,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from plotlib import cost_time, fail, number, plt, read_csv, save, tracer_label
+from plotlib import cost_time, fail, is_modeled, number, plt, read_csv, save, tracer_label
 
 
 def main():
@@ -35,9 +35,6 @@ def main():
     for r in rows:
         if a.tracer and r["tracer"] != a.tracer:
             continue
-        model = r.get("modeled_cost_per_ray", "") != ""
-        if model and a.speed == "e2e":
-            continue  # a model has no end-to-end time
         if r["pass"] == "primary":
             if not a.primary:
                 continue
@@ -46,7 +43,7 @@ def main():
             method, t = r["method"], cost_time(r, time_col)
         if not (t > 0):
             continue
-        key = (tracer_label(r), r["scene"], method)
+        key = (tracer_label(r) + (" (MODELED GPU time)" if is_modeled(r) else ""), r["scene"], method)
         sums[key][0] += number(r, "rays")
         sums[key][1] += t
         for lst, v in ((tracers, key[0]), (scenes, key[1]), (methods, key[2])):

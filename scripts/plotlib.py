@@ -76,10 +76,16 @@ def save(fig, out):
     print(f"wrote {out}")
 
 
+def is_modeled(row):
+    """A row of a modelling tracer (simt): its times are the GPU timing model's, not the CPU's wall time."""
+    return row.get("modeled_ms", "") not in ("", None)
+
+
 def cost_time(row, column="trace_ms"):
-    """The 'time' of a row for speed ratios: for a modelling tracer (simt: modeled_cost_per_ray filled in) the
-    modeled cost of the whole batch, since its wall time is the model's own; otherwise the measured column."""
-    cost = row.get("modeled_cost_per_ray", "")
-    if cost not in ("", None):
-        return float(cost) * float(row["rays"])
+    """The time of a row for speed ratios, in ms. For a modelling tracer (simt: modeled_ms filled in) the modeled
+    GPU time (trace: modeled_ms; end to end: modeled_e2e_ms), never its wall time; otherwise the measured column.
+    Plots label such rows modeled."""
+    if is_modeled(row):
+        text = row.get("modeled_e2e_ms" if column == "e2e_ms" else "modeled_ms", "")
+        return float(text) if text not in ("", None) else float("nan")
     return float(row[column]) if row.get(column, "") not in ("", None) else float("nan")

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <utility>
 
 #include "core/error.h"
 
@@ -217,6 +219,13 @@ void TimedReplay::finish(uint32_t slot_index, double t, WarpTrace& trace) {
   }
   slots_[next].wants_work = true;
   events_.push({t, next});
+}
+
+const char* modeled_limiter(const ModeledKernel& k) {
+  const std::pair<double, const char*> ports[] = {
+      {k.issue_busy, "issue"}, {k.l1_busy, "l1"}, {k.l2_busy, "l2"}, {k.dram_busy, "dram"}};
+  const auto& busiest = *std::max_element(std::begin(ports), std::end(ports));
+  return busiest.first >= 0.8 * k.cycles && k.cycles > 0 ? busiest.second : "latency";
 }
 
 ModeledKernel TimedReplay::result() const {

@@ -36,6 +36,10 @@
 
 namespace raycoh {
 
+// The port that bounded a kernel: "issue", "l1", "l2" or "dram" when that port was busy at least 80% of the
+// kernel's time (the busiest such port), otherwise "latency" (too few warps to cover the waits, or the tail).
+const char* modeled_limiter(const ModeledKernel& k);
+
 class TimedReplay {
  public:
   // `ray_base_sector`: sector number of rays[0] (the ray array sits after the BVH in the modelled memory).
