@@ -133,5 +133,26 @@ TEST(CliExperiment, AWriteFailureIsReportedNotWritten) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+TEST(CliExperiment, ValidatePutsTheModelBesideThePaper) {
+  const auto dir = temp_dir("cli_validate");
+  const auto out = dir / "v.csv";
+  const CommandResult r = run_raycoh("validate --scene voxels:size=16 --res 48x32 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("MODELED, not measured"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| AilaCompact | 208.9 | 1.35 |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| (32,8) |"), std::string::npos) << r.output;
+  // 7 rows of Table 1, 16 cells of Table 3, the primary-ray bound.
+  const auto lines = read_lines(out);
+  ASSERT_EQ(lines.size(), 1u + 7 + 16 + 1);
+  EXPECT_EQ(lines[0].rfind("table,row,paper_row,tile,k,paper_mray_s,paper_ratio,modeled_mray_s,modeled_ratio,", 0), 0u)
+      << lines[0];
+  EXPECT_EQ(lines[1].rfind("table1,noopt,NoOpt,,0,154.7,1,", 0), 0u) << lines[1];
+  EXPECT_TRUE(std::filesystem::exists(out.string() + ".md"));
+  EXPECT_EQ(count_lines(out.string() + ".rows.csv"), 1 + 22 + 1);  // 22 methods and the primary pass, one frame
+  expect_error("validate --scene /nonexistent/sibenik --out " + (dir / "w.csv").string(), "Sibenik");
+  expect_error("validate --scene voxels:size=16 --res 48x32 --preset gtx480 --out " + (dir / "w.csv").string(),
+               "rtx3060, h100");
+}
+
 }  // namespace
 }  // namespace raycoh::test
