@@ -5,18 +5,20 @@ Left: Table 1's Sibenik column, speedup over NoOpt per method, paper (measured o
 (modeled, simt preset). Right: Table 3, speedup of `ours` over NoOpt against the group size K, one colour per
 tile size, paper solid and model dashed. Every modeled figure is labelled modeled.
 
-Usage: plot_validate.py validate.csv out.png
+Usage: plot_validate.py validate.csv --out out.png
 """
-import sys
+import argparse
 
 from plotlib import fail, number, plt, read_csv, save
 
 
 def main():
-    if len(sys.argv) != 3:
-        fail("usage: plot_validate.py validate.csv out.png")
-    path, out = sys.argv[1], sys.argv[2]
-    rows = read_csv(path, ["table", "row", "tile", "k", "paper_ratio", "modeled_ratio", "preset"])
+    ap = argparse.ArgumentParser(description="The GPU timing model against the paper (raycoh validate's CSV).")
+    ap.add_argument("csv")
+    ap.add_argument("--out", required=True)
+    a = ap.parse_args()
+    path, out = a.csv, a.out
+    rows = read_csv(path, ["table", "row", "paper_row", "tile", "k", "paper_ratio", "modeled_ratio", "preset"])
     t1 = [r for r in rows if r["table"] == "table1" and r["paper_ratio"] not in ("", "nan")]
     t3 = [r for r in rows if r["table"] == "table3"]
     if not t1 or not t3:
@@ -30,7 +32,7 @@ def main():
     a.bar([i + 0.2 for i in x], [number(r, "modeled_ratio") for r in t1], 0.4, label=f"model ({preset}, modeled)",
           color="#dd8452")
     a.set_xticks(list(x))
-    a.set_xticklabels([r["row"] for r in t1], rotation=30, ha="right")
+    a.set_xticklabels([r["paper_row"] for r in t1], rotation=30, ha="right")
     a.axhline(1.0, color="grey", lw=0.8)
     a.set_ylabel("speedup over NoOpt (trace only)")
     a.set_title("Table 1, Sibenik, 1920x1080")

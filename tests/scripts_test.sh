@@ -49,6 +49,18 @@ cornell,ours,32,512,25.0,0.08,0.70,0.049,0.06,0.00024
 sibenik,noopt,32,512,19.6,0.2,0.6,0.1,0.01,0.000001
 sibenik,ours,32,512,19.5,0.1,0.6,0.1,0.01,0.000001
 CSV
+# `raycoh validate` rows (two Table 1 rows, a Table 3 row per tile and K = 8, 16), and a simt table row.
+{
+  echo "table,row,paper_row,tile,k,paper_mray_s,paper_ratio,modeled_mray_s,modeled_ratio,ratio_error,modeled_limiter,preset"
+  echo "table1,noopt,NoOpt,,0,154.7,1,300,1,0,l1,rtx3060"
+  echo "table1,ours:tile=8x8,k=8,Ours,8x8,8,278.5,1.8,420,1.4,-0.22,l1,rtx3060"
+  for t in 8x8 32x8; do for k in 8 16; do
+    echo "table3,ours:tile=$t,k=$k,($t) K=$k,$t,$k,250,1.6,400,1.33,-0.17,l1,rtx3060"
+  done; done
+} > validate.csv
+sed -e 's/,mray_s$/,mray_s,modeled_ms,modeled_e2e_ms/' -e '2,$s/$/,,/' table.csv > table_simt.csv
+echo "cornell,secondary,noopt,noopt,\"order=tile,tile=8x8\",none,simt,,0,900,50.0,50.0,0.018,0.003,0.004" >> table_simt.csv
+echo "cornell,secondary,ours,ours,\"tile=8x8,k=8,order=tile,seed=0\",none,simt,,0,900,60.0,60.0,0.015,0.002,0.003" >> table_simt.csv
 /usr/bin/python3 - <<'PY'
 import numpy as np
 import matplotlib.image as mpimg
@@ -77,6 +89,8 @@ expect_error() {  # expect_error <text> <command...>: exit code 2 and the text i
 "$scripts/plot_quality.py" quality.csv --out fig/quality.png --markdown fig/quality.md && check fig/quality.png
 check fig/quality.md
 grep -q "| ours | 25.00 | 19.50 |" fig/quality.md || { echo "scripts_test: unexpected table:"; cat fig/quality.md; exit 1; }
+"$scripts/plot_validate.py" validate.csv --out fig/validate.png && check fig/validate.png
+"$scripts/plot_table.py" table_simt.csv --out fig/table_simt.png --speed e2e && check fig/table_simt.png
 "$scripts/montage.py" reference.png noopt.png ours.png --out fig/montage.png && check fig/montage.png
 "$scripts/montage.py" reference.png noopt.png ours.png --crop 8,4,16,12 --labels ref,noopt,ours --out fig/crops.png
 check fig/crops.png
@@ -88,4 +102,7 @@ expect_error "no noopt rows" "$scripts/plot_table.py" no_baseline.csv --out fig/
 expect_error "not inside" "$scripts/montage.py" reference.png --crop 60,40,16,16 --out fig/x.png
 expect_error "no such image file" "$scripts/montage.py" nothing.png --out fig/x.png
 expect_error "nothing to do" "$scripts/plot_quality.py" quality.csv
+expect_error "missing column" "$scripts/plot_validate.py" table.csv --out fig/x.png
+grep "^table1" validate.csv > table1_only.csv && sed -i "1i $(head -1 validate.csv)" table1_only.csv
+expect_error "needs table1 and table3" "$scripts/plot_validate.py" table1_only.csv --out fig/x.png
 echo "scripts_test: all plot scripts wrote their figures"
