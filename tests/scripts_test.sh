@@ -61,6 +61,12 @@ CSV
 sed -e 's/,mray_s$/,mray_s,modeled_ms,modeled_e2e_ms/' -e '2,$s/$/,,/' table.csv > table_simt.csv
 echo "cornell,secondary,noopt,noopt,\"order=tile,tile=8x8\",none,simt,,0,900,50.0,50.0,0.018,0.003,0.004" >> table_simt.csv
 echo "cornell,secondary,ours,ours,\"tile=8x8,k=8,order=tile,seed=0\",none,simt,,0,900,60.0,60.0,0.015,0.002,0.003" >> table_simt.csv
+cat > model.csv <<'CSV'
+scene,method,width,height,rays,modeled_ms,modeled_e2e_ms
+sibenik,noopt,64,32,2000,2.0,2.5
+sibenik,ours,64,32,2000,1.0,1.5
+sibenik,primary,64,32,2048,0.5,
+CSV
 /usr/bin/python3 - <<'PY'
 import numpy as np
 import matplotlib.image as mpimg
@@ -91,6 +97,9 @@ check fig/quality.md
 grep -q "| ours | 25.00 | 19.50 |" fig/quality.md || { echo "scripts_test: unexpected table:"; cat fig/quality.md; exit 1; }
 "$scripts/plot_validate.py" validate.csv --out fig/validate.png && check fig/validate.png
 "$scripts/plot_table.py" table_simt.csv --out fig/table_simt.png --speed e2e && check fig/table_simt.png
+"$scripts/model_summary.py" model.csv --out fig/model.md && check fig/model.md
+grep -q "| sibenik | 64x32 | 1 | 2.00x (1.67x e2e) | 4.10x |" fig/model.md ||
+  { echo "scripts_test: unexpected model summary:"; cat fig/model.md; exit 1; }
 "$scripts/montage.py" reference.png noopt.png ours.png --out fig/montage.png && check fig/montage.png
 "$scripts/montage.py" reference.png noopt.png ours.png --crop 8,4,16,12 --labels ref,noopt,ours --out fig/crops.png
 check fig/crops.png
