@@ -18,12 +18,12 @@
 #include <memory>
 
 #include "bench/bench_common.h"
-#include "core/params.h"
 #include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
+#include "core/params.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
@@ -96,13 +96,14 @@ int main(int argc, char** argv) {
 
   const auto& m = mean_seconds();
   const auto [w, h] = bench_size();
-  std::printf("\nGeneration overhead of ours over noopt, as a share of tracing the ours batch (%dx%d, cpu tracer):\n", w, h);
+  std::printf("\nGeneration overhead of ours over noopt, as a share of tracing the ours batch (%dx%d, cpu tracer):\n",
+              w, h);
   for (const auto& [name, spec] : scenes) {
     const auto g_ours = m.find("generate/" + name + "/ours"), g_noopt = m.find("generate/" + name + "/noopt");
     const auto t_ours = m.find("trace/" + name + "/ours");
     if (g_ours == m.end() || g_noopt == m.end() || t_ours == m.end()) continue;
-    std::printf("  %-16s gen noopt %.2f ms, gen ours %.2f ms, trace %.1f ms: overhead %+.2f%% of trace\n",
-                name.c_str(), g_noopt->second * 1e3, g_ours->second * 1e3, t_ours->second * 1e3,
+    std::printf("  %-16s gen noopt %.2f ms, gen ours %.2f ms, trace %.1f ms: overhead %+.2f%% of trace\n", name.c_str(),
+                g_noopt->second * 1e3, g_ours->second * 1e3, t_ours->second * 1e3,
                 100.0 * (g_ours->second - g_noopt->second) / t_ours->second);
   }
   return 0;

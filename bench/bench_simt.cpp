@@ -1,5 +1,5 @@
-// raycoh_bench_simt: the `simt` tracer (simt/simt.h, simt/cache_model.h, simt/timed_replay.h) on real secondary-ray batches, with its
-// coherence counters as benchmark counters, registered at run time per scene, generator and tracer.
+// raycoh_bench_simt: the `simt` tracer (simt/simt.h, simt/cache_model.h, simt/timed_replay.h) on real secondary-ray
+// batches, with its coherence counters as benchmark counters, registered at run time per scene, generator and tracer.
 //
 //   simt/<scene>/<generator>/<tracer>   one Tracer::trace call over the batch (wall-clock of the model, not a
 //                                       GPU time); the counters are the point:
@@ -33,13 +33,13 @@
 #include <vector>
 
 #include "bench/bench_common.h"
-#include "core/error.h"
 #include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
+#include "core/error.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "scenes/scene.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {

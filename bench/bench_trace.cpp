@@ -27,13 +27,13 @@
 #include <vector>
 
 #include "bench/bench_common.h"
+#include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "bvh/bvh_build.h"
 #include "embree/embree_device.h"
-#include "tracers/tracer.h"
 #include "scenes/scene.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {

@@ -20,7 +20,7 @@ enum SampleFlags : uint32_t {
   kSampleBelowShading = 1u << 0,    // glossy reflection fell below the shading hemisphere
   kSampleBelowGeometric = 1u << 1,  // direction on the wrong side of the geometric surface
   kSampleNonFinite = 1u << 2,
-  kSampleTransmitted = 1u << 3,     // refraction lobe chosen
+  kSampleTransmitted = 1u << 3,  // refraction lobe chosen
 };
 
 struct DirectionSample {

@@ -14,7 +14,7 @@
 namespace raycoh {
 
 constexpr int kLeafCountBits = 5;
-constexpr int kMaxLeafSize = (1 << kLeafCountBits) - 1;      // 31
+constexpr int kMaxLeafSize = (1 << kLeafCountBits) - 1;  // 31
 constexpr uint32_t kMaxLeafFirst = (1u << (31 - kLeafCountBits)) - 1;
 constexpr int32_t kSentinel = 0x7FFFFFFF;
 constexpr int kTraversalStackSize = 64;

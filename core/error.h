@@ -16,7 +16,7 @@ struct Error : std::runtime_error {
 
 }  // namespace raycoh
 
-#define RAYCOH_CHECK(cond, detail)                                                 \
-  do {                                                                             \
+#define RAYCOH_CHECK(cond, detail)                                                \
+  do {                                                                            \
     if (!(cond)) ::raycoh::invariant_failed(#cond, __FILE__, __LINE__, (detail)); \
   } while (0)

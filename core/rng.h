@@ -29,7 +29,7 @@ RAYCOH_HD RAYCOH_INLINE float rng_float(uint32_t seed, uint32_t frame, uint32_t 
 enum RngDim : uint32_t {
   kDimPixelJitterX = 0,
   kDimPixelJitterY = 1,
-  kDimSecondary0 = 2,   // first bounce direction
+  kDimSecondary0 = 2,  // first bounce direction
   kDimSecondary1 = 3,
   kDimSecondaryLobe = 4,  // discrete lobe choice (reflect / refract)
   kDimTileShuffleA = 5,   // per tile (the "pixel" argument is the tile index): shuffle multiplier

@@ -50,10 +50,22 @@ RAYCOH_HD RAYCOH_INLINE void sincos_turns(float u, float& s, float& c) {
   const float sr = r * (6.28318501f + r2 * (-41.341629f + r2 * (81.588089f + r2 * -75.2386093f)));
   const float cr = 1.f + r2 * (-19.7392082f + r2 * (64.9393234f + r2 * (-85.443718f + r2 * 59.2449722f)));
   switch (static_cast<int>(q) & 3) {
-    case 0: s = sr; c = cr; break;
-    case 1: s = cr; c = -sr; break;
-    case 2: s = -sr; c = -cr; break;
-    default: s = -cr; c = sr; break;
+    case 0:
+      s = sr;
+      c = cr;
+      break;
+    case 1:
+      s = cr;
+      c = -sr;
+      break;
+    case 2:
+      s = -sr;
+      c = -cr;
+      break;
+    default:
+      s = -cr;
+      c = sr;
+      break;
   }
 }
 

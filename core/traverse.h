@@ -35,8 +35,8 @@ struct RayCounters {
 struct PreparedRay {
   Vec3 org, dir, inv_dir;
   float tmin;
-  int kx, ky, kz;      // watertight test: kz = dominant axis of dir
-  float sx, sy, sz;    // shear constants
+  int kx, ky, kz;    // watertight test: kz = dominant axis of dir
+  float sx, sy, sz;  // shear constants
 };
 
 RAYCOH_HD RAYCOH_INLINE PreparedRay prepare_ray(const Ray& r) {
@@ -124,7 +124,8 @@ RAYCOH_HD RAYCOH_INLINE void traversal_begin(TraversalState& s, const Ray& r) {
   s.node_ref = 0;
   s.leaf_ref = 0;
   // A ray with a non-finite or empty interval does no work at all.
-  if (!(r.tmax > r.tmin) || !is_finite(r.org) || !is_finite(r.dir) || !(dot(r.dir, r.dir) > 0.f)) s.node_ref = kSentinel;
+  if (!(r.tmax > r.tmin) || !is_finite(r.org) || !is_finite(r.dir) || !(dot(r.dir, r.dir) > 0.f))
+    s.node_ref = kSentinel;
 }
 
 RAYCOH_HD RAYCOH_INLINE bool traversal_wants_node(const TraversalState& s) {

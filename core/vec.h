@@ -26,7 +26,10 @@ RAYCOH_HD RAYCOH_INLINE Vec3 operator*(Vec3 a, Vec3 b) { return {a.x * b.x, a.y 
 RAYCOH_HD RAYCOH_INLINE Vec3 operator*(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
 RAYCOH_HD RAYCOH_INLINE Vec3 operator*(float s, Vec3 a) { return {a.x * s, a.y * s, a.z * s}; }
 RAYCOH_HD RAYCOH_INLINE Vec3 operator/(Vec3 a, float s) { return {a.x / s, a.y / s, a.z / s}; }
-RAYCOH_HD RAYCOH_INLINE Vec3& operator+=(Vec3& a, Vec3 b) { a = a + b; return a; }
+RAYCOH_HD RAYCOH_INLINE Vec3& operator+=(Vec3& a, Vec3 b) {
+  a = a + b;
+  return a;
+}
 
 // Plain compare-and-select min/max: one instruction on CPU and GPU (fminf/fmaxf are library calls on x86
 // without -ffast-math). Their NaN handling differs from fminf, which is fine: traversal never sees NaN.
@@ -55,8 +58,14 @@ RAYCOH_HD RAYCOH_INLINE bool is_finite(Vec3 a) { return is_finite(a.x) && is_fin
 struct Bounds {
   Vec3 lo{__builtin_huge_valf()};
   Vec3 hi{-__builtin_huge_valf()};
-  RAYCOH_HD void grow(Vec3 p) { lo = vmin(lo, p); hi = vmax(hi, p); }
-  RAYCOH_HD void grow(const Bounds& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
+  RAYCOH_HD void grow(Vec3 p) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  RAYCOH_HD void grow(const Bounds& b) {
+    lo = vmin(lo, b.lo);
+    hi = vmax(hi, b.hi);
+  }
   RAYCOH_HD bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
   RAYCOH_HD Vec3 extent() const { return hi - lo; }
   RAYCOH_HD Vec3 center() const { return (lo + hi) * 0.5f; }

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/params.h"
-#include "bvh/bvh_build.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_keys.h"
 #include "encoders/keys.h"

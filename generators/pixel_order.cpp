@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-
 #include "core/error.h"
 #include "core/params.h"
 #include "core/tile_grid.h"

@@ -67,8 +67,8 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
       const auto& m = r.by_tracer.at(tl);
       const Accumulated& a = m.at(label);
       if (model)
-        line += fmt::format(" {}, {};", ratio_cell(a.modeled_mray_s(), m.at("noopt").modeled_mray_s()),
-                            a.modeled_limiter);
+        line +=
+            fmt::format(" {}, {};", ratio_cell(a.modeled_mray_s(), m.at("noopt").modeled_mray_s()), a.modeled_limiter);
       line += fmt::format(" {:.3f}, {:.2f} / {:.2f} |", a.per_ray(a.simt_eff_w), a.per_ray(a.l1_w), a.per_ray(a.l2_w));
     }
     std::printf("%s\n", line.c_str());

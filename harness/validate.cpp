@@ -29,13 +29,17 @@ namespace {
 // (../shared/paper/generate_coherent_rays_directly.tex): Table 1's Sibenik column (MRay/s, trace of the
 // secondary rays) and Table 3 (ours on Sibenik, tile W x H, group size K).
 struct PaperCell {
-  const char* row;      // our method label
-  const char* paper;    // the paper's row name
+  const char* row;    // our method label
+  const char* paper;  // the paper's row name
   double mray_s;
 };
 const PaperCell kTable1[] = {
-    {"noopt", "NoOpt", 154.7},          {"ours:tile=8x8,k=8", "Ours", 278.5}, {"noopt+mlhcc", "MLHCC32", 218.5},
-    {"noopt+twopoint", "TwoPoint", 217.9}, {"noopt+aila", "AilaCompact", 208.9}, {"noopt+reis", "Reis", 183.2},
+    {"noopt", "NoOpt", 154.7},
+    {"ours:tile=8x8,k=8", "Ours", 278.5},
+    {"noopt+mlhcc", "MLHCC32", 218.5},
+    {"noopt+twopoint", "TwoPoint", 217.9},
+    {"noopt+aila", "AilaCompact", 208.9},
+    {"noopt+reis", "Reis", 183.2},
     {"noopt+origin", "Origin", 165.4},
 };
 const int kTiles[4][2] = {{8, 8}, {16, 8}, {16, 16}, {32, 8}};
@@ -49,7 +53,7 @@ constexpr double kPaperNoOpt = 154.7;
 struct ValidateOptions {
   std::string scene = "../shared/scenes/sibenik";
   std::string preset = "rtx3060";
-  std::string tracer_params;  // extra simt parameters, e.g. kernel=simple (what-if runs)
+  std::string tracer_params;   // extra simt parameters, e.g. kernel=simple (what-if runs)
   std::string order = "tile";  // batch order of `ours` (DESIGN.md section 1): tile | group | scanline
   int width = 1920, height = 1080, frames = 1;
   uint32_t seed = 1;
@@ -210,9 +214,10 @@ void check(const ValidateOptions& o) {
   // A built-in scene name runs (a quick check of the command); a path must exist.
   const bool path = o.scene.find_first_of("/.") != std::string::npos;
   if (path && !std::filesystem::exists(o.scene))
-    throw Error(fmt::format("--scene {}: no such file or folder; validate compares with the paper's Sibenik: pass "
-                            "the path of ../shared/scenes/sibenik (McGuire's Sibenik Cathedral)",
-                            o.scene));
+    throw Error(
+        fmt::format("--scene {}: no such file or folder; validate compares with the paper's Sibenik: pass "
+                    "the path of ../shared/scenes/sibenik (McGuire's Sibenik Cathedral)",
+                    o.scene));
   if (o.frames < 1 || o.frames > 100) throw Error(fmt::format("--frames {}: must be in [1, 100]", o.frames));
 }
 

@@ -317,8 +317,7 @@ Scene load_scene(const std::string& spec) {
     ParamSet params(fmt::format("scene '{}'", spec.substr(0, colon)), spec.substr(colon + 1));
     const Vec3 sun = params.get_vec3("sun", scene.env.sun_dir, -1e3f, 1e3f);
     params.finish();
-    if (!(dot(sun, sun) > 0.f))
-      throw Error(fmt::format("scene '{}': sun direction must not be zero", spec));
+    if (!(dot(sun, sun) > 0.f)) throw Error(fmt::format("scene '{}': sun direction must not be zero", spec));
     scene.env.sun_dir = normalize(sun);
     scene.source = spec;
     return scene;

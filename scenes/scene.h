@@ -25,7 +25,7 @@ struct Material {
   float metallic = 0.f;
   float ior = 1.5f;
   float transmission = 0.f;
-  bool thin_walled = true;  // transmissive without KHR_materials_volume
+  bool thin_walled = true;       // transmissive without KHR_materials_volume
   Vec3 emission{0.f, 0.f, 0.f};  // radiance = emissiveFactor x emissive strength
   bool has_texture = false;      // references an image texture (not decoded unless a stage needs it)
 };
@@ -54,11 +54,11 @@ struct Environment {
 };
 
 struct Scene {
-  std::string name;    // short name (file stem or procedural name)
-  std::string source;  // path or procedural spec it was made from
-  std::vector<Vec3> positions;     // world space, after node transforms
-  std::vector<Vec3> normals;       // per vertex, unit length, same count as positions
-  std::vector<uint32_t> indices;   // 3 per triangle
+  std::string name;                    // short name (file stem or procedural name)
+  std::string source;                  // path or procedural spec it was made from
+  std::vector<Vec3> positions;         // world space, after node transforms
+  std::vector<Vec3> normals;           // per vertex, unit length, same count as positions
+  std::vector<uint32_t> indices;       // 3 per triangle
   std::vector<uint32_t> tri_material;  // per triangle, index into materials
   std::vector<Material> materials;
   std::vector<uint32_t> emissive_tris;  // triangles whose material emits
@@ -75,7 +75,7 @@ struct Scene {
 struct SceneFeatures {
   size_t triangles = 0;
   size_t materials_per_class[5] = {0, 0, 0, 0, 0};
-  bool has_glossy = false;        // glossy or specular
+  bool has_glossy = false;  // glossy or specular
   bool has_transmissive = false;
   bool has_emissive = false;
   bool has_textures = false;

@@ -14,18 +14,18 @@ namespace raycoh {
 
 // Hardware figures of the timing model (simt/timed_replay.h).
 struct GpuSpec {
-  double clock_mhz = 1777;           // SM clock the cycle counts are converted with
-  uint32_t schedulers_per_sm = 4;    // warp instructions issued per SM per cycle
-  uint32_t max_warps_per_sm = 48;    // resident warps allowed by the SM
-  uint32_t max_blocks_per_sm = 16;   // resident thread blocks allowed by the SM
-  uint32_t regs_per_sm = 65536;      // 32-bit registers per SM
-  uint32_t reg_alloc_unit = 256;     // registers are allocated per warp in units of this many
-  double l1_tags_per_clk = 4;        // L1 tag lookups (distinct 128-byte lines) per wavefront, one wavefront per cycle
-  double l2_bytes_per_clk = 1024;    // L2 hit bandwidth of the whole GPU, bytes per SM cycle
-  double dram_gb_s = 360;            // DRAM bandwidth, 1e9 bytes per second
-  double l1_latency = 39;            // load-to-use cycles of an L1 hit
-  double l2_latency = 187;           // load-to-use cycles of an L1 miss that hits in L2
-  double dram_latency = 441;         // load-to-use cycles of an L2 miss
+  double clock_mhz = 1777;          // SM clock the cycle counts are converted with
+  uint32_t schedulers_per_sm = 4;   // warp instructions issued per SM per cycle
+  uint32_t max_warps_per_sm = 48;   // resident warps allowed by the SM
+  uint32_t max_blocks_per_sm = 16;  // resident thread blocks allowed by the SM
+  uint32_t regs_per_sm = 65536;     // 32-bit registers per SM
+  uint32_t reg_alloc_unit = 256;    // registers are allocated per warp in units of this many
+  double l1_tags_per_clk = 4;       // L1 tag lookups (distinct 128-byte lines) per wavefront, one wavefront per cycle
+  double l2_bytes_per_clk = 1024;   // L2 hit bandwidth of the whole GPU, bytes per SM cycle
+  double dram_gb_s = 360;           // DRAM bandwidth, 1e9 bytes per second
+  double l1_latency = 39;           // load-to-use cycles of an L1 hit
+  double l2_latency = 187;          // load-to-use cycles of an L1 miss that hits in L2
+  double dram_latency = 441;        // load-to-use cycles of an L2 miss
   double dram_bytes_per_clk() const { return dram_gb_s * 1e3 / clock_mhz; }
 };
 
@@ -49,7 +49,7 @@ struct KernelSpec {
   uint32_t warp_size = 32;       // lanes per warp (the `simt` tracer's `warp`)
   uint32_t regs_per_thread = 55;
   StepCost node{115, 14, 18}, triangle{124, 10, 0}, leaf{42, 0, 4};
-  StepCost ray_begin{28, 2, 0};  // fetch of 32 rays (two 16-byte loads per lane) and traversal_begin
+  StepCost ray_begin{28, 2, 0};             // fetch of 32 rays (two 16-byte loads per lane) and traversal_begin
   uint32_t ray_bytes = 32, hit_bytes = 16;  // one ray read and one hit written per lane
 };
 

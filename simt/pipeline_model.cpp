@@ -13,8 +13,8 @@ constexpr uint32_t kWarp = 32;
 constexpr uint32_t kSectorBytes = 32;
 
 // The batch arrays, element sizes in bytes (core/ray_batch.h).
-constexpr size_t kArrays[] = {sizeof(Ray), sizeof(uint32_t), sizeof(float), sizeof(Vec3), sizeof(Vec3),
-                              sizeof(MaterialClass)};
+constexpr size_t kArrays[] = {sizeof(Ray),  sizeof(uint32_t), sizeof(float),
+                              sizeof(Vec3), sizeof(Vec3),     sizeof(MaterialClass)};
 
 }  // namespace
 

@@ -19,7 +19,6 @@ namespace raycoh {
 
 constexpr uint32_t kMaxWarpSize = 64;
 
-
 // Node array at address 0, triangle array at the next 2 MiB boundary after it: the alignment cudaMalloc gives
 // large allocations. Throws raycoh::Error for sizes outside the ranges above or sector addresses beyond 32 bits.
 SimtConfig simt_config(const BvhView& bvh, uint32_t warp_size, uint32_t line_bytes, uint32_t sector_bytes);
@@ -67,9 +66,9 @@ inline uint32_t lanes_in(uint64_t mask) { return static_cast<uint32_t>(std::popc
 }  // namespace simt_detail
 
 // Traces the `lanes` rays of one warp (rays[0 .. lanes), lanes in [1, warp_size]) in lock step under the rules
-// of docs/simt-model.md: hits[0 .. lanes) get the closest hits, `counters` accumulates the warp's step and per-ray counters
-// (rays, warps, steps, lanes, lines, fetches, nodes, leaves, triangles; not the cache fields). Optional outputs:
-// the warp's cache requests, each lane's RayCounters, the step log.
+// of docs/simt-model.md: hits[0 .. lanes) get the closest hits, `counters` accumulates the warp's step and per-ray
+// counters (rays, warps, steps, lanes, lines, fetches, nodes, leaves, triangles; not the cache fields). Optional
+// outputs: the warp's cache requests, each lane's RayCounters, the step log.
 inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes, const SimtConfig& config, Hit* hits,
                             CoherenceCounters& counters, WarpTrace* trace = nullptr,
                             RayCounters* ray_counters = nullptr, std::vector<SimtStep>* steps = nullptr) {

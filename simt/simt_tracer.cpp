@@ -23,10 +23,10 @@
 #include <cstdlib>
 #include <memory>
 
-#include "core/error.h"
 #include "bvh/bvh_build.h"
-#include "simt/gpu_model.h"
+#include "core/error.h"
 #include "core/flush_denormals.h"
+#include "simt/gpu_model.h"
 #include "simt/simt.h"
 #include "simt/timed_replay.h"
 #include "tracers/tracer.h"
@@ -119,10 +119,13 @@ class SimtTracer final : public Tracer {
     counters_ = total;
     if (std::getenv("RAYCOH_SIMT_DEBUG")) {
       const ModeledKernel& k = total.modeled;
-      std::fprintf(stderr, "simt: %zu rays %.3f ms %.1f MRay/s res %u | busy issue %.0f l1 %.0f l2 %.0f dram %.0f of %.0f cycles, tail %.0f | steps n/l/t per warp %.1f %.1f %.1f | L1 miss %.2f L2 miss %.2f /ray\n",
-        count, k.ms, total.modeled_mray_s(), k.resident_warps, k.issue_busy, k.l1_busy, k.l2_busy, k.dram_busy, k.cycles, k.tail_cycles,
-        double(total.node_steps)/total.warps, double(total.leaf_steps)/total.warps, double(total.triangle_steps)/total.warps,
-        total.l1_misses_per_ray(), total.l2_misses_per_ray());
+      std::fprintf(stderr,
+                   "simt: %zu rays %.3f ms %.1f MRay/s res %u | busy issue %.0f l1 %.0f l2 %.0f dram %.0f of %.0f "
+                   "cycles, tail %.0f | steps n/l/t per warp %.1f %.1f %.1f | L1 miss %.2f L2 miss %.2f /ray\n",
+                   count, k.ms, total.modeled_mray_s(), k.resident_warps, k.issue_busy, k.l1_busy, k.l2_busy,
+                   k.dram_busy, k.cycles, k.tail_cycles, double(total.node_steps) / total.warps,
+                   double(total.leaf_steps) / total.warps, double(total.triangle_steps) / total.warps,
+                   total.l1_misses_per_ray(), total.l2_misses_per_ray());
     }
   }
 

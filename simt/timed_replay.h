@@ -94,9 +94,9 @@ class TimedReplay {
   std::vector<SmPorts> sm_;
   std::vector<uint32_t> warp_sm_;
   std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
-  size_t next_warp_ = 0;                // persistent: the global ray counter, in warps
-  size_t next_block_ = 0;               // simple: the block scheduler's next block
-  std::vector<uint32_t> block_left_;    // simple: per block slot (sm * blocks + k), warps still running
+  size_t next_warp_ = 0;              // persistent: the global ray counter, in warps
+  size_t next_block_ = 0;             // simple: the block scheduler's next block
+  std::vector<uint32_t> block_left_;  // simple: per block slot (sm * blocks + k), warps still running
   double l2_free_ = 0, dram_free_ = 0, l2_busy_ = 0, dram_busy_ = 0;
   double end_ = 0, first_idle_ = -1;
   uint64_t ray_sectors_ = 0, ray_dram_sectors_ = 0;

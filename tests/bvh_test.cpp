@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
+#include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/traverse.h"
-#include "bvh/bvh_build.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 

@@ -14,8 +14,8 @@
 #include <numeric>
 #include <random>
 
-#include "core/error.h"
 #include "bvh/bvh_build.h"
+#include "core/error.h"
 #include "encoders/encoder.h"
 #include "encoders/keys.h"
 #include "encoders/mlhcc_cuts.h"

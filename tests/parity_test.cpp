@@ -17,13 +17,13 @@
 #include <random>
 #include <vector>
 
+#include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "bvh/bvh_build.h"
-#include "tracers/tracer.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {

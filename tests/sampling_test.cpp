@@ -21,8 +21,13 @@ double chi_square_uniform(const std::vector<int>& counts, int total) {
 }
 
 TEST(Frame, OrthonormalForAllNormalsIncludingPoles) {
-  const std::vector<Vec3> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, 1, 0}, {0, 0, -0.9999999f},
-                                     normalize(Vec3{1e-7f, 0, -1}), normalize(Vec3{0.3f, -0.4f, 0.5f})};
+  const std::vector<Vec3> normals = {{0, 0, 1},
+                                     {0, 0, -1},
+                                     {1, 0, 0},
+                                     {0, 1, 0},
+                                     {0, 0, -0.9999999f},
+                                     normalize(Vec3{1e-7f, 0, -1}),
+                                     normalize(Vec3{0.3f, -0.4f, 0.5f})};
   for (Vec3 n : normals) {
     const Frame f = make_frame(n);
     EXPECT_NEAR(dot(f.t, f.t), 1.f, 1e-5f);

@@ -148,7 +148,7 @@ TEST(SimtWarp, AllLanesOnOnePath) {
   EXPECT_EQ(r.trace.sectors, (std::vector<uint32_t>{0, 1, 2, 3, 128, 129}));
   EXPECT_EQ(r.trace.request_end, (std::vector<uint32_t>{2, 4, 4, 6}));
   EXPECT_EQ(r.trace.kinds, (std::vector<SimtStepKind>{SimtStepKind::Node, SimtStepKind::Node, SimtStepKind::Leaf,
-                                                       SimtStepKind::Triangle}));
+                                                      SimtStepKind::Triangle}));
   EXPECT_EQ(r.trace.lanes, 32u);
 }
 
@@ -394,7 +394,8 @@ TEST(SimtTracer, BatchNotAMultipleOfTheWarpSize) {
 TEST(SimtTracer, IdenticalRaysShareEveryStep) {
   const Batch b = make_batch("voxels", 32, 24);
   const std::vector<Ray> rays(96, b.rays[b.rays.size() / 2]);
-  auto simt = make_tracer({"simt", ""}, b.scene, b.bvh);  // persistent warps dealt in turn: warps 0, 1, 2 on SMs 0, 1, 2
+  auto simt =
+      make_tracer({"simt", ""}, b.scene, b.bvh);  // persistent warps dealt in turn: warps 0, 1, 2 on SMs 0, 1, 2
   std::vector<Hit> hits(rays.size());
   simt->trace(rays.data(), rays.size(), hits.data());
   const CoherenceCounters& c = *simt->last_counters();

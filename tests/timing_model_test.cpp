@@ -2,8 +2,6 @@
 // timeline computed by hand, the invariants a timing model must keep (more bandwidth or more resident warps never
 // slow it, an L1-resident BVH is bound by issue and L1, not by misses), warps placed as the CUDA launch places
 // them, pausing and resuming, occupancy, and the pipeline stages around the trace.
-#include "simt/timed_replay.h"
-
 #include <gtest/gtest.h>
 
 #include <numeric>
@@ -17,6 +15,7 @@
 #include "scenes/scene.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
+#include "simt/timed_replay.h"
 #include "tests/test_util.h"
 #include "tracers/tracer.h"
 
@@ -252,8 +251,8 @@ Frame primary_frame(const std::string& scene, int w, int h) {
   Frame f;
   f.scene = load_scene(scene);
   f.bvh = build_bvh(f.scene);
-  const PrimaryBatch p = make_primary_rays(f.scene.camera, w, h, make_pixel_order(w, h, RayOrder::Tile, 8, 8), 1, 0,
-                                           true);
+  const PrimaryBatch p =
+      make_primary_rays(f.scene.camera, w, h, make_pixel_order(w, h, RayOrder::Tile, 8, 8), 1, 0, true);
   f.rays = p.rays;
   return f;
 }

@@ -33,8 +33,7 @@ const std::vector<TracerInfo>& tracer_infos() {
      make_cpu_tracer},
     {"embree", "Embree 3 on its own BVH: the CPU wall-clock baseline and the correctness oracle", embree_params,
      make_embree_tracer},
-    {"simt",
-     "a GPU modelled on the CPU: warps in lock step, L1/L2 cache model and a timing model (modeled ms, MRay/s)",
+    {"simt", "a GPU modelled on the CPU: warps in lock step, L1/L2 cache model and a timing model (modeled ms, MRay/s)",
      simt_params, make_simt_tracer},
 #if defined(RAYCOH_HAVE_CUDA)
     {"cuda",

@@ -24,14 +24,14 @@ struct GpuModelConfig;
 // measured: never added to a measured time. Busy figures are the time a port was occupied (per-SM ports: the
 // busiest SM); one close to `cycles` names the limiter.
 struct ModeledKernel {
-  double cycles = 0;            // kernel time in SM cycles
-  double ms = 0;                // kernel time
-  uint32_t resident_warps = 0;  // per SM
+  double cycles = 0;                                               // kernel time in SM cycles
+  double ms = 0;                                                   // kernel time
+  uint32_t resident_warps = 0;                                     // per SM
   double issue_busy = 0, l1_busy = 0, l2_busy = 0, dram_busy = 0;  // cycles
-  double tail_cycles = 0;       // from the first slot left without work to the end of the kernel
-  uint64_t ray_sectors = 0;     // ray-fetch sectors (the cache counters below count the BVH's only)
+  double tail_cycles = 0;    // from the first slot left without work to the end of the kernel
+  uint64_t ray_sectors = 0;  // ray-fetch sectors (the cache counters below count the BVH's only)
   uint64_t ray_dram_sectors = 0;
-  double issue_cycles = 0;      // partition issue cycles of all warp steps
+  double issue_cycles = 0;  // partition issue cycles of all warp steps
 };
 
 // What the `simt` tracer measures over one batch (every rule in simt/simt.h; the cache model in
