@@ -77,7 +77,7 @@ TEST(CliExperiment, SweepPrintsTheTileByGroupTable) {
   EXPECT_EQ(count_lines(out), 1 + 1 + 4);
   expect_error("sweep --scene cornell --tiles 0x8", "--tiles");
   expect_error("sweep --scene cornell --groups 0", "--groups");
-  expect_error("sweep --scene cornell --generator noopt", "ours or tile");
+  expect_error("sweep --scene cornell --generator noopt", "ours or contiguous");
 }
 
 TEST(CliExperiment, TableWithEncodersReportsTraceOnlyAndEndToEnd) {
