@@ -1,0 +1,117 @@
+// glTF node walking: GltfReader::read picks the root nodes of the default scene (or, without scenes, every node
+// that is nobody's child), walks the hierarchy depth-first composing node transforms into world space, reads
+// each node's mesh, and takes the first perspective camera met (eye at the node's origin, looking down its -Z).
+// Also the node's local transform (matrix, or translation * rotation * scale). Part of the glTF loader, the one
+// adapter for tinygltf.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <utility>
+
+#include "core/error.h"
+#include "scenes/gltf_reader.h"
+
+namespace raycoh::gltf {
+
+Mat4 local_transform(const tinygltf::Node& node) {
+  Mat4 out;
+  if (node.matrix.size() == 16) {
+    for (int i = 0; i < 16; ++i) out.m[i] = node.matrix[i];
+    return out;
+  }
+  Mat4 t, r, s;
+  if (node.translation.size() == 3)
+    for (int i = 0; i < 3; ++i) t.m[12 + i] = node.translation[i];
+  if (node.rotation.size() == 4) {
+    double x = node.rotation[0], y = node.rotation[1], z = node.rotation[2], w = node.rotation[3];
+    const double len = std::sqrt(x * x + y * y + z * z + w * w);
+    if (len > 0.0) {
+      x /= len, y /= len, z /= len, w /= len;
+    } else {
+      x = y = z = 0.0, w = 1.0;
+    }
+    const double rm[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                             {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                             {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) r.m[4 * col + row] = rm[row][col];
+  }
+  if (node.scale.size() == 3)
+    for (int i = 0; i < 3; ++i) s.m[5 * i] = node.scale[i];
+  return t * r * s;
+}
+
+void GltfReader::read() {
+  for (size_t i = 0; i < model_.materials.size(); ++i)
+    scene_.materials.push_back(convert_material(model_.materials[i], i));
+  visit_count_.assign(model_.nodes.size(), 0);
+  for (int root : root_nodes()) visit(root, Mat4{});
+  if (scene_.indices.empty()) {
+    if (skipped_primitives_ > 0)
+      fail(fmt::format("only point or line primitives ({} skipped); no triangles to trace", skipped_primitives_));
+    fail("no triangles");
+  }
+}
+
+void GltfReader::fail(const std::string& what) const { throw Error(fmt::format("scene '{}': {}", path_, what)); }
+
+std::vector<int> GltfReader::root_nodes() const {
+  if (!model_.scenes.empty()) {
+    int s = model_.defaultScene;
+    if (s < 0) s = 0;
+    if (s >= static_cast<int>(model_.scenes.size()))
+      fail(fmt::format("default scene {} does not exist ({} scenes)", s, model_.scenes.size()));
+    return model_.scenes[static_cast<size_t>(s)].nodes;
+  }
+  std::vector<uint8_t> is_child(model_.nodes.size(), 0);
+  for (const auto& node : model_.nodes)
+    for (int c : node.children)
+      if (c >= 0 && static_cast<size_t>(c) < is_child.size()) is_child[static_cast<size_t>(c)] = 1;
+  std::vector<int> roots;
+  for (size_t i = 0; i < model_.nodes.size(); ++i)
+    if (!is_child[i]) roots.push_back(static_cast<int>(i));
+  return roots;
+}
+
+// Depth-first with an explicit stack: a deep hierarchy cannot overflow the call stack, and a node reached twice
+// (a cycle, or a node shared by two parents, both invalid glTF) stops the load instead of looping.
+void GltfReader::visit(int root, const Mat4& parent) {
+  std::vector<std::pair<int, Mat4>> stack{{root, parent}};
+  while (!stack.empty()) {
+    auto [index, parent_world] = stack.back();
+    stack.pop_back();
+    if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size())
+      fail(fmt::format("node {} does not exist ({} nodes)", index, model_.nodes.size()));
+    if (visit_count_[static_cast<size_t>(index)]++ > 0)
+      fail(fmt::format("node {} is reached twice; the node hierarchy must be a tree", index));
+    const tinygltf::Node& node = model_.nodes[static_cast<size_t>(index)];
+    const Mat4 world = parent_world * local_transform(node);
+    if (node.mesh >= 0) {
+      if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
+        fail(fmt::format("node {} refers to mesh {}, but there are {} meshes", index, node.mesh, model_.meshes.size()));
+      read_mesh(node.mesh, world);
+    }
+    if (node.camera >= 0) take_camera(node, world);
+    // Reversed so that children are visited in file order (the first camera found is the first in the file).
+    for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, world);
+  }
+}
+
+void GltfReader::take_camera(const tinygltf::Node& node, const Mat4& world) {
+  if (scene_.camera.from_file || static_cast<size_t>(node.camera) >= model_.cameras.size()) return;
+  const tinygltf::Camera& cam = model_.cameras[static_cast<size_t>(node.camera)];
+  if (cam.type != "perspective") return;
+  const Vec3 forward = -world.column(2), up = world.column(1), eye = world.column(3);
+  const double yfov = cam.perspective.yfov * 180.0 / 3.14159265358979323846;
+  if (!is_finite(eye) || !is_finite(forward) || !is_finite(up) || !(dot(forward, forward) > 0.f) ||
+      !(dot(up, up) > 0.f) || !(yfov > 0.0 && yfov < 180.0))
+    return;
+  // The target is one unit ahead: only the direction matters to the camera model.
+  scene_.camera.eye = eye;
+  scene_.camera.target = eye + normalize(forward);
+  scene_.camera.up = normalize(up);
+  scene_.camera.vfov_deg = static_cast<float>(yfov);
+  scene_.camera.from_file = true;
+}
+
+}  // namespace raycoh::gltf
