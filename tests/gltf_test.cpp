@@ -1,0 +1,326 @@
+// The glTF loader on synthetic files written by GltfWriter: index types, JSON with an external buffer, node
+// hierarchies and their normals, strips and fans, materials and extensions, cameras; and malformed input
+// (truncated files, accessors outside their buffers, bad references, non-finite values), each of which must
+// give one Error line that names the file.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "scenes/scene.h"
+#include "tests/scenes_test_util.h"
+#include "tests/test_util.h"
+
+namespace raycoh {
+namespace {
+
+namespace fs = std::filesystem;
+
+using test::expect_load_error;
+using test::expect_valid;
+using test::GltfWriter;
+using test::kTri;
+using test::mesh_json;
+using test::one_triangle;
+
+// --- Synthetic glTF: good inputs ----------------------------------------------------------------------------
+
+TEST(GltfLoader, IndexTypesAndNonIndexed) {
+  for (int kind = 0; kind < 4; ++kind) {
+    GltfWriter w;
+    const int pos = w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+    int idx = -1;
+    if (kind == 0) idx = w.u8({0, 1, 2, 2, 1, 3});
+    if (kind == 1) idx = w.u16({0, 1, 2, 2, 1, 3});
+    if (kind == 2) idx = w.u32({0, 1, 2, 2, 1, 3});
+    w.meshes = mesh_json(pos, idx);
+    const Scene s = load_scene(w.write("gltf_index_types", fmt::format("k{}.glb", kind)).string());
+    EXPECT_EQ(s.triangle_count(), kind == 3 ? 1u : 2u) << kind;  // non-indexed: 4 vertices make 1 triangle
+    expect_valid(s);
+    EXPECT_TRUE(s.generated_normals);
+    EXPECT_NEAR(s.normals[0].z, 1.f, 1e-6f);
+    EXPECT_EQ(s.materials[s.tri_material[0]].name, "default");
+    EXPECT_EQ(s.materials[s.tri_material[0]].cls, MaterialClass::Diffuse);
+  }
+}
+
+TEST(GltfLoader, JsonGltfWithExternalBuffer) {
+  GltfWriter w = one_triangle();
+  const fs::path dir = test::temp_dir("gltf_json");
+  test::write_file(dir / "tri.bin", w.bin);
+  test::write_file(dir / "tri.gltf", w.json("tri.bin"));
+  EXPECT_EQ(load_scene((dir / "tri.gltf").string()).triangle_count(), 1u);
+  // Upper-case extension.
+  test::write_file(dir / "TRI2.GLB", w.glb());
+  EXPECT_EQ(load_scene((dir / "TRI2.GLB").string()).name, "TRI2");
+}
+
+TEST(GltfLoader, NodeHierarchyTransformsPositionsAndNormals) {
+  GltfWriter w;
+  const int pos = w.positions(kTri);
+  const int nrm = w.add(std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1}, 5126, "VEC3");
+  const int idx = w.u16({0, 1, 2});
+  w.meshes = fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{0},"NORMAL":{1}}},"indices":{2}}}]}}])", pos,
+                         nrm, idx);
+  // Node 0: translate (10, 0, 0), child node 1 rotated 90 degrees about +y, scaled 2 in x.
+  // Node 2: mirrored (scale x = -1).
+  w.nodes = R"([{"translation":[10,0,0],"children":[1]},
+                {"rotation":[0,0.70710678,0,0.70710678],"scale":[2,1,1],"mesh":0},
+                {"scale":[-1,1,1],"mesh":0}])";
+  w.scenes = R"([{"nodes":[0,2]}])";
+  const Scene s = load_scene(w.write("gltf_nodes", "nodes.glb").string());
+  ASSERT_EQ(s.triangle_count(), 2u);
+  expect_valid(s);
+  // Child: p' = T * R * S * p; x = (1, 0, 0) -> S -> (2, 0, 0) -> R(90 about y) -> (0, 0, -2) -> T -> (10, 0, -2).
+  EXPECT_NEAR(s.positions[1].x, 10.f, 1e-5f);
+  EXPECT_NEAR(s.positions[1].z, -2.f, 1e-5f);
+  // Normal (0, 0, 1) -> R -> (1, 0, 0).
+  EXPECT_NEAR(s.normals[0].x, 1.f, 1e-5f);
+  // Geometric normal of every triangle agrees with its shading normal, mirrored one included.
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    const uint32_t* i = &s.indices[3 * t];
+    const Vec3 ng = cross(s.positions[i[1]] - s.positions[i[0]], s.positions[i[2]] - s.positions[i[0]]);
+    EXPECT_GT(dot(ng, s.normals[i[0]]), 0.f) << t;
+  }
+  EXPECT_NEAR(s.positions[4].x, -1.f, 1e-6f);
+}
+
+TEST(GltfLoader, NonUniformScaleUsesInverseTranspose) {
+  GltfWriter w;
+  const int pos = w.positions(kTri);
+  const float r = 1.f / std::sqrt(2.f);
+  const int nrm = w.add(std::vector<float>{r, 0, r, r, 0, r, r, 0, r}, 5126, "VEC3");
+  w.meshes = fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{},"NORMAL":{}}}}}]}}])", pos, nrm);
+  w.nodes = R"([{"scale":[2,1,1],"mesh":0}])";
+  const Scene s = load_scene(w.write("gltf_scale", "scale.glb").string());
+  // inverse transpose of diag(2,1,1) = diag(0.5,1,1): (r, 0, r) -> (0.5 r, 0, r), normalised.
+  EXPECT_NEAR(s.normals[0].x, 0.5f / std::sqrt(1.25f), 1e-5f);
+  EXPECT_NEAR(s.normals[0].z, 1.f / std::sqrt(1.25f), 1e-5f);
+}
+
+TEST(GltfLoader, StripsFansAndSkippedLines) {
+  GltfWriter w;
+  const int pos = w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 2, 0, 0});
+  w.meshes = fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{0}}},"mode":5}},
+                                            {{"attributes":{{"POSITION":{0}}},"mode":6}},
+                                            {{"attributes":{{"POSITION":{0}}},"mode":1}},
+                                            {{"attributes":{{"POSITION":{0}}},"mode":0}}]}}])",
+                         pos);
+  const Scene s = load_scene(w.write("gltf_modes", "modes.glb").string());
+  EXPECT_EQ(s.triangle_count(), 3u + 3u);  // strip of 5 -> 3, fan of 5 -> 3; lines and points skipped
+  expect_valid(s);
+}
+
+TEST(GltfLoader, MaterialsFromFactorsAndExtensions) {
+  GltfWriter w;
+  const int pos = w.positions(kTri);
+  std::string prims;
+  for (int m = 0; m < 6; ++m)
+    prims += fmt::format("{}{{\"attributes\":{{\"POSITION\":{}}},\"material\":{}}}", m ? "," : "", pos, m);
+  w.meshes = "[{\"primitives\":[" + prims + "]}]";
+  w.materials = R"([
+    {"name":"light","emissiveFactor":[1,0.5,0.25],
+     "extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":8}}},
+    {"name":"glass",
+     "extensions":{"KHR_materials_transmission":{"transmissionFactor":1},"KHR_materials_ior":{"ior":1.33}}},
+    {"name":"solid",
+     "extensions":{"KHR_materials_transmission":{"transmissionFactor":0.9},"KHR_materials_volume":{}}},
+    {"name":"mirror",
+     "pbrMetallicRoughness":{"baseColorFactor":[0.9,0.9,0.9,1],"metallicFactor":1,"roughnessFactor":0.01}},
+    {"name":"textured",
+     "pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0,"roughnessFactor":0.9}},
+    {"name":"spec_default"}])";
+  w.extra = R"(,"textures":[{"source":0}],"images":[{"uri":"missing.png"}])";
+  const Scene s = load_scene(w.write("gltf_materials", "mat.glb").string());
+  ASSERT_EQ(s.materials.size(), 6u);
+  EXPECT_EQ(s.materials[0].cls, MaterialClass::Emissive);
+  EXPECT_FLOAT_EQ(s.materials[0].emission.x, 8.f);
+  EXPECT_FLOAT_EQ(s.materials[0].emission.z, 2.f);
+  EXPECT_EQ(s.materials[1].cls, MaterialClass::Transmissive);
+  EXPECT_TRUE(s.materials[1].thin_walled);
+  EXPECT_FLOAT_EQ(s.materials[1].ior, 1.33f);
+  EXPECT_FALSE(s.materials[2].thin_walled);
+  EXPECT_EQ(s.materials[3].cls, MaterialClass::Specular);
+  EXPECT_TRUE(s.materials[4].has_texture);
+  EXPECT_EQ(s.materials[4].cls, MaterialClass::Diffuse);
+  // glTF defaults: metallic 1, roughness 1 -> a rough metal, which is glossy.
+  EXPECT_EQ(s.materials[5].cls, MaterialClass::Glossy);
+  const SceneFeatures f = analyse(s);
+  EXPECT_TRUE(f.has_textures);
+  EXPECT_TRUE(f.has_emissive);
+  EXPECT_EQ(s.emissive_tris.size(), 1u);
+}
+
+TEST(GltfLoader, CameraFromTrsNodeAndFallbackWithoutScenes) {
+  GltfWriter w = one_triangle();
+  w.cameras = R"([{"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}},
+                  {"type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}])";
+  // No scenes: every root node is drawn. The orthographic camera is ignored; the perspective one looks
+  // down its -z, rotated 90 degrees about +y, i.e. towards -x.
+  w.scenes.clear();
+  w.nodes = R"([{"mesh":0},{"camera":0},{"camera":1,"translation":[5,1,0],"rotation":[0,0.70710678,0,0.70710678]}])";
+  const Scene s = load_scene(w.write("gltf_camera", "cam.glb").string());
+  EXPECT_TRUE(s.camera.from_file);
+  EXPECT_NEAR(s.camera.eye.x, 5.f, 1e-6f);
+  EXPECT_NEAR(s.camera.eye.y, 1.f, 1e-6f);
+  const Vec3 d = normalize(s.camera.target - s.camera.eye);
+  EXPECT_NEAR(d.x, -1.f, 1e-5f);
+  EXPECT_NEAR(s.camera.vfov_deg, 0.5f * 180.f / 3.14159265f, 1e-3f);
+}
+
+TEST(GltfLoader, ZeroAreaTrianglesAreCountedAndKept) {
+  GltfWriter w;
+  const int pos = w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0});
+  const int idx = w.u16({0, 1, 2, 0, 1, 3, 1, 1, 1});
+  w.meshes = mesh_json(pos, idx);
+  const Scene s = load_scene(w.write("gltf_degenerate", "deg.glb").string());
+  EXPECT_EQ(s.triangle_count(), 3u);
+  EXPECT_EQ(s.degenerate_tris, 2u);
+  expect_valid(s);
+}
+
+// --- Synthetic glTF and OBJ: bad inputs -----------------------------------------------------------------------
+
+TEST(BadInput, MissingEmptyRandomAndUnknownFiles) {
+  const fs::path dir = test::temp_dir("bad_files");
+  expect_load_error(dir / "no_such.glb", "no such file or built-in scene; built-ins: cornell, voxels");
+  for (const char* name : {"empty.glb", "empty.gltf", "empty.obj"}) {
+    test::write_file(dir / name, "");
+    expect_load_error(dir / name, "empty");
+  }
+  std::string noise;
+  uint32_t x = 12345;
+  for (int i = 0; i < 4096; ++i) noise.push_back(static_cast<char>((x = x * 1664525u + 1013904223u) >> 24));
+  for (const char* name : {"noise.glb", "noise.gltf"}) {
+    test::write_file(dir / name, noise);
+    expect_load_error(dir / name, "not a glTF file");
+  }
+  test::write_file(dir / "noise.obj", noise);
+  expect_load_error(dir / "noise.obj");
+  test::write_file(dir / "scene.txt", "hello");
+  expect_load_error(dir / "scene.txt", "unknown file type");
+  test::write_file(dir / "not_json.gltf", "{\"asset\": ");
+  expect_load_error(dir / "not_json.gltf");
+}
+
+TEST(BadInput, TruncatedGlb) {
+  const GltfWriter w = one_triangle();
+  const std::string full = w.glb();
+  const fs::path dir = test::temp_dir("bad_truncated");
+  for (size_t keep : {size_t{10}, size_t{30}, full.size() / 2, full.size() - 4}) {
+    const fs::path file = dir / fmt::format("cut{}.glb", keep);
+    test::write_file(file, full.substr(0, keep));
+    expect_load_error(file);
+  }
+}
+
+TEST(BadInput, AccessorsOutsideTheirBuffers) {
+  struct Case {
+    const char* name;
+    std::function<void(GltfWriter&)> spoil;
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {"count.glb",
+       [](GltfWriter& w) { w.accessors[0] = R"({"bufferView":0,"componentType":5126,"count":4,"type":"VEC3"})"; },
+       "beyond"},
+      {"offset.glb",
+       [](GltfWriter& w) {
+         w.accessors[0] = R"({"bufferView":0,"byteOffset":8,"componentType":5126,"count":3,"type":"VEC3"})";
+       },
+       "beyond"},
+      {"stride.glb",
+       [](GltfWriter& w) { w.views[0] = R"({"buffer":0,"byteOffset":0,"byteLength":36,"byteStride":16})"; }, "beyond"},
+      {"view.glb", [](GltfWriter& w) { w.views[1] = R"({"buffer":0,"byteOffset":36,"byteLength":4000})"; },
+       "outside buffer"},
+      {"huge.glb",
+       [](GltfWriter& w) {
+         w.accessors[1] = R"({"bufferView":1,"componentType":5123,"count":4611686018427387904,"type":"SCALAR"})";
+       },
+       ""},
+      {"no_view.glb",
+       [](GltfWriter& w) { w.accessors[0] = R"({"bufferView":7,"componentType":5126,"count":3,"type":"VEC3"})"; },
+       "buffer view"},
+      {"bad_accessor.glb", [](GltfWriter& w) { w.meshes = mesh_json(0, 9); }, "accessor"},
+      {"int_positions.glb",
+       [](GltfWriter& w) { w.accessors[0] = R"({"bufferView":0,"componentType":5125,"count":3,"type":"VEC3"})"; },
+       "float VEC3"},
+      {"float_indices.glb",
+       [](GltfWriter& w) { w.accessors[1] = R"({"bufferView":1,"componentType":5126,"count":1,"type":"SCALAR"})"; },
+       "indices must be"},
+      {"no_position.glb", [](GltfWriter& w) { w.meshes = R"([{"primitives":[{"attributes":{}}]}])"; }, "POSITION"},
+      {"bad_mesh.glb", [](GltfWriter& w) { w.nodes = R"([{"mesh":3}])"; }, "mesh 3"},
+      {"bad_node.glb", [](GltfWriter& w) { w.scenes = R"([{"nodes":[5]}])"; }, "node 5"},
+      {"cycle.glb", [](GltfWriter& w) { w.nodes = R"([{"mesh":0,"children":[1]},{"children":[0]}])"; }, "twice"},
+      {"bad_material.glb", [](GltfWriter& w) { w.meshes = mesh_json(0, 1, ",\"material\":4"); }, "material 4"},
+  };
+  for (const Case& c : cases) {
+    GltfWriter w = one_triangle();
+    c.spoil(w);
+    expect_load_error(w.write("bad_accessors", c.name), c.says);
+  }
+}
+
+TEST(BadInput, MissingOrUnloadableBuffers) {
+  const GltfWriter w = one_triangle();
+  const fs::path dir = test::temp_dir("bad_buffers");
+  test::write_file(dir / "missing_bin.gltf", w.json("missing.bin"));
+  expect_load_error(dir / "missing_bin.gltf");
+  // A .gltf whose buffer has no uri and no GLB chunk to stand for.
+  test::write_file(dir / "no_uri.gltf", w.json());
+  expect_load_error(dir / "no_uri.gltf");
+  // The external file is shorter than the declared byteLength.
+  test::write_file(dir / "short.bin", w.bin.substr(0, 8));
+  test::write_file(dir / "short_bin.gltf", w.json("short.bin"));
+  expect_load_error(dir / "short_bin.gltf");
+}
+
+TEST(BadInput, IndicesOutOfRangeAndNonFinitePositions) {
+  {
+    GltfWriter w;
+    const int pos = w.positions(kTri);
+    w.meshes = mesh_json(pos, w.u16({0, 1, 3}));
+    expect_load_error(w.write("bad_values", "index.glb"), "out of range");
+  }
+  for (float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+    GltfWriter w;
+    const int pos = w.positions({0, 0, 0, 1, bad, 0, 0, 1, 0});
+    w.meshes = mesh_json(pos, w.u16({0, 1, 2}));
+    expect_load_error(
+        w.write("bad_values", fmt::format("nonfinite_{}.glb", std::isnan(bad) ? "nan" : (bad > 0 ? "inf" : "ninf"))),
+        "not finite");
+  }
+  {
+    // A transform that overflows float turns finite input into infinity.
+    GltfWriter w = one_triangle();
+    w.nodes = R"([{"mesh":0,"scale":[1e39,1,1]}])";
+    expect_load_error(w.write("bad_values", "overflow.glb"), "non-finite");
+  }
+}
+
+TEST(BadInput, NoTrianglesToTrace) {
+  {
+    GltfWriter w;
+    const int pos = w.positions(kTri);
+    w.meshes = fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{}}},"mode":0}}]}}])", pos);
+    expect_load_error(w.write("bad_empty", "points.glb"), "only point or line");
+  }
+  {
+    GltfWriter w = one_triangle();
+    w.nodes = R"([{"name":"empty"}])";
+    expect_load_error(w.write("bad_empty", "nomesh.glb"), "no triangles");
+  }
+  {
+    GltfWriter w;
+    const int pos = w.positions(kTri);
+    w.meshes = mesh_json(pos, w.u16({0, 1}));
+    expect_load_error(w.write("bad_empty", "two_indices.glb"), "no triangles");
+  }
+}
+
+}  // namespace
+}  // namespace raycoh
