@@ -173,22 +173,10 @@ struct EmbreeBvh {
   EmbreeBvh& operator=(const EmbreeBvh&) = delete;
 };
 
-}  // namespace
-
-Bvh build_bvh(const Scene& scene, const BvhBuildConfig& config) {
-  validate(config);
-  const auto start = std::chrono::steady_clock::now();
+// The scene's triangle boxes as Embree build primitives (ids = triangle indices), grown into bvh.bounds; every
+// index and vertex is checked first.
+std::vector<RTCBuildPrimitive> triangle_boxes(const Scene& scene, Bvh& bvh) {
   const size_t tri_count = scene.triangle_count();
-  if (tri_count == 0) throw Error(fmt::format("scene '{}' has no triangles to build a BVH over", scene.name));
-  if (scene.indices.size() % 3 != 0)
-    throw Error(fmt::format("scene '{}': {} indices is not a multiple of 3", scene.name, scene.indices.size()));
-  if (tri_count > kMaxLeafFirst)
-    throw Error(fmt::format("scene '{}' has {} triangles; the BVH layout addresses at most {}", scene.name, tri_count,
-                            kMaxLeafFirst));
-
-  Bvh bvh;
-  bvh.config = config;
-  // Embree reorders the primitive array in place; for MEDIUM no spare capacity is needed.
   std::vector<RTCBuildPrimitive> prims(tri_count);
   for (size_t i = 0; i < tri_count; ++i) {
     Bounds box;
@@ -206,11 +194,12 @@ Bvh build_bvh(const Scene& scene, const BvhBuildConfig& config) {
     bvh.bounds.grow(box);
     prims[i] = {box.lo.x, box.lo.y, box.lo.z, 0u, box.hi.x, box.hi.y, box.hi.z, static_cast<unsigned>(i)};
   }
+  return prims;
+}
 
-  RTCDevice device = embree_device();
-  EmbreeBvh embree_bvh(device);
-  embree_check("creating an Embree BVH");
-
+// Runs Embree's builder over `prims` (reordered in place) into the memory of `handle`; returns the root.
+const BuildNode* run_embree_builder(const Scene& scene, const BvhBuildConfig& config, RTCBVH handle,
+                                    std::vector<RTCBuildPrimitive>& prims) {
   RTCBuildArguments args = rtcDefaultBuildArguments();
   args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
   args.maxBranchingFactor = 2;
@@ -220,7 +209,7 @@ Bvh build_bvh(const Scene& scene, const BvhBuildConfig& config) {
   args.maxLeafSize = static_cast<unsigned>(config.max_leaf_size);
   args.traversalCost = config.traversal_cost;
   args.intersectionCost = config.intersection_cost;
-  args.bvh = embree_bvh.handle;
+  args.bvh = handle;
   args.primitives = prims.data();
   args.primitiveCount = prims.size();
   args.primitiveArrayCapacity = prims.size();
@@ -231,17 +220,21 @@ Bvh build_bvh(const Scene& scene, const BvhBuildConfig& config) {
   void* root = rtcBuildBVH(&args);
   embree_check(fmt::format("building the BVH of scene '{}'", scene.name));
   RAYCOH_CHECK(root != nullptr, "rtcBuildBVH returned no root without reporting an error");
+  return static_cast<const BuildNode*>(root);
+}
 
-  bvh.nodes.reserve(2 * tri_count / static_cast<size_t>(config.max_leaf_size) + 2);
+// Copies Embree's tree into the layout of core/bvh.h.
+void flatten_tree(const Scene& scene, const BuildNode* root_node, Bvh& bvh) {
+  const size_t tri_count = scene.triangle_count();
+  bvh.nodes.reserve(2 * tri_count / static_cast<size_t>(bvh.config.max_leaf_size) + 2);
   bvh.tris.reserve(tri_count);
   const float root_area = bvh.bounds.half_area();
   Flattener flattener(scene, bvh, root_area);
-  const auto* root_node = static_cast<const BuildNode*>(root);
   if (root_node->is_leaf) {
     // The layout's root must be an inner node: wrap the single leaf, with an empty leaf of the same box beside.
     bvh.nodes.emplace_back();
     ++bvh.stats.inner_nodes;
-    bvh.stats.sah_cost += 1.0 * config.traversal_cost;
+    bvh.stats.sah_cost += 1.0 * bvh.config.traversal_cost;
     const int32_t leaf_ref = flattener.add(root_node, bvh.bounds, 1);
     BvhNode& n = bvh.nodes[0];
     n.lo0 = n.lo1 = bvh.bounds.lo;
@@ -252,7 +245,32 @@ Bvh build_bvh(const Scene& scene, const BvhBuildConfig& config) {
   } else {
     flattener.add(root_node, bvh.bounds, 0);
   }
+}
+
+}  // namespace
+
+Bvh build_bvh(const Scene& scene, const BvhBuildConfig& config) {
+  validate(config);
+  const auto start = std::chrono::steady_clock::now();
+  const size_t tri_count = scene.triangle_count();
+  if (tri_count == 0) throw Error(fmt::format("scene '{}' has no triangles to build a BVH over", scene.name));
+  if (scene.indices.size() % 3 != 0)
+    throw Error(fmt::format("scene '{}': {} indices is not a multiple of 3", scene.name, scene.indices.size()));
+  if (tri_count > kMaxLeafFirst)
+    throw Error(fmt::format("scene '{}' has {} triangles; the BVH layout addresses at most {}", scene.name, tri_count,
+                            kMaxLeafFirst));
+
+  Bvh bvh;
+  bvh.config = config;
+  // Embree reorders the primitive array in place; for MEDIUM no spare capacity is needed.
+  std::vector<RTCBuildPrimitive> prims = triangle_boxes(scene, bvh);
+
+  RTCDevice device = embree_device();
+  EmbreeBvh embree_bvh(device);
+  embree_check("creating an Embree BVH");
+  const BuildNode* root = run_embree_builder(scene, config, embree_bvh.handle, prims);
   // The tree lives in the RTCBVH's memory: everything is copied out before embree_bvh releases it.
+  flatten_tree(scene, root, bvh);
 
   RAYCOH_CHECK(bvh.tris.size() == tri_count,
                fmt::format("BVH leaves hold {} triangles, the scene has {}", bvh.tris.size(), tri_count));

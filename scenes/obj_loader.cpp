@@ -66,110 +66,140 @@ std::string first_line(const std::string& text) {
   return out.empty() ? std::string("unknown tinyobjloader error") : out;
 }
 
-}  // namespace
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw Error(fmt::format("scene '{}': {}", path, what));
+}
 
-Scene load_obj(const std::string& path) {
-  auto fail = [&](const std::string& what) { throw Error(fmt::format("scene '{}': {}", path, what)); };
+// Checks that the file exists and is not empty, then parses it (faces untriangulated).
+void parse_obj(const std::string& path, tinyobj::ObjReader& reader) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) fail("no such file");
-  if (std::filesystem::file_size(path, ec) == 0) fail("the file is empty");
+  if (!std::filesystem::is_regular_file(path, ec)) fail(path, "no such file");
+  if (std::filesystem::file_size(path, ec) == 0) fail(path, "the file is empty");
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;
   config.vertex_color = false;
-  tinyobj::ObjReader reader;
   // Warnings (a missing .mtl, an unknown material name) are expected in the wild; defaults cover them.
   try {
-    if (!reader.ParseFromFile(path, config)) fail(first_line(reader.Error()));
+    if (!reader.ParseFromFile(path, config)) fail(path, first_line(reader.Error()));
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    fail(first_line(e.what()));
+    fail(path, first_line(e.what()));
   }
+}
 
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
-  const size_t vertex_count = attrib.vertices.size() / 3;
-  const size_t normal_count = attrib.normals.size() / 3;
+// Key: (material, position index, normal index + 1); normal 0 means "none".
+struct VertexKey {
+  uint32_t material, v, vn;
+  bool operator==(const VertexKey& o) const { return material == o.material && v == o.v && vn == o.vn; }
+};
+struct VertexKeyHash {
+  size_t operator()(const VertexKey& k) const {
+    return std::hash<uint64_t>()((static_cast<uint64_t>(k.material) << 40) ^ (static_cast<uint64_t>(k.vn) << 20) ^ k.v);
+  }
+};
 
-  Scene scene;
-  scene.name = std::filesystem::path(path).stem().string();
-  scene.source = path;
-  for (const auto& mm : reader.GetMaterials()) scene.materials.push_back(convert_material(mm));
-  const uint32_t file_materials = static_cast<uint32_t>(scene.materials.size());
-  int64_t default_material = -1;
+// Appends the faces of the parsed shapes to a scene whose file materials are already in place: every corner's
+// indices are checked, vertices are shared per (material, position, normal), and each face becomes a fan.
+class ObjMeshBuilder {
+ public:
+  ObjMeshBuilder(const std::string& path, const tinyobj::attrib_t& attrib, Scene& scene)
+      : path_(path),
+        attrib_(attrib),
+        scene_(scene),
+        vertex_count_(attrib.vertices.size() / 3),
+        normal_count_(attrib.normals.size() / 3),
+        file_materials_(static_cast<uint32_t>(scene.materials.size())) {}
 
-  // Key: (material, position index, normal index + 1); normal 0 means "none".
-  struct Key {
-    uint32_t material, v, vn;
-    bool operator==(const Key& o) const { return material == o.material && v == o.v && vn == o.vn; }
-  };
-  struct KeyHash {
-    size_t operator()(const Key& k) const {
-      return std::hash<uint64_t>()((static_cast<uint64_t>(k.material) << 40) ^ (static_cast<uint64_t>(k.vn) << 20) ^
-                                   k.v);
-    }
-  };
-  std::unordered_map<Key, uint32_t, KeyHash> vertex_of;
-
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+  void add_shape(const tinyobj::shape_t& shape) {
     const tinyobj::mesh_t& mesh = shape.mesh;
     size_t offset = 0;
     for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
       const size_t n = mesh.num_face_vertices[f];
       if (offset + n > mesh.indices.size())
-        fail(fmt::format("object '{}': face {} is cut short (more than 255 corners?)", shape.name, f + 1));
-      const int mat_id = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
-      uint32_t material;
-      if (mat_id >= 0 && static_cast<uint32_t>(mat_id) < file_materials) {
-        material = static_cast<uint32_t>(mat_id);
-      } else {
-        if (default_material < 0) {
-          default_material = static_cast<int64_t>(scene.materials.size());
-          scene.materials.push_back(Material{"default"});
-        }
-        material = static_cast<uint32_t>(default_material);
-      }
-      uint32_t corner[256];
-      // Faces are numbered from 1 in each object, like lines in an editor, so that a user can find them.
-      const std::string face =
-          shape.name.empty() ? fmt::format("face {}", f + 1) : fmt::format("object '{}': face {}", shape.name, f + 1);
-      for (size_t k = 0; k < n; ++k) {
-        const tinyobj::index_t& ix = mesh.indices[offset + k];
-        if (ix.vertex_index < 0)
-          fail(fmt::format("{} refers to a vertex before the first one (relative index too large)", face));
-        if (static_cast<size_t>(ix.vertex_index) >= vertex_count)
-          fail(fmt::format("{} refers to vertex {}, but the file has {} vertices", face,
-                           static_cast<int64_t>(ix.vertex_index) + 1, vertex_count));
-        if (ix.normal_index < -1)
-          fail(fmt::format("{} refers to a normal before the first one (relative index too large)", face));
-        if (ix.normal_index >= 0 && static_cast<size_t>(ix.normal_index) >= normal_count)
-          fail(fmt::format("{} refers to normal {}, but the file has {} normals", face,
-                           static_cast<int64_t>(ix.normal_index) + 1, normal_count));
-        const Key key{material, static_cast<uint32_t>(ix.vertex_index), static_cast<uint32_t>(ix.normal_index + 1)};
-        auto [it, inserted] = vertex_of.try_emplace(key, static_cast<uint32_t>(scene.positions.size()));
-        if (inserted) {
-          if (scene.positions.size() >= UINT32_MAX) fail(fmt::format("more than {} vertices", UINT32_MAX));
-          scene.positions.push_back(vec3(&attrib.vertices[3 * static_cast<size_t>(ix.vertex_index)]));
-          if (ix.normal_index >= 0) {
-            scene.normals.push_back(vec3(&attrib.normals[3 * static_cast<size_t>(ix.normal_index)]));
-          } else {
-            scene.normals.push_back(Vec3{0.f, 0.f, 0.f});  // zero = generate in finalize_scene
-            scene.generated_normals = true;
-          }
-        }
-        corner[k] = it->second;
-      }
-      for (size_t k = 1; k + 1 < n; ++k) {
-        scene.indices.insert(scene.indices.end(), {corner[0], corner[k], corner[k + 1]});
-        scene.tri_material.push_back(material);
-      }
+        fail(path_, fmt::format("object '{}': face {} is cut short (more than 255 corners?)", shape.name, f + 1));
+      add_face(shape, f, offset, n);
       offset += n;
     }
     if (offset != mesh.indices.size())
-      fail(fmt::format("object '{}': face corner counts do not add up (a face with more than 255 corners?)",
-                       shape.name));
+      fail(path_, fmt::format("object '{}': face corner counts do not add up (a face with more than 255 corners?)",
+                              shape.name));
   }
-  if (scene.indices.empty()) fail("no triangles (no faces with three or more corners)");
+
+ private:
+  void add_face(const tinyobj::shape_t& shape, size_t f, size_t offset, size_t n) {
+    const tinyobj::mesh_t& mesh = shape.mesh;
+    const uint32_t material = face_material(f < mesh.material_ids.size() ? mesh.material_ids[f] : -1);
+    uint32_t corner[256];
+    // Faces are numbered from 1 in each object, like lines in an editor, so that a user can find them.
+    const std::string face =
+        shape.name.empty() ? fmt::format("face {}", f + 1) : fmt::format("object '{}': face {}", shape.name, f + 1);
+    for (size_t k = 0; k < n; ++k) corner[k] = corner_vertex(mesh.indices[offset + k], material, face);
+    for (size_t k = 1; k + 1 < n; ++k) {
+      scene_.indices.insert(scene_.indices.end(), {corner[0], corner[k], corner[k + 1]});
+      scene_.tri_material.push_back(material);
+    }
+  }
+
+  // The file's material, or one shared "default" material for faces without a (known) one.
+  uint32_t face_material(int mat_id) {
+    if (mat_id >= 0 && static_cast<uint32_t>(mat_id) < file_materials_) return static_cast<uint32_t>(mat_id);
+    if (default_material_ < 0) {
+      default_material_ = static_cast<int64_t>(scene_.materials.size());
+      scene_.materials.push_back(Material{"default"});
+    }
+    return static_cast<uint32_t>(default_material_);
+  }
+
+  // The scene vertex of one face corner, added on first use.
+  uint32_t corner_vertex(const tinyobj::index_t& ix, uint32_t material, const std::string& face) {
+    if (ix.vertex_index < 0)
+      fail(path_, fmt::format("{} refers to a vertex before the first one (relative index too large)", face));
+    if (static_cast<size_t>(ix.vertex_index) >= vertex_count_)
+      fail(path_, fmt::format("{} refers to vertex {}, but the file has {} vertices", face,
+                              static_cast<int64_t>(ix.vertex_index) + 1, vertex_count_));
+    if (ix.normal_index < -1)
+      fail(path_, fmt::format("{} refers to a normal before the first one (relative index too large)", face));
+    if (ix.normal_index >= 0 && static_cast<size_t>(ix.normal_index) >= normal_count_)
+      fail(path_, fmt::format("{} refers to normal {}, but the file has {} normals", face,
+                              static_cast<int64_t>(ix.normal_index) + 1, normal_count_));
+    const VertexKey key{material, static_cast<uint32_t>(ix.vertex_index), static_cast<uint32_t>(ix.normal_index + 1)};
+    auto [it, inserted] = vertex_of_.try_emplace(key, static_cast<uint32_t>(scene_.positions.size()));
+    if (inserted) {
+      if (scene_.positions.size() >= UINT32_MAX) fail(path_, fmt::format("more than {} vertices", UINT32_MAX));
+      scene_.positions.push_back(vec3(&attrib_.vertices[3 * static_cast<size_t>(ix.vertex_index)]));
+      if (ix.normal_index >= 0) {
+        scene_.normals.push_back(vec3(&attrib_.normals[3 * static_cast<size_t>(ix.normal_index)]));
+      } else {
+        scene_.normals.push_back(Vec3{0.f, 0.f, 0.f});  // zero = generate in finalize_scene
+        scene_.generated_normals = true;
+      }
+    }
+    return it->second;
+  }
+
+  const std::string& path_;
+  const tinyobj::attrib_t& attrib_;
+  Scene& scene_;
+  const size_t vertex_count_, normal_count_;
+  const uint32_t file_materials_;
+  int64_t default_material_ = -1;
+  std::unordered_map<VertexKey, uint32_t, VertexKeyHash> vertex_of_;
+};
+
+}  // namespace
+
+Scene load_obj(const std::string& path) {
+  tinyobj::ObjReader reader;
+  parse_obj(path, reader);
+  Scene scene;
+  scene.name = std::filesystem::path(path).stem().string();
+  scene.source = path;
+  for (const auto& mm : reader.GetMaterials()) scene.materials.push_back(convert_material(mm));
+  ObjMeshBuilder builder(path, reader.GetAttrib(), scene);
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) builder.add_shape(shape);
+  if (scene.indices.empty()) fail(path, "no triangles (no faces with three or more corners)");
   finalize_scene(scene);
   return scene;
 }

@@ -140,7 +140,11 @@ MaterialClass classify_material(const Material& m) {
   return MaterialClass::Diffuse;
 }
 
-void finalize_scene(Scene& scene) {
+namespace {
+
+// Counts, finite positions, and indices and materials in range; an empty material list gets a default material,
+// and every material is sanitised. A problem is an Error naming the scene.
+void validate_scene(Scene& scene) {
   const std::string& who = scene.source.empty() ? scene.name : scene.source;
   auto fail = [&](const std::string& what) { throw Error(fmt::format("scene '{}': {}", who, what)); };
 
@@ -166,17 +170,16 @@ void finalize_scene(Scene& scene) {
                        scene.materials.size()));
   }
   for (Material& m : scene.materials) sanitize_material(m);
+}
 
-  // Face normals (area-weighted, i.e. the unnormalised cross product) serve degenerate-triangle counting,
-  // surface areas for the lighting rule, and normal repair.
-  std::vector<float> areas(tris);
-  bool normals_missing = scene.normals.size() != scene.positions.size();
-  if (normals_missing) {
+// Normalises the usable normals and marks the others for repair: a normal is repaired when it is missing (the
+// loaders store zero), non-finite or too short to normalise. Returns whether any vertex needs repair.
+bool mark_normals_for_repair(Scene& scene, std::vector<uint8_t>& repair) {
+  if (scene.normals.size() != scene.positions.size()) {
     scene.normals.assign(scene.positions.size(), Vec3{0.f, 0.f, 0.f});
     scene.generated_normals = true;
   }
-  // A normal is repaired when it is missing (the loaders store zero), non-finite or too short to normalise.
-  std::vector<uint8_t> repair(scene.positions.size(), 0);
+  repair.assign(scene.positions.size(), 0);
   bool any_repair = false;
   for (size_t i = 0; i < scene.normals.size(); ++i) {
     Vec3& n = scene.normals[i];
@@ -188,6 +191,16 @@ void finalize_scene(Scene& scene) {
       n = n * (1.f / std::sqrt(len2));
     }
   }
+  return any_repair;
+}
+
+// Face normals (area-weighted, i.e. the unnormalised cross product) serve degenerate-triangle counting,
+// surface areas for the lighting rule, and normal repair. Returns the triangle areas.
+std::vector<float> repair_normals_and_measure(Scene& scene) {
+  const size_t tris = scene.triangle_count();
+  std::vector<float> areas(tris);
+  std::vector<uint8_t> repair;
+  const bool any_repair = mark_normals_for_repair(scene, repair);
   std::vector<Vec3> accum(any_repair ? scene.positions.size() : 0, Vec3{0.f, 0.f, 0.f});
   uint32_t degenerate = 0;
   for (size_t t = 0; t < tris; ++t) {
@@ -212,13 +225,14 @@ void finalize_scene(Scene& scene) {
       scene.normals[i] = len2 > 0.f && std::isfinite(len2) ? a * (1.f / std::sqrt(len2)) : Vec3{0.f, 1.f, 0.f};
     }
   }
+  return areas;
+}
 
-  scene.bounds = Bounds{};
-  for (uint32_t i : scene.indices) scene.bounds.grow(scene.positions[i]);
-
+// Fills the emitter list; returns whether the emitters are too weak to light the scene (the lighting rule).
+bool collect_emitters(Scene& scene, const std::vector<float>& areas) {
   scene.emissive_tris.clear();
   double emitted = 0.0, total_area = 0.0;
-  for (size_t t = 0; t < tris; ++t) {
+  for (size_t t = 0; t < scene.triangle_count(); ++t) {
     total_area += areas[t];
     const Material& m = scene.materials[scene.tri_material[t]];
     // Zero-area emitters can never be hit or sampled, so they are left out of the emitter list.
@@ -227,11 +241,12 @@ void finalize_scene(Scene& scene) {
       emitted += 3.14159265358979 * areas[t] * luminance(m.emission);
     }
   }
+  return total_area > 0.0 ? emitted / total_area < kMinEmitterExitance : true;
+}
 
-  if (!camera_usable(scene.camera) || !scene.camera.from_file) scene.camera = default_camera(scene.bounds);
-
-  const bool weak = total_area > 0.0 ? emitted / total_area < kMinEmitterExitance : true;
-  scene.env.enabled = scene.emissive_tris.empty() || weak;
+// The sky + sun when the scene has no emitter or only weak ones; the sun direction made a unit vector.
+void set_environment(Scene& scene, bool weak_emitters) {
+  scene.env.enabled = scene.emissive_tris.empty() || weak_emitters;
   if (scene.env.enabled && max_component(scene.env.sun_radiance) <= 0.f) {
     scene.env.sun_radiance = kSunRadiance;
     scene.env.sky_zenith = kSkyZenith;
@@ -240,6 +255,20 @@ void finalize_scene(Scene& scene) {
   if (!is_finite(scene.env.sun_dir) || !(dot(scene.env.sun_dir, scene.env.sun_dir) > 0.f))
     scene.env.sun_dir = Environment{}.sun_dir;
   scene.env.sun_dir = normalize(scene.env.sun_dir);
+}
+
+}  // namespace
+
+void finalize_scene(Scene& scene) {
+  validate_scene(scene);
+  const std::vector<float> areas = repair_normals_and_measure(scene);
+
+  scene.bounds = Bounds{};
+  for (uint32_t i : scene.indices) scene.bounds.grow(scene.positions[i]);
+
+  const bool weak = collect_emitters(scene, areas);
+  if (!camera_usable(scene.camera) || !scene.camera.from_file) scene.camera = default_camera(scene.bounds);
+  set_environment(scene, weak);
 }
 
 SceneFeatures analyse(const Scene& scene) {
