@@ -1,7 +1,7 @@
 // The path tracer of the quality runs: the benchmark's own pipeline (primary rays, G-buffer, generator, tracer)
 // with shading on top, traced wavefront style — one tracer call per batch (camera rays, the generator's
 // secondary batch, each later bounce, each bounce's shadow rays), so the timed trace is the same tracer code the
-// benchmark measures. The method is in path_tracer.cpp's doc block.
+// benchmark measures. The method is in path_tracer.cpp's doc block; its stages are in path_stages.h.
 //
 // RenderSettings (validated by validate(); raycoh::Error names the field):
 //   width, height  int     160 x 120   [1, 16384]: image size
@@ -16,10 +16,11 @@
 #include <memory>
 #include <vector>
 
-#include "tracers/tracer.h"
 #include "generators/generator.h"
 #include "scenes/scene.h"
+#include "shading/environment.h"  // sky_radiance, in_sun_cone, environment_radiance
 #include "shading/image.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 
@@ -43,11 +44,7 @@ struct FrameStats {
   void add(const FrameStats& f);
 };
 
-// Radiance of the environment in direction d (unit): the sky gradient, plus the sun's radiance inside its cone.
-// Zero when the scene's environment is off.
-Vec3 sky_radiance(const Environment& env, Vec3 d);
-bool in_sun_cone(const Environment& env, Vec3 d);
-Vec3 environment_radiance(const Environment& env, Vec3 d);
+struct EmitterDistribution;
 
 class PathTracer {
  public:
@@ -61,13 +58,12 @@ class PathTracer {
   const RenderSettings& settings() const { return settings_; }
 
  private:
-  struct Emitters;
   const Scene& scene_;
   Tracer& tracer_;
   Generator& generator_;
   RenderSettings settings_;
   std::vector<uint32_t> primary_order_;
-  std::unique_ptr<Emitters> emitters_;
+  std::unique_ptr<EmitterDistribution> emitters_;
 };
 
 }  // namespace raycoh
