@@ -1,7 +1,10 @@
 // Camera pass of the path tracer (path_stages.h): camera rays through jittered pixel positions in the frame's
-// pixel order (generators/primary.h), traced, and the G-buffer of their hits, which the generator of the first
-// bounce reads. A camera ray sees an emitter's radiance on its front face, or the environment (sky + sun disc)
-// when it misses; every hit becomes a path vertex with throughput 1 and the camera's MIS state (delta).
+// pixel order, traced, and the G-buffer of their hits, which the generator of the first bounce reads (all three
+// from generators/primary.h's first_hits). A camera ray sees an emitter's radiance on its front face, or the
+// environment (sky + sun disc) when it misses; every hit becomes a path vertex with throughput 1 and the camera's
+// MIS state (delta).
+#include <utility>
+
 #include "shading/environment.h"
 #include "shading/path_stages.h"
 
@@ -9,13 +12,14 @@ namespace raycoh::path_tracing {
 
 GBuffer camera_pass(FrameContext& ctx, const std::vector<uint32_t>& order, Vertices& verts) {
   const RenderSettings& rs = ctx.settings;
-  const PrimaryBatch primary =
-      make_primary_rays(ctx.scene.camera, rs.width, rs.height, order, rs.seed, ctx.frame, true);
-  ctx.trace(primary.rays, ctx.stats.primary_rays);
-  GBuffer gbuffer = make_gbuffer(ctx.scene, primary, ctx.hits);
+  FirstHits first = first_hits(ctx.scene, ctx.tracer, rs.width, rs.height, order, rs.seed, ctx.frame, true);
+  ctx.stats.trace_s += first.trace_seconds;
+  ctx.stats.primary_rays += first.primary.rays.size();
+  const PrimaryBatch& primary = first.primary;
+  const GBuffer& gbuffer = first.gbuffer;
   for (size_t i = 0; i < primary.rays.size(); ++i) {
     const uint32_t p = primary.pixel[i];
-    if (!ctx.hits[i].valid()) {
+    if (!first.hits[i].valid()) {
       ctx.radiance[p] = environment_radiance(ctx.scene.env, primary.rays[i].dir);
       continue;
     }
@@ -25,7 +29,7 @@ GBuffer camera_pass(FrameContext& ctx, const std::vector<uint32_t>& order, Verti
     verts.beta.push_back(Vec3(1.f));
     verts.mis.push_back(MisState{});
   }
-  return gbuffer;
+  return std::move(first.gbuffer);
 }
 
 }  // namespace raycoh::path_tracing
