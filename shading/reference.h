@@ -19,8 +19,8 @@
 #include <functional>
 #include <string>
 
-#include "core/params.h"
 #include "bvh/bvh_build.h"
+#include "core/params.h"
 #include "shading/image.h"
 #include "shading/path_tracer.h"
 
