@@ -12,7 +12,6 @@
 
 #include "bvh/bvh_build.h"
 #include "core/error.h"
-#include "core/params.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_keys.h"
 #include "encoders/keys.h"
@@ -30,19 +29,19 @@ struct KeyParams {
   MlhccCuts cuts;  // device pointers (mlhcc only)
 };
 
-template <GpuKeyKind Kind>
+template <KeyKind Kind>
 __device__ __forceinline__ uint64_t code_of(const KeyParams& kp, const Ray& r) {
-  if constexpr (Kind == GpuKeyKind::Origin) return origin_code(r.org, kp.box);
-  if constexpr (Kind == GpuKeyKind::Reis) return reis_code(r.org, r.dir, kp.box);
-  if constexpr (Kind == GpuKeyKind::Costa) return costa_code(r.org, r.dir, kp.box);
-  if constexpr (Kind == GpuKeyKind::Aila) return aila_code(r.org, r.dir, kp.box);
-  if constexpr (Kind == GpuKeyKind::TwoPoint) return twopoint_code(r.org, r.dir, r.tmax, kp.box, kp.length_factor);
-  if constexpr (Kind == GpuKeyKind::Mlhcc)
+  if constexpr (Kind == KeyKind::Origin) return origin_code(r.org, kp.box);
+  if constexpr (Kind == KeyKind::Reis) return reis_code(r.org, r.dir, kp.box);
+  if constexpr (Kind == KeyKind::Costa) return costa_code(r.org, r.dir, kp.box);
+  if constexpr (Kind == KeyKind::Aila) return aila_code(r.org, r.dir, kp.box);
+  if constexpr (Kind == KeyKind::TwoPoint) return twopoint_code(r.org, r.dir, r.tmax, kp.box, kp.length_factor);
+  if constexpr (Kind == KeyKind::Mlhcc)
     return mlhcc_code(r.org, r.dir, r.tmax, kp.box, kp.length_factor, kp.cuts, kp.with_end, kp.bits);
   return 0;
 }
 
-template <GpuKeyKind Kind>
+template <KeyKind Kind>
 __global__ void key_kernel(KeyParams kp, const Ray* rays, size_t n, uint64_t* keys) {
   const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
   if (i < n) keys[i] = key_from_code(code_of<Kind>(kp, rays[i]), kp.bits);
@@ -66,51 +65,10 @@ unsigned blocks_for(size_t n) {
   return static_cast<unsigned>(blocks);
 }
 
-// The parameter text without its ",box=..." (which the encoder appends for the record).
-std::string without_box(const std::string& params) {
-  const size_t at = params.rfind("box=");
-  if (at == std::string::npos) return params;
-  if (at == 0) return "";
-  if (params[at - 1] != ',') return params;
-  return params.substr(0, at - 1);
-}
-
 }  // namespace
 
-GpuKeyConfig gpu_key_config(const std::string& name, const std::string& params, const Bounds& box) {
-  GpuKeyConfig c;
-  c.box = box;
-  ParamSet set("encoder '" + name + "' (GPU)", without_box(params));
-  if (name == "origin") {
-    c.kind = GpuKeyKind::Origin;
-  } else if (name == "reis") {
-    c.kind = GpuKeyKind::Reis;
-  } else if (name == "costa") {
-    c.kind = GpuKeyKind::Costa;
-  } else if (name == "aila") {
-    c.kind = GpuKeyKind::Aila;
-  } else if (name == "twopoint") {
-    c.kind = GpuKeyKind::TwoPoint;
-  } else if (name == "mlhcc") {
-    c.kind = GpuKeyKind::Mlhcc;
-  } else {
-    throw Error("encoder '" + name + "' has no GPU keys; GPU encoders: origin, reis, costa, aila, twopoint, mlhcc");
-  }
-  // The same names, defaults and ranges as the CPU encoders (encoders/*.cpp).
-  c.bits = set.get_choice("bits", "32", {"32", "64"}) == "64" ? 64 : 32;
-  if (c.kind == GpuKeyKind::Mlhcc) c.lambda = set.get_float("lambda", 0.125f, 0.001f, 0.999f);
-  if (c.kind == GpuKeyKind::TwoPoint || c.kind == GpuKeyKind::Mlhcc)
-    c.length_factor = set.get_float("L", 0.25f, 0.f, 16.f);
-  if (c.kind == GpuKeyKind::Mlhcc) {
-    c.with_end = set.get_choice("points", "both", {"both", "origin"}) == "both";
-    c.global_ranks = set.get_choice("ranks", "compressed", {"compressed", "global"}) == "global";
-  }
-  set.finish();
-  return c;
-}
-
 struct DeviceKeys::Impl {
-  GpuKeyConfig config;
+  KeyRecipe config;
   KeyParams params{};
   DeviceBuffer<BvhNode> nodes;
   DeviceBuffer<MlhccNodeCut> cuts;
@@ -124,23 +82,25 @@ struct DeviceKeys::Impl {
     if (n == 0) return;
     const unsigned blocks = blocks_for(n);
     switch (config.kind) {
-      case GpuKeyKind::Origin:
-        key_kernel<GpuKeyKind::Origin><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+      case KeyKind::None:
+        return;
+      case KeyKind::Origin:
+        key_kernel<KeyKind::Origin><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
         break;
-      case GpuKeyKind::Reis:
-        key_kernel<GpuKeyKind::Reis><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+      case KeyKind::Reis:
+        key_kernel<KeyKind::Reis><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
         break;
-      case GpuKeyKind::Costa:
-        key_kernel<GpuKeyKind::Costa><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+      case KeyKind::Costa:
+        key_kernel<KeyKind::Costa><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
         break;
-      case GpuKeyKind::Aila:
-        key_kernel<GpuKeyKind::Aila><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+      case KeyKind::Aila:
+        key_kernel<KeyKind::Aila><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
         break;
-      case GpuKeyKind::TwoPoint:
-        key_kernel<GpuKeyKind::TwoPoint><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+      case KeyKind::TwoPoint:
+        key_kernel<KeyKind::TwoPoint><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
         break;
-      case GpuKeyKind::Mlhcc:
-        key_kernel<GpuKeyKind::Mlhcc><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
+      case KeyKind::Mlhcc:
+        key_kernel<KeyKind::Mlhcc><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
         break;
     }
     RAYCOH_CUDA_CHECK_LAUNCH();
@@ -169,14 +129,16 @@ struct DeviceKeys::Impl {
   }
 };
 
-DeviceKeys::DeviceKeys(const GpuKeyConfig& config, const Bvh* bvh) : impl_(std::make_unique<Impl>()) {
+DeviceKeys::DeviceKeys(const KeyRecipe& config, const Bvh* bvh) : impl_(std::make_unique<Impl>()) {
+  if (config.kind == KeyKind::None)
+    throw Error("encoder 'none' makes no keys; GPU encoders: origin, reis, costa, aila, twopoint, mlhcc");
   Impl& m = *impl_;
   m.config = config;
   m.params.bits = config.bits;
   m.params.box = config.box;
   m.params.length_factor = config.length_factor;
   m.params.with_end = config.with_end;
-  if (config.kind == GpuKeyKind::Mlhcc) {
+  if (config.kind == KeyKind::Mlhcc) {
     if (!bvh) throw Error("encoder 'mlhcc' (GPU): needs the scene's BVH, and none was given");
     const MlhccCutTable table =
         build_mlhcc_cuts(*bvh, config.lambda, config.global_ranks ? MlhccRanks::Global : MlhccRanks::Compressed);

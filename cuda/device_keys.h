@@ -20,28 +20,13 @@
 
 #include "core/ray.h"
 #include "core/vec.h"
+#include "encoders/key_recipe.h"
 
 namespace raycoh {
 struct Bvh;
 }
 
 namespace raycoh::cuda {
-
-enum class GpuKeyKind { Origin, Reis, Costa, Aila, TwoPoint, Mlhcc };
-
-// An encoder's parameters, read from its canonical parameter set (Encoder::params() of the CPU encoder, whose
-// trailing ",box=..." is ignored: the box is given separately).
-struct GpuKeyConfig {
-  GpuKeyKind kind = GpuKeyKind::Origin;
-  int bits = 32;                // key width: 32 | 64
-  Bounds box;                   // the scene bounds positions are quantised in
-  float length_factor = 0.25f;  // twopoint, mlhcc: L
-  float lambda = 0.125f;        // mlhcc
-  bool with_end = true;         // mlhcc: points=both
-  bool global_ranks = false;    // mlhcc: ranks=global
-};
-// Throws raycoh::Error for `none`, unknown encoders and bad parameters.
-GpuKeyConfig gpu_key_config(const std::string& name, const std::string& params, const Bounds& box);
 
 struct GpuReorderTimings {
   float key_ms = 0.f, sort_ms = 0.f, permute_ms = 0.f;  // CUDA events
@@ -50,8 +35,9 @@ struct GpuReorderTimings {
 // One encoder on the device: its tables (MLHCC cuts and BVH nodes) uploaded once, buffers grown on demand.
 class DeviceKeys {
  public:
-  // bvh: needed by mlhcc (it must outlive the constructor call only; the cuts are copied to the device).
-  DeviceKeys(const GpuKeyConfig& config, const Bvh* bvh);
+  // recipe: Encoder::recipe() of the CPU encoder. bvh: needed by mlhcc (it must outlive the constructor call
+  // only; the cuts are copied to the device). Throws raycoh::Error for kind None (no keys) and mlhcc without bvh.
+  DeviceKeys(const KeyRecipe& recipe, const Bvh* bvh);
   ~DeviceKeys();
   DeviceKeys(const DeviceKeys&) = delete;
   DeviceKeys& operator=(const DeviceKeys&) = delete;

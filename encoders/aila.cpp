@@ -19,7 +19,7 @@ const ParamTable& aila_params() {
 std::unique_ptr<Encoder> make_aila_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);
   const Bounds box = context.bounds;
-  return make_key_encoder("aila", box, bits, finish_encoder_params(params, box),
+  return make_key_encoder("aila", KeyRecipe{KeyKind::Aila, bits, box}, finish_encoder_params(params, box),
                           [box](const Ray& r) { return aila_code(r.org, r.dir, box); });
 }
 

@@ -17,6 +17,7 @@
 #include "core/plugin.h"
 #include "core/ray_batch.h"
 #include "core/vec.h"
+#include "encoders/key_recipe.h"
 #include "encoders/radix_sort.h"
 
 namespace raycoh {
@@ -46,6 +47,8 @@ class Encoder {
   virtual int key_bits() const = 0;
   // Canonical, defaulted parameter set, with the quantisation box last: "bits=32,box=-1/0/-1..1/2/1".
   virtual std::string params() const = 0;
+  // The typed parameters (kind None for `none`).
+  virtual KeyRecipe recipe() const = 0;
   // Facts derived from the scene that a report may show ("levels=4 bits=6/6/5/3 ..."); empty for most.
   virtual std::string details() const { return {}; }
 

@@ -18,9 +18,9 @@ namespace raycoh {
 template <class CodeFn>
 class KeyEncoder final : public Encoder {
  public:
-  KeyEncoder(std::string name, const Bounds& box, int bits, std::string params, CodeFn code, std::string details)
-      : Encoder(std::move(name), box),
-        bits_(bits),
+  KeyEncoder(std::string name, const KeyRecipe& recipe, std::string params, CodeFn code, std::string details)
+      : Encoder(std::move(name), recipe.box),
+        recipe_(recipe),
         params_(std::move(params)),
         details_(std::move(details)),
         code_(std::move(code)) {}
@@ -29,15 +29,16 @@ class KeyEncoder final : public Encoder {
     const Ray* rays = batch.rays.data();
     // Keys are independent per ray; 4096 rays per task keeps the scheduling cost far below the work.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, batch.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i < r.end(); ++i) keys[i] = key_from_code(code_(rays[i]), bits_);
+      for (size_t i = r.begin(); i < r.end(); ++i) keys[i] = key_from_code(code_(rays[i]), recipe_.bits);
     });
   }
-  int key_bits() const override { return bits_; }
+  int key_bits() const override { return recipe_.bits; }
   std::string params() const override { return params_; }
   std::string details() const override { return details_; }
+  KeyRecipe recipe() const override { return recipe_; }
 
  private:
-  int bits_;
+  KeyRecipe recipe_;
   std::string params_;
   std::string details_;
   CodeFn code_;
@@ -45,9 +46,9 @@ class KeyEncoder final : public Encoder {
 
 // code(const Ray&) -> uint64_t is the 64-bit code of one ray.
 template <class CodeFn>
-std::unique_ptr<Encoder> make_key_encoder(std::string name, const Bounds& box, int bits, std::string params,
-                                          CodeFn code, std::string details = {}) {
-  return std::make_unique<KeyEncoder<CodeFn>>(std::move(name), box, bits, std::move(params), std::move(code),
+std::unique_ptr<Encoder> make_key_encoder(std::string name, const KeyRecipe& recipe, std::string params, CodeFn code,
+                                          std::string details = {}) {
+  return std::make_unique<KeyEncoder<CodeFn>>(std::move(name), recipe, std::move(params), std::move(code),
                                               std::move(details));
 }
 

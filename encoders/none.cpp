@@ -14,6 +14,11 @@ class NoneEncoder final : public Encoder {
   void encode(const RayBatch&, uint64_t*) const override {}
   int key_bits() const override { return 0; }
   std::string params() const override { return {}; }
+  KeyRecipe recipe() const override {
+    KeyRecipe r;
+    r.box = box();
+    return r;
+  }
 };
 
 }  // namespace

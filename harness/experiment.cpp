@@ -20,9 +20,6 @@
 #include "simt/pipeline_model.h"
 #include "simt/timed_replay.h"
 #include "tracers/tracer.h"
-#if defined(RAYCOH_HAVE_CUDA)
-#include "cuda/cuda_trace.h"
-#endif
 
 namespace raycoh {
 
@@ -366,41 +363,6 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
 
 std::vector<SceneResult> run_experiment(const ExperimentOptions& options, const Provenance& provenance) {
   return ExperimentRun(options, provenance).run();
-}
-
-std::vector<PluginSpec> expand_auto(const std::vector<PluginSpec>& tracers) {
-  std::vector<PluginSpec> out;
-  for (const PluginSpec& t : tracers) {
-    if (t.name != "auto") {
-      out.push_back(t);
-      continue;
-    }
-    if (!t.params.empty()) throw Error("tracer 'auto' takes no parameters");
-#if defined(RAYCOH_HAVE_CUDA)
-    if (cuda::device_count() > 0) {
-      out.push_back({"cuda", ""});
-      continue;
-    }
-#endif
-    out.push_back({"cpu", ""});
-    out.push_back({"simt", ""});
-  }
-  return out;
-}
-
-void ensure_baseline(std::vector<Method>& methods) {
-  for (const Method& m : methods)
-    if (m.label == "noopt") return;
-  methods.insert(methods.begin(), Method{"noopt", {"noopt", ""}});
-  std::fprintf(stderr, "adding generator noopt as the baseline of the ratios\n");
-}
-
-std::vector<Method> method_product(const std::vector<PluginSpec>& generators, const std::vector<PluginSpec>& encoders) {
-  std::vector<Method> methods;
-  for (const PluginSpec& g : generators)  // generator-major, so methods sharing a batch are adjacent
-    for (const PluginSpec& e : encoders)
-      methods.push_back({e.name == "none" ? g.text() : g.text() + "+" + e.text(), g, e});
-  return methods;
 }
 
 }  // namespace raycoh

@@ -150,5 +150,34 @@ TEST(Encoders, RegistryAndParameters) {
   EXPECT_THROW(parse_permute_mode("copy"), Error);
 }
 
+// The typed record the GPU keys are built from holds the values each encoder read (defaults included).
+TEST(Encoders, RecipeHoldsTheTypedParameters) {
+  const Bvh bvh = tiny_bvh();
+  const EncoderContext ctx{box_of({-1, 0, -1}, {1, 2, 1}), &bvh};
+  const KeyRecipe m =
+      make_encoder(parse_plugin_spec("mlhcc:bits=64,lambda=0.3,L=0.5,points=origin,ranks=global"), ctx)->recipe();
+  EXPECT_EQ(m.kind, KeyKind::Mlhcc);
+  EXPECT_EQ(m.bits, 64);
+  EXPECT_FLOAT_EQ(m.lambda, 0.3f);
+  EXPECT_FLOAT_EQ(m.length_factor, 0.5f);
+  EXPECT_FALSE(m.with_end);
+  EXPECT_TRUE(m.global_ranks);
+  EXPECT_EQ(m.box.hi.y, 2.f);
+  const KeyRecipe d = make_encoder(parse_plugin_spec("mlhcc"), ctx)->recipe();
+  EXPECT_FLOAT_EQ(d.lambda, 0.125f);
+  EXPECT_FLOAT_EQ(d.length_factor, 0.25f);
+  EXPECT_TRUE(d.with_end);
+  EXPECT_FALSE(d.global_ranks);
+  EXPECT_FLOAT_EQ(make_encoder(parse_plugin_spec("twopoint:L=2"), ctx)->recipe().length_factor, 2.f);
+  const std::vector<std::pair<std::string, KeyKind>> kinds = {
+      {"none", KeyKind::None}, {"origin", KeyKind::Origin},     {"reis", KeyKind::Reis},  {"costa", KeyKind::Costa},
+      {"aila", KeyKind::Aila}, {"twopoint", KeyKind::TwoPoint}, {"mlhcc", KeyKind::Mlhcc}};
+  for (const auto& [name, kind] : kinds) {
+    const auto encoder = make_encoder(parse_plugin_spec(name), ctx);
+    EXPECT_EQ(encoder->recipe().kind, kind) << name;
+    EXPECT_EQ(encoder->recipe().bits, encoder->key_bits()) << name;
+  }
+}
+
 }  // namespace
 }  // namespace raycoh

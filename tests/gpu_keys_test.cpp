@@ -84,8 +84,7 @@ void expect_encoder_matches(const Scene& scene, const Bvh& bvh, const RayBatch& 
   ASSERT_TRUE(reorder(*encoder, batch, PermuteMode::Physical, cpu_sorted, cpu_order, cpu_times));
   const std::vector<uint64_t> cpu_sorted_keys = encoder->workspace().keys;
 
-  const cuda::GpuKeyConfig config = cuda::gpu_key_config(spec.name, encoder->params(), scene.bounds);
-  cuda::DeviceKeys device(config, &bvh);
+  cuda::DeviceKeys device(encoder->recipe(), &bvh);
   ASSERT_EQ(device.key_bits(), bits);
 
   // Keys.
@@ -168,7 +167,8 @@ TEST(GpuKeys, RadixSortIsStableOverTheKeyBits) {
   SKIP_WITHOUT_GPU();
   for (int bits : {32, 64}) {
     SCOPED_TRACE(bits);
-    cuda::GpuKeyConfig config;
+    KeyRecipe config;
+    config.kind = KeyKind::Origin;
     config.bits = bits;
     cuda::DeviceKeys device(config, nullptr);
     const size_t n = 1000003;
@@ -189,19 +189,13 @@ TEST(GpuKeys, RadixSortIsStableOverTheKeyBits) {
   }
 }
 
-TEST(GpuKeys, ConfigFollowsTheCpuParameters) {
-  const Bounds box{{0, 0, 0}, {1, 2, 3}};
-  const cuda::GpuKeyConfig c =
-      cuda::gpu_key_config("mlhcc", "bits=64,lambda=0.3,L=0.5,points=origin,ranks=global,box=0/0/0..1/2/3", box);
-  EXPECT_EQ(c.kind, cuda::GpuKeyKind::Mlhcc);
-  EXPECT_EQ(c.bits, 64);
-  EXPECT_FLOAT_EQ(c.lambda, 0.3f);
-  EXPECT_FLOAT_EQ(c.length_factor, 0.5f);
-  EXPECT_FALSE(c.with_end);
-  EXPECT_TRUE(c.global_ranks);
-  EXPECT_EQ(cuda::gpu_key_config("origin", "bits=32,box=0/0/0..1/2/3", box).bits, 32);
-  EXPECT_THROW(cuda::gpu_key_config("none", "", box), Error);
-  EXPECT_THROW(cuda::gpu_key_config("origin", "L=1", box), Error);  // origin has no L
+TEST(GpuKeys, NoneMakesNoKeys) {
+  SKIP_WITHOUT_GPU();
+  EXPECT_THROW(cuda::DeviceKeys(KeyRecipe{}, nullptr), Error);
+  KeyRecipe mlhcc;
+  mlhcc.kind = KeyKind::Mlhcc;
+  mlhcc.bits = 32;
+  EXPECT_THROW(cuda::DeviceKeys(mlhcc, nullptr), Error);  // mlhcc needs the BVH
 }
 
 }  // namespace
