@@ -52,6 +52,20 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
   }
 }
 
+// The rows of an end-to-end table: methods down, scenes across; speed and share pick measured or modeled figures.
+void print_e2e_rows(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
+                    double (Accumulated::*speed)() const, double (Accumulated::*share)() const) {
+  for (const Method& method : methods) {
+    std::string line = "| " + method.label + " |";
+    for (const SceneResult& r : results) {
+      const auto& m = r.by_tracer.at(tl);
+      const Accumulated& a = m.at(method.label);
+      line += fmt::format(" {}, {:.0f}% |", ratio_cell((a.*speed)(), (m.at("noopt").*speed)()), 100 * (a.*share)());
+    }
+    std::printf("%s\n", line.c_str());
+  }
+}
+
 // Counting and modelling tracers (`simt`, `cuda:counters=on`): the coherence counters per ray, and for `simt` the
 // GPU timing model's figures, labelled modeled: trace-only MRay/s with the ratio to noopt and the port that
 // bounded the kernel, then end to end with every stage modeled on the same GPU (never a CPU time).
@@ -78,16 +92,7 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
       "\n### %s: MODELED end to end (generation + key + sort + permute + trace, each modeled on the same GPU), "
       "modeled MRay/s (ratio to noopt), overhead share\n\n%s\n",
       tl.c_str(), header.c_str());
-  for (const Method& method : methods) {
-    std::string line = "| " + method.label + " |";
-    for (const SceneResult& r : results) {
-      const auto& m = r.by_tracer.at(tl);
-      const Accumulated& a = m.at(method.label);
-      line += fmt::format(" {}, {:.0f}% |", ratio_cell(a.modeled_e2e_mray_s(), m.at("noopt").modeled_e2e_mray_s()),
-                          100 * a.modeled_overhead_share());
-    }
-    std::printf("%s\n", line.c_str());
-  }
+  print_e2e_rows(results, methods, tl, &Accumulated::modeled_e2e_mray_s, &Accumulated::modeled_overhead_share);
 }
 
 // Timing tracers: trace-only MRay/s, then end to end with the overhead share.
@@ -109,16 +114,7 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
       "\n### %s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
       "overhead share\n\n%s\n",
       tl.c_str(), header.c_str());
-  for (const Method& method : methods) {
-    std::string line = "| " + method.label + " |";
-    for (const SceneResult& r : results) {
-      const auto& m = r.by_tracer.at(tl);
-      const Accumulated& a = m.at(method.label);
-      line += fmt::format(" {}, {:.0f}% |", ratio_cell(a.e2e_mray_s(), m.at("noopt").e2e_mray_s()),
-                          100 * a.overhead_share());
-    }
-    std::printf("%s\n", line.c_str());
-  }
+  print_e2e_rows(results, methods, tl, &Accumulated::e2e_mray_s, &Accumulated::overhead_share);
 }
 
 // Header and rule lines: methods down, scenes across.
