@@ -158,6 +158,7 @@ const ParamTable& simt_params() {
       preset_row("sms", ParamType::Int, 1, 1024, "streaming multiprocessors"),
       preset_row("l1_kb", ParamType::Int, 1, 65536, "L1 per SM in KiB (4 sets)"),
       preset_row("l2_mb", ParamType::Float, 0.002, 4096, "L2 in MiB (16 ways, whole sets)"),
+      preset_row("l1_tags", ParamType::Int, 1, 32, "distinct lines the L1 tag stage resolves per cycle (wavefront)"),
       preset_row("dram_gbs", ParamType::Float, 1, 100000, "DRAM bandwidth in GB/s"),
       preset_row("l2_bpc", ParamType::Float, 1, 1e6, "L2 bandwidth in bytes per cycle"),
   };
@@ -196,6 +197,7 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const B
   cache.sms = static_cast<uint32_t>(preset_int(params, "sms", cache.sms));
   const int l1_kb = preset_int(params, "l1_kb", cache.l1.bytes >> 10);
   const float l2_mb = preset_float(params, "l2_mb", double(cache.l2.bytes) / double(1 << 20));
+  gpu.gpu.l1_tags_per_clk = preset_int(params, "l1_tags", static_cast<uint64_t>(gpu.gpu.l1_tags_per_clk));
   gpu.gpu.dram_gb_s = preset_float(params, "dram_gbs", gpu.gpu.dram_gb_s);
   gpu.gpu.l2_bytes_per_clk = preset_float(params, "l2_bpc", gpu.gpu.l2_bytes_per_clk);
   params.finish();

@@ -51,13 +51,15 @@ sibenik,ours,32,512,19.5,0.1,0.6,0.1,0.01,0.000001
 CSV
 # `raycoh validate` rows (two Table 1 rows, a Table 3 row per tile and K = 8, 16), and a simt table row.
 {
-  echo "table,row,paper_row,tile,k,paper_mray_s,paper_ratio,modeled_mray_s,modeled_ratio,ratio_error,modeled_limiter,preset"
-  echo "table1,noopt,NoOpt,,0,154.7,1,300,1,0,l1,rtx3060"
-  echo "table1,ours:tile=8x8,k=8,Ours,8x8,8,278.5,1.8,420,1.4,-0.22,l1,rtx3060"
-  for t in 8x8 32x8; do for k in 8 16; do
-    echo "table3,ours:tile=$t,k=$k,($t) K=$k,$t,$k,250,1.6,400,1.33,-0.17,l1,rtx3060"
+  echo "table,row,paper_row,tile,k,paper_mray_s,paper_ratio,modeled_mray_s,modeled_ratio,ratio_error,modeled_limiter,preset,tracer_params,order"
+  m='"simt[preset=rtx3060,l2_bpc=1327]",tile'
+  echo "table1,noopt,NoOpt,,0,154.7,1,300,1,0,l1,rtx3060,$m"
+  echo "table1,\"ours:tile=8x8,k=8\",Ours,8x8,8,278.5,1.8,420,1.4,-0.22,l1,rtx3060,$m"
+  for t in 8x8 32x8; do for k in 8 16 32 64; do
+    echo "table3,\"ours:tile=$t,k=$k\",($t) K=$k,$t,$k,250,1.6,400,$((k > 16 ? 2 : 1)).2,-0.$((k / 8)),l1,rtx3060,$m"
   done; done
 } > validate.csv
+sed 's/l2_bpc=1327/l2_bpc=600/' validate.csv > validate_l2.csv
 sed -e 's/,mray_s$/,mray_s,modeled_ms,modeled_e2e_ms/' -e '2,$s/$/,,/' table.csv > table_simt.csv
 echo "cornell,secondary,noopt,noopt,\"order=tile,tile=8x8\",none,simt,,0,900,50.0,50.0,0.018,0.003,0.004" >> table_simt.csv
 echo "cornell,secondary,ours,ours,\"tile=8x8,k=8,order=tile,seed=0\",none,simt,,0,900,60.0,60.0,0.015,0.002,0.003" >> table_simt.csv
@@ -96,6 +98,10 @@ expect_error() {  # expect_error <text> <command...>: exit code 2 and the text i
 check fig/quality.md
 grep -q "| ours | 25.00 | 19.50 |" fig/quality.md || { echo "scripts_test: unexpected table:"; cat fig/quality.md; exit 1; }
 "$scripts/plot_validate.py" validate.csv --out fig/validate.png && check fig/validate.png
+"$scripts/validate_summary.py" validate.csv validate_l2.csv --labels base,l2 --out fig/validate.md && check fig/validate.md
+grep -q "| l2 | l2_bpc=600 | tile | 300.0 | l1 | 1.40 | 2/9 | 36% | 80% | +0.0% |" fig/validate.md ||
+  { echo "scripts_test: unexpected validate summary:"; cat fig/validate.md; exit 1; }
+expect_error "2 names for 1 CSV" "$scripts/validate_summary.py" validate.csv --labels a,b
 "$scripts/plot_table.py" table_simt.csv --out fig/table_simt.png --speed e2e && check fig/table_simt.png
 "$scripts/model_summary.py" model.csv --out fig/model.md && check fig/model.md
 grep -q "| sibenik | 64x32 | 1 | 2.00x (1.67x e2e) | 4.10x |" fig/model.md ||

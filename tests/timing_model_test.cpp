@@ -83,6 +83,12 @@ TEST(TimingModel, DivergentLoadsTakeMoreL1Wavefronts) {
   EXPECT_DOUBLE_EQ(a.l1_busy, 8 + 14 * 1 + 18);
   EXPECT_DOUBLE_EQ(b.l1_busy, 8 + 14 * 4 + 18);
   EXPECT_GT(b.cycles, a.cycles);
+  // A tag stage of 1 line per cycle takes 16 wavefronts per load; one of 16 lines, a single wavefront.
+  GpuModelConfig one = c, sixteen = c;
+  one.gpu.l1_tags_per_clk = 1;
+  sixteen.gpu.l1_tags_per_clk = 16;
+  EXPECT_DOUBLE_EQ(replay(one, {node_steps(32, {sixteen_lines})}).l1_busy, 8 + 14 * 16 + 18);
+  EXPECT_DOUBLE_EQ(replay(sixteen, {node_steps(32, {sixteen_lines})}).l1_busy, 8 + 14 * 1 + 18);
 }
 
 std::vector<WarpTrace> random_traces(size_t warps, uint32_t footprint_sectors, uint32_t seed) {
