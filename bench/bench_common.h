@@ -55,7 +55,7 @@ struct Frame {
   std::string spec;
   Scene scene;
   Bvh bvh;
-  PrimaryBatch primary;
+  PixelRays primary;
   GBuffer gbuffer;
   std::map<std::string, RayBatch> batches;
 

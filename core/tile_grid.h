@@ -8,6 +8,12 @@
 
 namespace raycoh {
 
+// The order in which a generator writes its rays into the batch (DESIGN.md section 1), one enum for every
+// generator and the CUDA block phases: scanline (the image's rows), tile (W x H tiles in row-major tile order,
+// row-major inside a tile), group (tiles as in tile order, whole groups one after the other inside a tile; only
+// the grouping generators have groups, so for a pixel order it is tile order).
+enum class RayOrder { Scanline, Tile, Group };
+
 // Pixel rectangle of one tile; pixel number i of the tile counts row-major inside it.
 struct TileRect {
   int x0 = 0, y0 = 0, w = 0, h = 0;

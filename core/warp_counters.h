@@ -1,4 +1,4 @@
-// What the SIMT warp model (simt/simt.h) and the CUDA counting kernel (cuda/device_tracer.cu) both count, and the
+// What the SIMT warp model (simt/simt.h) and the CUDA counting kernel (cuda/trace_kernels.cu) both count, and the
 // byte layout they count in: one definition for host and device, so that a counting run on the GPU and the `simt`
 // tracer compare field by field. The counting rules are docs/simt-model.md, "Counting rules".
 #pragma once

@@ -1,4 +1,4 @@
-// Tracer `cuda`: our traversal (core/traverse.h) on the GPU over the shared flat BVH2 (cuda/device_tracer.h).
+// Tracer `cuda`: our traversal (core/traverse.h) on the GPU over the shared flat BVH2 (cuda/trace_kernels.h).
 // The BVH is uploaded once when the tracer is made; each trace() uploads the rays (and, for trace_indirect, the
 // order: lane i traces rays[order[i]] on the device), runs one kernel and downloads the hits. Its hits equal the
 // `cpu` tracer's bit for bit.
@@ -25,8 +25,8 @@
 
 #include "bvh/bvh_build.h"
 #include "core/error.h"
-#include "cuda/cuda_trace.h"
-#include "cuda/device_tracer.h"
+#include "cuda/cuda_device.h"
+#include "cuda/trace_kernels.h"
 #include "simt/simt.h"
 #include "tracers/tracer.h"
 

@@ -227,7 +227,7 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator&
                             : TileGrid(g.width, g.height, tile_w, tile_h);
   const size_t tiles = static_cast<size_t>(grid.count());
   const size_t n = g.hits;
-  const bool scanline = grouping && config.scanline;
+  const bool scanline = grouping && config.order == RayOrder::Scanline;
   m.points.upload(g.points.data(), pixels);
   const BatchView view = m.reserve(n, pixels, tiles, grouping, scanline);
 

@@ -45,7 +45,7 @@ namespace raycoh::cuda {
 // make_pixel_order(width, height, order, tile_w, tile_h), seed, frame, jitter) byte for byte.
 // kernel_ms (optional) receives the kernel time.
 void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder order, int tile_w, int tile_h,
-                           uint32_t seed, uint32_t frame, bool jitter, PrimaryBatch& out, float* kernel_ms = nullptr);
+                           uint32_t seed, uint32_t frame, bool jitter, PixelRays& out, float* kernel_ms = nullptr);
 
 // sincos_turns (core/sampling.h) evaluated on the device for every u: s[i], c[i] of u[i]. For the tests that pin
 // the CPU and GPU results to the same bits.

@@ -32,7 +32,7 @@ __global__ void sincos_kernel(const float* u, size_t n, float* s, float* c) {
 }  // namespace
 
 void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder order, int tile_w, int tile_h,
-                           uint32_t seed, uint32_t frame, bool jitter, PrimaryBatch& out, float* kernel_ms) {
+                           uint32_t seed, uint32_t frame, bool jitter, PixelRays& out, float* kernel_ms) {
   if (width < 1 || height < 1 || tile_w < 1 || tile_h < 1)
     throw Error("cuda: primary rays need a positive resolution and tile size");
   const PinholeCamera pinhole = make_pinhole_camera(camera, width, height);

@@ -12,6 +12,7 @@
 #include "core/ray_batch.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "core/tile_grid.h"
 #include "core/tile_shuffle.h"
 
 namespace raycoh {
@@ -24,8 +25,7 @@ struct GroupingConfig {
   uint32_t k = 8;                     // group size K
   uint32_t groups_per_full_tile = 8;  // ceil(W H / K): group ids are tile * this + group in tile
   bool interleaved = true;            // ours: shuffled groups; contiguous: group = i / K
-  bool group_order = false;           // batch order: group by group inside each tile
-  bool scanline = false;              // batch order: the image's rows
+  RayOrder order = RayOrder::Tile;    // batch order (core/tile_grid.h)
 };
 
 RAYCOH_HD RAYCOH_INLINE bool is_diffuse_like(MaterialClass c) {

@@ -126,8 +126,8 @@ RAYCOH_HD RAYCOH_INLINE void phase_positions(const TileBlock& b, uint32_t q) {
 // Batch slot of hit pixel i; rank is its rank among the tile's hits in row-major order.
 RAYCOH_HD RAYCOH_INLINE size_t pixel_slot(const TileBlock& b, uint32_t i, uint32_t rank, const uint32_t* offsets,
                                           const uint32_t* scanline_slots) {
-  if (b.config.scanline) return scanline_slots[b.rect.pixel(i, b.image_width)];
-  return offsets[b.tile] + (b.config.group_order ? b.sh.pos[i] : rank);
+  if (b.config.order == RayOrder::Scanline) return scanline_slots[b.rect.pixel(i, b.image_width)];
+  return offsets[b.tile] + (b.config.order == RayOrder::Group ? b.sh.pos[i] : rank);
 }
 
 RAYCOH_HD RAYCOH_INLINE uint32_t write_pixel(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot,

@@ -8,15 +8,29 @@
 
 namespace raycoh {
 
-std::vector<std::string> ray_order_names() { return {"scanline", "tile"}; }
+std::vector<std::string> ray_order_names(bool with_groups) {
+  if (with_groups) return {"tile", "group", "scanline"};
+  return {"scanline", "tile"};
+}
 
 RayOrder parse_ray_order(const std::string& name) {
   if (name == "scanline") return RayOrder::Scanline;
   if (name == "tile") return RayOrder::Tile;
-  throw Error(fmt::format("unknown ray order '{}'; valid orders: {}", name, join(ray_order_names())));
+  if (name == "group") return RayOrder::Group;
+  throw Error(fmt::format("unknown ray order '{}'; valid orders: {}", name, join(ray_order_names(true))));
 }
 
-const char* to_string(RayOrder order) { return order == RayOrder::Scanline ? "scanline" : "tile"; }
+const char* to_string(RayOrder order) {
+  switch (order) {
+    case RayOrder::Scanline:
+      return "scanline";
+    case RayOrder::Tile:
+      return "tile";
+    case RayOrder::Group:
+      return "group";
+  }
+  return "tile";
+}
 
 std::vector<uint32_t> make_pixel_order(int width, int height, RayOrder order, int tile_w, int tile_h) {
   std::vector<uint32_t> out;

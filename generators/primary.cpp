@@ -40,9 +40,9 @@ const char* to_string(GroupType t) {
   }
 }
 
-PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, const std::vector<uint32_t>& order,
-                               uint32_t seed, uint32_t frame, bool jitter) {
-  PrimaryBatch out;
+PixelRays make_primary_rays(const Camera& camera, int width, int height, const std::vector<uint32_t>& order,
+                            uint32_t seed, uint32_t frame, bool jitter) {
+  PixelRays out;
   out.width = width;
   out.height = height;
   out.frame = frame;
@@ -57,7 +57,7 @@ PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, cons
   return out;
 }
 
-GBuffer make_gbuffer(const Scene& scene, const PrimaryBatch& primary, const std::vector<Hit>& hits) {
+GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::vector<Hit>& hits) {
   GBuffer g;
   g.width = primary.width;
   g.height = primary.height;

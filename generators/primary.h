@@ -10,7 +10,9 @@ namespace raycoh {
 
 class Tracer;
 
-struct PrimaryBatch {
+// Rays with the pixel each belongs to: the camera rays of a frame, and the path tracer's bounce and shadow rays
+// (make_gbuffer reads this type).
+struct PixelRays {
   int width = 0, height = 0;
   uint32_t frame = 0;
   std::vector<Ray> rays;
@@ -19,15 +21,15 @@ struct PrimaryBatch {
 
 // Pinhole camera (vertical field of view, aspect = width / height). With jitter, each pixel's sample position is
 // uniform inside the pixel from rng(seed, frame, pixel, kDimPixelJitterX/Y); without, it is the pixel centre.
-PrimaryBatch make_primary_rays(const Camera& camera, int width, int height, const std::vector<uint32_t>& order,
-                               uint32_t seed, uint32_t frame, bool jitter);
+PixelRays make_primary_rays(const Camera& camera, int width, int height, const std::vector<uint32_t>& order,
+                            uint32_t seed, uint32_t frame, bool jitter);
 
 // Shading points of the hits (hits[i] belongs to primary.rays[i]).
-GBuffer make_gbuffer(const Scene& scene, const PrimaryBatch& primary, const std::vector<Hit>& hits);
+GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::vector<Hit>& hits);
 
 // One frame's first hits: the camera rays in `order`, their closest hits and the G-buffer made from them.
 struct FirstHits {
-  PrimaryBatch primary;
+  PixelRays primary;
   std::vector<Hit> hits;  // hits[i] belongs to primary.rays[i]
   GBuffer gbuffer;
   double trace_seconds = 0.0;  // wall-clock time of the tracer call alone

@@ -45,6 +45,7 @@
 #include "core/tile_grid.h"
 #include "generators/generator.h"
 #include "generators/grouping.h"
+#include "generators/pixel_order.h"
 #include "generators/tiles.h"
 
 namespace raycoh {
@@ -110,7 +111,8 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
   // Writes member j's ray straight into its batch slot (group order: members are already grouped).
   auto emit = [&](uint32_t j, const ShadingPoint& sp, const DirectionSample& s) {
     const uint32_t i = sc.members[j], p = pixel_of(j);
-    const uint32_t slot = c.scanline ? job.slots[p] : job.offsets[t] + (c.group_order ? j : sc.rank[i]);
+    const uint32_t slot =
+        c.order == RayOrder::Scanline ? job.slots[p] : job.offsets[t] + (c.order == RayOrder::Group ? j : sc.rank[i]);
     tally_ray(write_group_ray(job.out, slot, sp, p, s, t, group, type), sc.stats);
   };
 
@@ -145,7 +147,7 @@ const ParamTable& ours_params() {
   static const ParamTable table = {
       size_param("tile", {8, 8}, 1, 1024, "the tile, at most 65536 pixels"),
       int_param("k", 8, 1, kMaxTilePixels, "group size K, at most W H"),
-      choice_param("order", "tile", {"tile", "group", "scanline"}, "batch order (see tangent_reuse.cpp)"),
+      choice_param("order", "tile", ray_order_names(true), "batch order (see tangent_reuse.cpp)"),
       uint_param("seed", 0u, 0u, 0xFFFFFFFFu, "extra salt for the grouping only (shuffle and donors); 0: none"),
   };
   return table;
@@ -166,7 +168,7 @@ TangentSpaceReuse::TangentSpaceReuse(ParamSet& params, bool interleaved) : inter
     throw Error(fmt::format("{}: tile={}x{} has {} pixels; at most {}", params.owner(), tile_.first, tile_.second, area,
                             kMaxTilePixels));
   k_ = params.get_int_at_most("k", area);
-  order_ = params.get_choice("order");
+  order_ = parse_ray_order(params.get_choice("order"));
   salt_ = params.get_uint("seed");
   params.finish();
   params_ = params.canonical();
@@ -180,8 +182,7 @@ GroupingConfig TangentSpaceReuse::config(uint32_t seed, uint32_t frame) const {
   c.k = static_cast<uint32_t>(k_);
   c.groups_per_full_tile = static_cast<uint32_t>((tile_.first * tile_.second + k_ - 1) / k_);
   c.interleaved = interleaved_;
-  c.group_order = order_ == "group";
-  c.scanline = order_ == "scanline";
+  c.order = order_;
   return c;
 }
 
@@ -189,7 +190,7 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
                                  GenerationStats& stats) {
   const TileGrid grid(g.width, g.height, tile_.first, tile_.second);
   const std::vector<uint32_t> offsets = tile_hit_offsets(g, grid);
-  const std::vector<uint32_t> slots = order_ == "scanline" ? scanline_slots(g) : std::vector<uint32_t>{};
+  const std::vector<uint32_t> slots = order_ == RayOrder::Scanline ? scanline_slots(g) : std::vector<uint32_t>{};
   std::vector<BsdfParams> materials;
   for (const Material& m : scene.materials) materials.push_back(bsdf_params(m));
   out.width = g.width;

@@ -24,7 +24,7 @@ class TangentSpaceReuse final : public Generator {
   bool interleaved_;
   std::pair<int, int> tile_;
   int k_ = 8;
-  std::string order_;
+  RayOrder order_ = RayOrder::Tile;
   uint32_t salt_ = 0;
   std::string params_;
 };

@@ -5,7 +5,7 @@
 #include "core/error.h"
 #include "harness/experiment.h"
 #if defined(RAYCOH_HAVE_CUDA)
-#include "cuda/cuda_trace.h"
+#include "cuda/cuda_device.h"
 #endif
 
 namespace raycoh {

@@ -8,7 +8,7 @@
 
 #include "raycoh_git.h"
 #if defined(RAYCOH_HAVE_CUDA)
-#include "cuda/cuda_trace.h"
+#include "cuda/cuda_device.h"
 #endif
 
 #ifndef RAYCOH_BUILD_TYPE

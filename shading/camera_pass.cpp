@@ -15,7 +15,7 @@ GBuffer camera_pass(FrameContext& ctx, const std::vector<uint32_t>& order, Verti
   FirstHits first = first_hits(ctx.scene, ctx.tracer, rs.width, rs.height, order, rs.seed, ctx.frame, true);
   ctx.stats.trace_s += first.trace_seconds;
   ctx.stats.primary_rays += first.primary.rays.size();
-  const PrimaryBatch& primary = first.primary;
+  const PixelRays& primary = first.primary;
   const GBuffer& gbuffer = first.gbuffer;
   for (size_t i = 0; i < primary.rays.size(); ++i) {
     const uint32_t p = primary.pixel[i];

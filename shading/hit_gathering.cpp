@@ -46,7 +46,7 @@ void FrameContext::trace(const std::vector<Ray>& rays, uint64_t& counter) {
   counter += rays.size();
 }
 
-GBuffer shade_hits(const Scene& scene, PrimaryBatch& rays, const std::vector<Hit>& hits, uint32_t frame) {
+GBuffer shade_hits(const Scene& scene, PixelRays& rays, const std::vector<Hit>& hits, uint32_t frame) {
   const size_t n = rays.rays.size();
   rays.width = static_cast<int>(n);
   rays.height = 1;

@@ -23,7 +23,7 @@ namespace {
 constexpr float kShadowEpsilon = 1e-4f;
 
 struct ShadowRays {
-  PrimaryBatch rays;  // make_gbuffer reads this type
+  PixelRays rays;  // make_gbuffer reads this type
   std::vector<uint32_t> pixel;
   std::vector<Vec3> beta;  // the light's contribution if the ray arrives
   std::vector<uint8_t> panes_left;

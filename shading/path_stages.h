@@ -65,7 +65,7 @@ struct MisState {
 
 // Rays of one batch with what shading needs next to each.
 struct Wave {
-  PrimaryBatch rays;  // rays + the slot each belongs to (make_gbuffer reads this type)
+  PixelRays rays;  // rays + the slot each belongs to (make_gbuffer reads this type)
   std::vector<uint32_t> pixel;
   std::vector<Vec3> beta;  // path throughput including this ray's f cos / pdf
   std::vector<MisState> mis;
@@ -139,7 +139,7 @@ size_t compact(const std::vector<uint8_t>& keep, Arrays&... arrays) {
 }
 
 // Shading points of a batch's hits in batch order: make_gbuffer on a one-row "image" whose pixel i is ray i.
-GBuffer shade_hits(const Scene& scene, PrimaryBatch& rays, const std::vector<Hit>& hits, uint32_t frame);
+GBuffer shade_hits(const Scene& scene, PixelRays& rays, const std::vector<Hit>& hits, uint32_t frame);
 
 // The stages (see the table above). camera_pass returns the G-buffer the generator reads.
 GBuffer camera_pass(FrameContext& ctx, const std::vector<uint32_t>& order, Vertices& verts);

@@ -14,7 +14,7 @@ namespace {
 constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
 
 // Our traversal kernel as nvcc 13.0 compiles it (the same source for both presets):
-//   regs_per_thread: `nvcc -Xptxas -v` on cuda/device_tracer.cu reports 55 registers for persistent_kernel on
+//   regs_per_thread: `nvcc -Xptxas -v` on cuda/trace_kernels.cu reports 55 registers for persistent_kernel on
 //     sm_86 and sm_90 (54 for simple_kernel), with a 352-byte stack frame (traversal stack and state in local memory).
 //   step costs: scripts/count-step-instructions (SASS of probe kernels; every branch of a step counted once except
 //     the rare FP64 edge fallback and the division's slow path). A step occupies a partition for the largest of
@@ -22,7 +22,7 @@ constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
 //     arithmetic throughput per SM per clock: integer/compare/select 64, FP32 128, conversions/special 16).
 //     sm_86: node step 115 instructions = 115 cycles, 14 global loads, 18 local accesses; triangle 124 = 124,
 //     10 loads; leaf bookkeeping 39 = 42, 4 local accesses; traversal_begin 28 = 28 (sm_90 within 4%). The ray
-//     fetch is two 16-byte loads per lane (cuda/device_tracer.cu, load_ray).
+//     fetch is two 16-byte loads per lane (cuda/trace_kernels.cu, load_ray).
 KernelSpec our_kernel() {
   KernelSpec k;
   k.kind = TraceKernel::Persistent;  // the `cuda` tracer's default kernel and block size

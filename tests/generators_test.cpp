@@ -80,7 +80,7 @@ TEST(FirstHits, EqualsPrimaryRaysTraceAndGBufferDoneByHand) {
   auto tracer = make_tracer({"cpu", ""}, scene, bvh);
   const auto order = make_pixel_order(40, 30, RayOrder::Tile, 8, 8);
   const FirstHits f = first_hits(scene, *tracer, 40, 30, order, 5, 2, false);
-  const PrimaryBatch primary = make_primary_rays(scene.camera, 40, 30, order, 5, 2, false);
+  const PixelRays primary = make_primary_rays(scene.camera, 40, 30, order, 5, 2, false);
   std::vector<Hit> hits(primary.rays.size());
   tracer->trace(primary.rays.data(), primary.rays.size(), hits.data());
   const GBuffer g = make_gbuffer(scene, primary, hits);

@@ -14,7 +14,7 @@
 #include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/sampling.h"
-#include "cuda/cuda_trace.h"
+#include "cuda/cuda_device.h"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
@@ -115,10 +115,10 @@ TEST(GpuPrimary, RaysEqualTheCpuForEveryOrderAndSize) {
                                          {640, 480, RayOrder::Scanline, 8, 8, true}}) {
     SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " tile " + std::to_string(c.tile_w) + "x" +
                  std::to_string(c.tile_h) + (c.order == RayOrder::Tile ? " tile order" : " scanline"));
-    const PrimaryBatch cpu =
+    const PixelRays cpu =
         make_primary_rays(scene.camera, c.width, c.height,
                           make_pixel_order(c.width, c.height, c.order, c.tile_w, c.tile_h), 3, 2, c.jitter);
-    PrimaryBatch gpu;
+    PixelRays gpu;
     float ms = -1.f;
     cuda::make_primary_rays_gpu(scene.camera, c.width, c.height, c.order, c.tile_w, c.tile_h, 3, 2, c.jitter, gpu, &ms);
     EXPECT_GE(ms, 0.f);

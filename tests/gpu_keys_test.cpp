@@ -15,7 +15,7 @@
 #include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "core/rng.h"
-#include "cuda/cuda_trace.h"
+#include "cuda/cuda_device.h"
 #include "cuda/device_keys.h"
 #include "encoders/encoder.h"
 #include "encoders/reorder.h"

@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "bvh/bvh_build.h"
-#include "cuda/cuda_trace.h"
+#include "cuda/cuda_device.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
@@ -20,7 +20,7 @@ void expect_gpu_matches_cpu(const std::string& spec) {
   auto cpu = make_tracer({"cpu", ""}, scene, bvh);
   const auto order = make_pixel_order(256, 192, RayOrder::Tile, 8, 8);
   const FirstHits first = first_hits(scene, *cpu, 256, 192, order, 1, 0);
-  const PrimaryBatch& primary = first.primary;
+  const PixelRays& primary = first.primary;
   std::vector<Hit> cpu_hits = first.hits;  // reused below for other batches
   std::vector<Hit> gpu_hits(primary.rays.size());
   float ms = 0;

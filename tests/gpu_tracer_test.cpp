@@ -1,4 +1,4 @@
-// The `cuda` tracer (cuda/cuda_tracer.cpp, cuda/device_tracer.cu) against the CPU: hits of every kernel and block
+// The `cuda` tracer (cuda/cuda_tracer.cpp, cuda/trace_kernels.cu) against the CPU: hits of every kernel and block
 // size, direct and indirect, equal the `cpu` tracer's bit for bit; the counting kernel's per-warp counters equal
 // simt/simt.h's simt_trace_warp warp by warp, and the tracer's totals equal the `simt` tracer's, on cornell,
 // voxels and sibenik (primary and NoOpt secondary batches, a shuffled indirect order, lines of 64 and 128 bytes,
@@ -17,8 +17,8 @@
 #include "core/error.h"
 #include "core/flush_denormals.h"
 #include "core/rng.h"
-#include "cuda/cuda_trace.h"
-#include "cuda/device_tracer.h"
+#include "cuda/cuda_device.h"
+#include "cuda/trace_kernels.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
@@ -37,7 +37,7 @@ namespace {
 struct SceneFrame {
   Scene scene;
   Bvh bvh;
-  PrimaryBatch primary;
+  PixelRays primary;
   RayBatch secondary;
 };
 

@@ -257,8 +257,7 @@ Frame primary_frame(const std::string& scene, int w, int h) {
   Frame f;
   f.scene = load_scene(scene);
   f.bvh = build_bvh(f.scene);
-  const PrimaryBatch p =
-      make_primary_rays(f.scene.camera, w, h, make_pixel_order(w, h, RayOrder::Tile, 8, 8), 1, 0, true);
+  const PixelRays p = make_primary_rays(f.scene.camera, w, h, make_pixel_order(w, h, RayOrder::Tile, 8, 8), 1, 0, true);
   f.rays = p.rays;
   return f;
 }

@@ -1,4 +1,4 @@
-// The GPU traversal kernels behind cuda/device_tracer.h: persistent-thread and one-thread-per-ray closest-hit
+// The GPU traversal kernels behind cuda/trace_kernels.h: persistent-thread and one-thread-per-ray closest-hit
 // kernels, and the warp-synchronous counting kernel that reproduces simt/simt.h.
 //
 // Persistent threads follow Aila & Laine ("Understanding the Efficiency of Ray Traversal on GPUs", HPG 2009,
@@ -23,7 +23,7 @@
 #include "core/error.h"
 #include "core/traverse.h"
 #include "cuda/cuda_check.cuh"
-#include "cuda/device_tracer.h"
+#include "cuda/trace_kernels.h"
 
 namespace raycoh::cuda {
 

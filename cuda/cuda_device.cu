@@ -1,13 +1,13 @@
-// Device discovery (device_count, device_name) and the one-call closest-hit helper of cuda/cuda_trace.h, which runs
-// the one-thread-per-ray kernel of cuda/device_tracer.cu.
+// Device discovery (device_count, device_name) and the one-call closest-hit helper of cuda/cuda_device.h, which runs
+// the one-thread-per-ray kernel of cuda/trace_kernels.cu.
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
 #include <cuda_runtime.h>
 
 #include <string>
 
 #include "cuda/cuda_check.cuh"
-#include "cuda/cuda_trace.h"
-#include "cuda/device_tracer.h"
+#include "cuda/cuda_device.h"
+#include "cuda/trace_kernels.h"
 
 namespace raycoh::cuda {
 

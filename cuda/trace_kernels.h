@@ -1,4 +1,4 @@
-// Host API of the GPU traversal kernels (implemented in cuda/device_tracer.cu; this header is plain C++ and is
+// Host API of the GPU traversal kernels (implemented in cuda/trace_kernels.cu; this header is plain C++ and is
 // included by g++-compiled code such as the `cuda` tracer, cuda/cuda_tracer.cpp).
 //
 // Every kernel runs core/traverse.h unchanged over the flat BVH2 (64-byte nodes holding both children's boxes,

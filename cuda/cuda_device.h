@@ -1,5 +1,5 @@
-// Device discovery and a one-call closest-hit helper (implemented in cuda/cuda_trace.cu; callable from g++ code).
-// The kernels, the persistent-thread tracer and the counting kernel are in cuda/device_tracer.h; the `cuda`
+// Device discovery and a one-call closest-hit helper (implemented in cuda/cuda_device.cu; callable from g++ code).
+// The kernels, the persistent-thread tracer and the counting kernel are in cuda/trace_kernels.h; the `cuda`
 // tracer (cuda/cuda_tracer.cpp) is what the harness uses. Hits equal the `cpu` tracer's exactly.
 #pragma once
 
