@@ -160,11 +160,7 @@ std::vector<SceneResult> ExperimentRun::run() {
     }
   } catch (const Error& e) {
     progress_.clear();
-    csv_.discard_if_empty();
-    const size_t kept = csv_.rows() + csv_.resumed().size();
-    if (kept == 0) throw;
-    throw Error(fmt::format("{} ({} rows measured so far are kept in {}; run the same command again to resume)",
-                            e.what(), kept, csv_.partial_path()));
+    csv_.rethrow_keeping_rows(e);
   }
   csv_.finish();
   return results;

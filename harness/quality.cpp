@@ -271,11 +271,7 @@ int QualityRun::run() {
   try {
     for (size_t si = 0; si < o_.scenes.size(); ++si) run_scene(si);
   } catch (const Error& e) {
-    csv_.discard_if_empty();
-    const size_t kept = csv_.rows() + csv_.resumed().size();
-    if (kept == 0) throw;
-    throw Error(fmt::format("{} ({} rows measured so far are kept in {}; run the same command again to resume)",
-                            e.what(), kept, csv_.partial_path()));
+    csv_.rethrow_keeping_rows(e);
   }
   csv_.finish();
   print_quality(o_, rows_);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "harness/csv.h"
 #include "harness/exit_codes.h"
 #include "harness/schema.h"
@@ -37,6 +38,16 @@ class RecordCsv {
   size_t rows() const { return csv_.rows(); }
   std::string partial_path() const { return csv_.partial_path(); }
   const Schema<Row>& schema() const { return schema_; }
+
+  // Called from the handler of `e`, which stopped a run: drops an empty <path>.partial and rethrows `e`, or throws
+  // it again saying how many rows the partial file keeps and that the same command resumes them.
+  [[noreturn]] void rethrow_keeping_rows(const Error& e) {
+    csv_.discard_if_empty();
+    const size_t kept = rows() + resumed_.size();
+    if (kept == 0) throw;
+    throw Error(fmt::format("{} ({} rows measured so far are kept in {}; run the same command again to resume)",
+                            e.what(), kept, partial_path()));
+  }
 
   // Keeps only the resumed records `keep` accepts (rewriting <path>.partial); returns how many were dropped.
   template <class Pred>

@@ -26,6 +26,17 @@ TEST(CliExperiment, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
   EXPECT_NE(r.output.find("bad.glb"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out2));
   EXPECT_EQ(count_lines(out2.string() + ".partial"), 1 + 2 * 2);
+  EXPECT_NE(r.output.find("(4 rows measured so far are kept in " + out2.string() + ".partial;"), std::string::npos)
+      << r.output;
+
+  // Nothing measured: no .partial is left behind and the error is the input's alone.
+  const auto out3 = dir / "t3.csv";
+  r = run_raycoh("table --scenes " + bad.string() + ",cornell --res 32x24 --frames 1 --repeat 1 --out " +
+                 out3.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.glb"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("rows measured"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out3.string() + ".partial"));
 }
 
 TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
