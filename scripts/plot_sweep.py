@@ -9,6 +9,7 @@ One panel per scene and tracer. Cells the sweep did not run (K larger than the t
 usage: plot_sweep.py sweep.csv --out heatmap.png [--value speedup|mray] [--tracer NAME]
 """
 import argparse
+import textwrap
 from collections import defaultdict
 
 import numpy as np
@@ -83,7 +84,7 @@ def main():
         ax.set_yticks(range(len(tiles)), [f"({t.replace('x', ',')})" for t in tiles])
         ax.set_xlabel("group size K")
         ax.set_ylabel("tile (W,H)")
-        ax.set_title(f"{panel[0]}, {panel[1]}")
+        ax.set_title(textwrap.fill(f"{panel[0]}, {panel[1]}", 50), fontsize=8)
         fig.colorbar(im, ax=ax, label="speedup over noopt" if a.value == "speedup" else "MRay/s")
     fig.tight_layout()
     save(fig, a.out)

@@ -10,6 +10,7 @@ usage: plot_table.py table.csv [more.csv ...] --out speedup.png [--speed trace|e
                      [--primary] [--title TEXT]
 """
 import argparse
+import textwrap
 from collections import defaultdict
 
 import numpy as np
@@ -73,7 +74,7 @@ def main():
         ax.axhline(1.0, color="black", linewidth=0.8)
         ax.set_xticks(x, scenes)
         ax.set_ylabel(f"speedup over noopt ({a.speed})")
-        ax.set_title(f"tracer {tracer}")
+        ax.set_title(textwrap.fill(f"tracer {tracer}", 120), fontsize=9)
         ax.legend(fontsize=8, ncol=min(4, len(methods)))
     if a.title:
         fig.suptitle(a.title)
