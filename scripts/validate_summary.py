@@ -34,8 +34,13 @@ def saturation(rows, column):
     return number(k64, column) / number(k32, column) - 1.0
 
 
+def model_params(rows):
+    """The simt parameters of a run, from `simt[preset=...,l1_tags=4,...]`."""
+    return parse_params(rows[0]["tracer_params"].split("[", 1)[-1].rstrip("]"))
+
+
 def summary_line(label, rows, base_params, methods):
-    params = parse_params(rows[0]["tracer_params"].split("[", 1)[-1].rstrip("]"))
+    params = model_params(rows)
     changed = [f"{k}={v}" for k, v in params.items() if base_params.get(k) != v]
     errors = [abs(number(r, "ratio_error")) for r in cells(rows, "table1") + cells(rows, "table3")
               if r["paper_ratio"] not in ("", "nan") and r["paper_row"] != "NoOpt"]
@@ -65,7 +70,7 @@ def main():
         if not cells(rows, "table1") or not any(r["paper_row"] == "NoOpt" for r in rows):
             fail(f"{path}: needs table1 rows with the NoOpt baseline")
     first = runs[0]
-    base_params = parse_params(first[0]["tracer_params"].split("[", 1)[-1].rstrip("]"))
+    base_params = model_params(first)
     methods = [r["paper_row"] for r in cells(first, "table1") if r["paper_row"] != "NoOpt"]
     head = ("| run | parameters | order | NoOpt MRay/s | limiter | " + " | ".join(methods) +
             " | cells within +-15% | mean error | largest error | K 32 -> 64 at (8,8) |")
