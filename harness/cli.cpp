@@ -18,14 +18,18 @@ std::string join_specs(const std::vector<PluginSpec>& specs) {
 
 std::vector<std::string> split_scenes(const std::string& option, const std::string& text) {
   std::vector<std::string> out;
-  for (const PluginSpec& s : split_plugin_list(text)) out.push_back(s.text());
-  if (out.empty()) throw Error(option + ": empty list");
+  for (const PluginSpec& s : split_nonempty(option, text)) out.push_back(s.text());
   return out;
 }
 
+// A list names each entry once: a repeated entry would write rows with the same key twice.
 std::vector<PluginSpec> split_nonempty(const std::string& option, const std::string& text) {
   auto list = split_plugin_list(text);
   if (list.empty()) throw Error(fmt::format("{}: empty list", option));
+  for (size_t i = 0; i < list.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (list[i].text() == list[j].text())
+        throw Error(fmt::format("{} {}: '{}' is listed twice; name each entry once", option, text, list[i].text()));
   return list;
 }
 
@@ -44,6 +48,8 @@ void bind_experiment(CLI::App* cmd, ExperimentOptions& o, ExperimentText& t) {
   cmd->add_option("--seed", o.seed, "random seed")->capture_default_str();
   cmd->add_option("--repeat", o.repeats, "timed traces per batch (median reported)")->capture_default_str();
   cmd->add_option("--out", o.out, "CSV file to write")->capture_default_str();
+  cmd->add_flag("--force", o.force,
+                "replace what --out (and its .partial) holds instead of resuming it or refusing other parameters");
 }
 
 void resolve_experiment(ExperimentOptions& o, const ExperimentText& t) {
@@ -64,6 +70,7 @@ void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& t) {
   cmd->add_option("--tone-map", t.tone_map, "aces or clamp (PNG output, PSNR and SSIM)")->capture_default_str();
   cmd->add_option("--exposure", t.exposure, "auto (0.18 / log-average luminance of the reference) or a number")
       ->capture_default_str();
+  cmd->add_flag("--force", c.force, "replace an existing --out instead of resuming it or refusing");
 }
 
 void resolve_render_common(RenderCommon& c, const RenderText& t) {
@@ -81,7 +88,11 @@ void resolve_render_common(RenderCommon& c, const RenderText& t) {
 
 std::vector<Crop> parse_crops(const std::vector<std::string>& texts) {
   std::vector<Crop> crops;
-  for (const std::string& t : texts) crops.push_back(parse_crop("--crop", t));
+  for (size_t i = 0; i < texts.size(); ++i) {
+    for (size_t j = 0; j < i; ++j)
+      if (texts[i] == texts[j]) throw Error(fmt::format("--crop {}: given twice; name each crop once", texts[i]));
+    crops.push_back(parse_crop("--crop", texts[i]));
+  }
   return crops;
 }
 

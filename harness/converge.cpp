@@ -18,12 +18,14 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
 #include "harness/render_common.h"
+#include "shading/reference.h"
 #include "shading/metrics.h"
 
 namespace raycoh {
@@ -135,7 +137,11 @@ void check_converge(const ConvergeOptions& o) {
   check_scene_spec("--scene", o.scene);
   if (!o.reference.empty() && !fs::is_regular_file(o.reference))
     throw Error(fmt::format("--reference {}: no such image file", o.reference));
+  check_output_file("--out", o.out);
+  check_output_folder("--cache", o.cache_dir.empty() ? default_cache_dir() : o.cache_dir);
 }
+
+std::string summary_path_of(const ConvergeOptions& o) { return stem_path(o.out) + "-summary.csv"; }
 
 // One generator's progress.
 struct Run {
@@ -151,6 +157,8 @@ struct Run {
 class ConvergeRun {
  public:
   ConvergeRun(const ConvergeOptions& o, const Provenance& p);
+  // Both files already hold this very command's finished result: nothing is rendered.
+  bool complete() const { return csv_.already_complete(); }
   void render();
   void summarize();
 
@@ -161,23 +169,33 @@ class ConvergeRun {
 
   const ConvergeOptions& o_;
   Provenance provenance_;  // with this run's device
+  // A convergence curve is one timed measurement: an interrupted run starts again rather than resuming. Both
+  // files are opened (and locked) before anything is rendered.
+  RecordCsv<ConvergeRow> csv_;
+  RecordCsv<SummaryRow> summary_;
   std::vector<std::unique_ptr<Generator>> generators_;
   std::unique_ptr<LoadedScene> ls_;
   ReferenceImage ref_;
   ToneMap tm_;  // resolved on the reference, the same for every generator
   std::vector<Run> runs_;
-  // A convergence curve is one timed measurement: an interrupted run starts again rather than resuming.
-  RecordCsv<ConvergeRow> csv_;
 };
 
 ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
     : o_(o),
       provenance_(p),
-      generators_(make_generators("--generators", o.generators)),
-      ls_(load(o.scene, o.common.tracer)),
-      ref_(obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference)),
-      tm_(resolved(o.common.tone_map, ref_.image)),
-      csv_(o.out, converge_schema(), CsvWriter::Resume::No) {
+      csv_(o.out, converge_schema(),
+           CsvWriter::Options::once(o.common.force, same_command(p))),
+      summary_(summary_path_of(o), summary_schema(),
+               CsvWriter::Options::once(o.common.force, same_command(p))) {
+  if (csv_.already_complete() != summary_.already_complete())
+    throw Error(fmt::format("--out {}: {} is finished but {} is not; pass --force to measure again", o.out,
+                            csv_.already_complete() ? o.out : summary_path_of(o),
+                            csv_.already_complete() ? summary_path_of(o) : o.out));
+  if (complete()) return;
+  generators_ = make_generators("--generators", o.generators);
+  ls_ = load(o.scene, o.common.tracer);
+  ref_ = obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference);
+  tm_ = resolved(o.common.tone_map, ref_.image);
   provenance_.device = device_of(o.common.tracer);
   for (size_t gi = 0; gi < generators_.size(); ++gi) {
     Run run;
@@ -293,8 +311,8 @@ SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const 
 
 // Ratios against the baseline (the first generator), on relMSE, for the wall and the trace clock.
 void ConvergeRun::summarize() {
-  const std::string summary_path = stem_path(o_.out) + "-summary.csv";
-  RecordCsv<SummaryRow> summary(summary_path, summary_schema(), CsvWriter::Resume::No);
+  const std::string summary_path = summary_path_of(o_);
+  RecordCsv<SummaryRow>& summary = summary_;
   std::printf(
       "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
       "baseline %s\n\n",
@@ -326,6 +344,12 @@ void ConvergeRun::summarize() {
 int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   check_converge(o);
   ConvergeRun run(o, provenance);
+  if (run.complete()) {
+    std::printf("%s and %s already hold the result of this same command (same code revision): nothing to do; pass "
+                "--force to measure again\n",
+                o.out.c_str(), summary_path_of(o).c_str());
+    return 0;
+  }
   run.render();
   run.summarize();
   return 0;

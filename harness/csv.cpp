@@ -1,12 +1,17 @@
 #include "harness/csv.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "core/error.h"
-#include "harness/exit_codes.h"
 
 namespace raycoh {
 
@@ -45,45 +50,211 @@ bool csv_parse_line(const std::string& line, std::vector<std::string>& fields) {
   return !quoted;
 }
 
-CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns, Resume allow_resume,
-                     const std::string& comment)
-    : path_(path), columns_(columns) {
-  RAYCOH_CHECK(comment.empty() || allow_resume == Resume::No, "a commented CSV cannot be resumed");
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ec;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+namespace {
 
-  // Resume: keep the complete rows of an interrupted run with the same columns.
-  bool resume = false;
-  size_t keep_bytes = 0;
-  {
-    std::ifstream in(partial_path(), std::ios::binary);
-    std::string line;
-    std::vector<std::string> fields;
-    if (allow_resume == Resume::Yes && in && std::getline(in, line) && !in.eof() && csv_parse_line(line, fields) &&
-        fields == columns) {
-      resume = true;
-      keep_bytes = line.size() + 1;
-      while (std::getline(in, line)) {
-        if (in.eof()) break;  // no newline: a torn last row
-        if (!csv_parse_line(line, fields) || fields.size() != columns.size()) break;
-        resumed_.push_back(fields);
-        keep_bytes += line.size() + 1;
-      }
+struct Line {
+  size_t number = 0;  // 1-based, as an editor shows it
+  std::string text;   // without the newline and a trailing '\r'
+  bool terminated = true, had_cr = false;
+};
+
+std::vector<Line> split_lines(const std::string& bytes) {
+  std::vector<Line> lines;
+  size_t start = 0;
+  while (start < bytes.size()) {
+    const size_t nl = bytes.find('\n', start);
+    Line l;
+    l.number = lines.size() + 1;
+    l.terminated = nl != std::string::npos;
+    l.text = bytes.substr(start, (l.terminated ? nl : bytes.size()) - start);
+    if (!l.text.empty() && l.text.back() == '\r') {
+      l.text.pop_back();
+      l.had_cr = true;
     }
+    start = l.terminated ? nl + 1 : bytes.size();
+    lines.push_back(std::move(l));
   }
-  if (resume) {
-    std::filesystem::resize_file(partial_path(), keep_bytes, ec);
-    out_.open(partial_path(), std::ios::out | std::ios::app);
+  return lines;
+}
+
+std::string read_all(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) throw Error(fmt::format("{}: cannot read {}", what, path));
+  return text.str();
+}
+
+std::string quoted_list(const std::set<std::string>& values) {
+  std::string out;
+  size_t shown = 0;
+  for (const std::string& v : values) {
+    if (shown++ == 4) return out + ", ...";
+    out += (out.empty() ? "'" : ", '") + v + "'";
+  }
+  return out;
+}
+
+std::string first_column_difference(const std::vector<std::string>& found, const std::vector<std::string>& want) {
+  for (size_t i = 0; i < std::max(found.size(), want.size()); ++i) {
+    const std::string f = i < found.size() ? found[i] : "(none)", w = i < want.size() ? want[i] : "(none)";
+    if (f != w) return fmt::format("column {} is '{}', this version writes '{}'", i + 1, f, w);
+  }
+  return "same columns";
+}
+
+}  // namespace
+
+CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns, const Options& o)
+    : path_(path), columns_(columns) {
+  RAYCOH_CHECK(o.comment.empty() || o.resume == Resume::No, "a commented CSV cannot be resumed");
+  check_output_file("--out", path);
+  lock_ = OutputLock(path, "--out " + path);
+  std::error_code ec;
+  const bool had_partial = std::filesystem::exists(partial_path(), ec);
+  if (o.force) {
+    if (had_partial || std::filesystem::exists(path_, ec))
+      std::fprintf(stderr, "--force: starting afresh; %s is replaced when this run finishes\n", path_.c_str());
+  } else if (o.resume == Resume::Yes) {
+    read_earlier_run(o);
   } else {
-    out_.open(partial_path(), std::ios::out | std::ios::trunc);
+    refuse_existing(o);
+    if (already_complete_) {
+      lock_.release();
+      return;
+    }
+    if (had_partial)
+      std::fprintf(stderr, "discarding %s: an interrupted run of this command is measured again from the start\n",
+                   partial_path().c_str());
   }
-  if (!out_) throw Error(fmt::format("--out {}: cannot write {}", path, partial_path()));
-  if (!resume) {
+  if (!resumed_.empty() || from_finished_file_) {
+    // read_earlier_run left a clean <path>.partial holding exactly the header and the resumed rows.
+    fd_ = ::open(partial_path().c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+    if (fd_ < 0) throw WriteError(fmt::format("--out {}: cannot open {}: {}", path_, partial_path(), strerror(errno)));
+  } else {
+    fd_ = ::open(partial_path().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw WriteError(fmt::format("--out {}: cannot create {}: {}", path_, partial_path(), strerror(errno)));
     std::string head;
-    if (!comment.empty()) head = "# " + comment + '\n';
-    put(head + csv_line(columns));
+    if (!o.comment.empty()) head = "# " + o.comment + '\n';
+    put(head + csv_line(columns_));
   }
+  set_interrupt_hint(o.resume == Resume::Yes
+                         ? fmt::format("rows measured so far are kept in {}; run the same command again to resume",
+                                       partial_path())
+                         : fmt::format("{} is left as it was; this command starts again when run again", path_));
+}
+
+// Rows of an interrupted (<path>.partial) or finished (<path>) run; see the header.
+void CsvWriter::read_earlier_run(const Options& o) {
+  std::error_code ec;
+  std::string source = partial_path();
+  if (!std::filesystem::exists(source, ec)) {
+    if (!std::filesystem::exists(path_, ec)) return;
+    source = path_;
+  }
+  const std::vector<Line> lines = split_lines(read_all(source, "--out " + path_));
+  if (lines.empty()) return;  // an empty file: nothing to resume
+  std::vector<std::string> fields;
+  if (!csv_parse_line(lines[0].text, fields) || fields != columns_)
+    throw Error(fmt::format(
+        "--out {}: {} has other columns than this version of raycoh writes ({}); pass --force to replace it, or "
+        "choose another --out",
+        path_, source, first_column_difference(fields, columns_)));
+
+  std::vector<std::pair<size_t, std::set<std::string>>> rule;
+  for (const auto& [name, values] : o.rule.columns) rule.emplace_back(column(name), values);
+  std::vector<std::pair<const Line*, std::string>> rejected;  // line, why
+  bool rewrite = lines[0].had_cr || !lines[0].terminated;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    const Line& l = lines[i];
+    std::string why;
+    if (!l.terminated)
+      why = "torn last line (a write was interrupted)";
+    else if (l.text.empty())
+      why = "empty line";
+    else if (l.text.find('\0') != std::string::npos)
+      why = "NUL byte in the line";
+    else if (!csv_parse_line(l.text, fields))
+      why = "unbalanced quotes";
+    else if (fields.size() != columns_.size())
+      why = fmt::format("{} fields for {} columns", fields.size(), columns_.size());
+    else if (o.check_values)
+      why = o.check_values(fields);
+    if (!why.empty()) {
+      rejected.emplace_back(&l, why);
+      continue;
+    }
+    for (const auto& [col, values] : rule)
+      if (!values.count(fields[col]))
+        throw Error(fmt::format(
+            "--out {}: {} line {} was measured with other parameters: its {} is '{}', this run's is {}; pass --force "
+            "to replace the file, or choose another --out",
+            path_, source, l.number, columns_[col], fields[col], quoted_list(values)));
+    rewrite = rewrite || l.had_cr;
+    resumed_.push_back(fields);
+  }
+
+  if (!rejected.empty()) {
+    std::string kept_aside;
+    for (size_t i = 0; i < rejected.size(); ++i) {
+      const auto& [l, why] = rejected[i];
+      kept_aside += fmt::format("# {} line {}: {}\n", source, l->number, why) + l->text + "\n";
+      if (i < 10) std::fprintf(stderr, "resume: %s line %zu skipped: %s\n", source.c_str(), l->number, why.c_str());
+    }
+    if (rejected.size() > 10)
+      std::fprintf(stderr, "resume: ... %zu lines skipped in all\n", rejected.size());
+    std::fprintf(stderr, "resume: the skipped lines are copied to %s; their rows are measured again\n",
+                 rejected_path().c_str());
+    const int fd = ::open(rejected_path().c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd < 0) throw WriteError(fmt::format("{}: cannot create: {}", rejected_path(), strerror(errno)));
+    try {
+      write_all(fd, kept_aside, rejected_path());
+      sync_file(fd, rejected_path());
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+    ::close(fd);
+    rewrite = true;
+  }
+  from_finished_file_ = source == path_ && !rewrite;
+  if (source == path_ || rewrite) {
+    std::string text = csv_line(columns_);
+    for (const auto& row : resumed_) text += csv_line(row);
+    write_file_atomically(partial_path(), text);
+  }
+  if (!resumed_.empty() && source == path_)
+    std::fprintf(stderr, "%s holds %zu finished rows: only rows it lacks are measured\n", path_.c_str(),
+                 resumed_.size());
+}
+
+void CsvWriter::refuse_existing(const Options& o) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path_, ec)) return;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> fields;
+  bool header = true;
+  for (const Line& l : split_lines(read_all(path_, "--out " + path_))) {
+    if (l.text.rfind("#", 0) == 0) continue;
+    if (!csv_parse_line(l.text, fields)) continue;
+    if (header) {
+      header = false;
+      if (fields != columns_) break;
+      continue;
+    }
+    if (fields.size() == columns_.size()) rows.push_back(fields);
+  }
+  bool same = !rows.empty() && !o.same_run.empty();
+  for (const auto& [name, value] : o.same_run)
+    for (const auto& row : rows) same = same && row[column(name)] == value;
+  if (same) {
+    already_complete_ = true;
+    return;
+  }
+  throw Error(
+      fmt::format("--out {} already holds a finished run ({} rows); pass --force to replace it (the file is replaced "
+                  "only when the new run finishes), or choose another --out",
+                  path_, rows.size()));
 }
 
 std::string CsvWriter::csv_line(const std::vector<std::string>& fields) {
@@ -93,10 +264,17 @@ std::string CsvWriter::csv_line(const std::vector<std::string>& fields) {
 }
 
 void CsvWriter::put(const std::string& text) {
-  out_ << text;
-  out_.flush();
-  if (!out_)
-    throw WriteError(fmt::format("--out {}: writing {} failed (disk full or file removed?)", path_, partial_path()));
+  const off_t before = ::lseek(fd_, 0, SEEK_END);
+  try {
+    write_all(fd_, text, fmt::format("--out {}: writing {} failed", path_, partial_path()));
+  } catch (const WriteError& e) {
+    if (before >= 0 && ::ftruncate(fd_, before) != 0) {
+      // The torn line stays; a resume skips it.
+    }
+    throw WriteError(fmt::format("{} ({} rows before it are kept there, whole; free space and run the same command "
+                                 "again)",
+                                 e.what(), rows_ + resumed_.size()));
+  }
 }
 
 size_t CsvWriter::column(const std::string& name) const {
@@ -108,33 +286,52 @@ size_t CsvWriter::column(const std::string& name) const {
 void CsvWriter::write_row(const std::vector<std::string>& values) {
   RAYCOH_CHECK(values.size() == columns_.size(),
                fmt::format("{} values for {} columns", values.size(), columns_.size()));
-  // One string, one write: a crash leaves at most one torn line, which a resume drops.
+  RAYCOH_CHECK(fd_ >= 0, "write_row on a closed CSV");
+  // One string, one write: a crash leaves at most one torn line, which a resume skips.
   put(csv_line(values));
   ++rows_;
 }
 
-void CsvWriter::rewrite_partial() {
-  out_.close();
-  out_.open(partial_path(), std::ios::out | std::ios::trunc);
-  if (!out_) throw WriteError(fmt::format("--out {}: cannot rewrite {}", path_, partial_path()));
-  std::string text = csv_line(columns_);
-  for (const auto& row : resumed_) text += csv_line(row);
-  put(text);
-}
-
 void CsvWriter::finish() {
-  out_.close();
-  if (out_.fail()) throw WriteError(fmt::format("--out {}: closing {} failed", path_, partial_path()));
+  if (already_complete_ || finished_) return;
+  RAYCOH_CHECK(fd_ >= 0, "finish on a closed CSV");
   std::error_code ec;
-  std::filesystem::rename(partial_path(), path_, ec);
-  if (ec) throw WriteError(fmt::format("--out {}: cannot rename {}: {}", path_, partial_path(), ec.message()));
+  if (from_finished_file_ && rows_ == 0) {  // nothing new: the finished file stays exactly as it was
+    ::close(fd_);
+    fd_ = -1;
+    std::filesystem::remove(partial_path(), ec);
+  } else {
+    sync_file(fd_, "--out " + path_ + ": " + partial_path());
+    const int rc = ::close(fd_);
+    fd_ = -1;
+    if (rc != 0)
+      throw WriteError(fmt::format("--out {}: closing {} failed: {} (its rows are kept there)", path_, partial_path(),
+                                   strerror(errno)));
+    std::filesystem::rename(partial_path(), path_, ec);
+    if (ec)
+      throw WriteError(fmt::format("--out {}: cannot rename {} to it: {} (the rows are kept in {})", path_,
+                                   partial_path(), ec.message(), partial_path()));
+    sync_parent_folder(path_);
+  }
+  finished_ = true;
+  set_interrupt_hint("");
+  lock_.release();
 }
 
 void CsvWriter::discard_if_empty() {
-  if (rows_ > 0 || !resumed_.empty()) return;
-  out_.close();
+  if (rows_ > 0 || (!resumed_.empty() && !from_finished_file_) || finished_) return;
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
   std::error_code ec;
   std::filesystem::remove(partial_path(), ec);
+}
+
+CsvWriter::~CsvWriter() {
+  if (!finished_ && !already_complete_ && !path_.empty()) {
+    discard_if_empty();
+    set_interrupt_hint("");
+  }
+  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace raycoh

@@ -7,14 +7,17 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <set>
 
 #include "bvh/bvh_build.h"
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "encoders/encoder.h"
 #include "encoders/reorder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "harness/memory_check.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
 #include "simt/pipeline_model.h"
@@ -46,6 +49,18 @@ Timing time_repeats(Fn&& fn, int repeats) {
   return {t[t.size() / 2], t.front()};
 }
 
+// Two scene specs of one name would write rows with the same key ("cornell" and "cornell:size=2").
+void check_scene_names(const std::vector<std::string>& specs) {
+  std::map<std::string, std::string> seen;
+  for (const std::string& spec : specs) {
+    const auto [it, fresh] = seen.emplace(scene_name_of(spec), spec);
+    if (!fresh)
+      throw Error(fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
+                              "separate --out files",
+                              it->second, spec, it->first));
+  }
+}
+
 void check_options(const ExperimentOptions& o) {
   if (o.width < 1 || o.width > 16384 || o.height < 1 || o.height > 16384)
     throw Error(fmt::format("--res {}x{}: width and height must be in [1, 16384]", o.width, o.height));
@@ -56,6 +71,9 @@ void check_options(const ExperimentOptions& o) {
   RAYCOH_CHECK(std::any_of(o.methods.begin(), o.methods.end(), [](const Method& m) { return m.label == "noopt"; }),
                "the methods must contain the noopt baseline");
   for (const std::string& spec : o.scenes) check_scene_spec("--scenes", spec);
+  check_scene_names(o.scenes);
+  check_output_file("--out", o.out);
+  check_memory(fmt::format("--res {}x{}", o.width, o.height), experiment_bytes(o.width, o.height));
 }
 
 // Every name and parameter is checked before anything is measured.
@@ -126,6 +144,7 @@ class ExperimentRun {
   PermuteMode permute_;
   RecordCsv<ExperimentRow> csv_;
   std::map<std::string, const ExperimentRow*> done_;  // resume key -> resumed row
+  std::set<std::string> used_;                        // keys of done_ this run asked for
   Progress progress_;
   std::unique_ptr<SceneSetup> setup_;
   SceneResult res_;
@@ -134,18 +153,40 @@ class ExperimentRun {
   RayBatch batch_, sorted_;
 };
 
+// What rows of an earlier run must hold to be this run's (harness/csv.h): everything known before a scene is
+// loaded. Tracer and encoder parameters are known only then; rows differing there are found at the end (run()).
+ResumeRule experiment_rule(const ExperimentOptions& o, const std::vector<std::unique_ptr<Generator>>& generators,
+                           const Provenance& p) {
+  std::set<std::string> scenes, methods = {"primary"}, params = {kPrimaryParams}, tracers, frames;
+  for (const std::string& spec : o.scenes) scenes.insert(scene_name_of(spec));
+  for (size_t mi = 0; mi < o.methods.size(); ++mi) {
+    methods.insert(o.methods[mi].label);
+    params.insert(generators[mi]->params());
+  }
+  for (const PluginSpec& t : o.tracers) tracers.insert(t.name);
+  for (int f = 0; f < o.frames; ++f) frames.insert(std::to_string(f));
+  ResumeRule rule;
+  rule.require("scene", scenes)
+      .require("pass", {"primary", "secondary"})
+      .require("method", methods)
+      .require("generator_params", params)
+      .require("tracer", tracers)
+      .require("width", {std::to_string(o.width)})
+      .require("height", {std::to_string(o.height)})
+      .require("frame", frames)
+      .require("seed", {std::to_string(o.seed)})
+      .require("repeats", {std::to_string(o.repeats), "1"})  // counting tracers run once
+      .require("permute", {o.permute, ""});
+  return require_provenance(rule, p);
+}
+
 ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
     : o_(o),
       provenance_(p),
       generators_(checked_generators(o)),
       permute_(parse_permute_mode(o.permute)),
-      csv_(o.out, experiment_schema()) {
-  // Rows of another code revision are never reused, and are not kept either: one file, one revision.
-  const size_t stale =
-      csv_.keep_resumed_if([&](const ExperimentRow& r) { return r.provenance.git_revision == p.git_revision; });
-  if (stale > 0)
-    std::fprintf(stderr, "resume: dropped %zu rows of another code revision from %s\n", stale,
-                 csv_.partial_path().c_str());
+      csv_(o.out, experiment_schema(),
+           CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
   for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
   if (!done_.empty())
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
@@ -162,7 +203,19 @@ std::vector<SceneResult> ExperimentRun::run() {
     progress_.clear();
     csv_.rethrow_keeping_rows(e);
   }
+  if (used_.size() < done_.size()) {
+    for (const auto& [key, row] : done_)
+      if (!used_.count(key))
+        throw Error(fmt::format(
+            "--out {}: {} holds {} rows this run did not ask for (e.g. {} {} {} with tracer_params '{}', "
+            "encoder_params '{}'); this run's rows are kept beside them; pass --force to replace the file, or choose "
+            "another --out",
+            o_.out, csv_.partial_path(), done_.size() - used_.size(), row->scene, row->method, row->tracer,
+            row->tracer_params, row->encoder_params));
+  }
   csv_.finish();
+  if (csv_.rows() == 0)
+    std::fprintf(stderr, "%s already held every row of this run: nothing was measured\n", o_.out.c_str());
   return results;
 }
 
@@ -213,6 +266,7 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
 bool ExperimentRun::resumed(const ExperimentRow& head, size_t ti) {
   const auto it = done_.find(resume_key(experiment_schema(), head));
   if (it == done_.end()) return false;
+  used_.insert(it->first);
   accumulate(*it->second, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
   return true;
 }

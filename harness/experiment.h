@@ -32,6 +32,7 @@ struct ExperimentOptions {
   int repeats = 3;                               // --repeat [1, 1000]: timed traces per batch; the median is reported
   std::string permute = "physical";  // physical | indirect: how a reordering is applied (encoders/permute.h)
   std::string out;
+  bool force = false;  // --force: replace what --out and <out>.partial hold instead of resuming or refusing
 };
 
 // Throws raycoh::Error on bad input; rows measured before the error stay in "<out>.partial".

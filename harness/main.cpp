@@ -1,5 +1,5 @@
 // raycoh command line: a list of commands (harness/command.h), each bound in its own file. Every failure ends in
-// one line on stderr and an exit code of harness/exit_codes.h (user errors: 2).
+// one line on stderr and an exit code of harness/exit_codes.h (user errors: 2, other failures: 1).
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
@@ -38,16 +38,16 @@ int run_reporting_failures(Fn&& run) {
     return run();
   } catch (const Error& e) {
     return fail(kExitUserError, "error", e.what());
-  } catch (const DamagedFileError& e) {
-    return fail(kExitDamagedFile, "error: damaged resume file", e.what());
   } catch (const WriteError& e) {
-    return fail(kExitWriteFailed, "error: write failed", e.what());
+    return fail(kExitFailure, "error: write failed", e.what());
   } catch (const std::bad_alloc&) {
-    return fail(kExitOutOfMemory, "error", "out of memory");
+    return fail(kExitFailure, "error",
+                "out of memory (rows measured so far stay in the .partial file beside --out; a smaller --res "
+                "needs less)");
   } catch (const std::exception& e) {
-    return fail(kExitInternalError, "internal error", e.what());
+    return fail(kExitFailure, "internal error", e.what());
   } catch (...) {
-    return fail(kExitInternalError, "internal error", "unknown exception");
+    return fail(kExitFailure, "internal error", "unknown exception");
   }
 }
 
@@ -71,6 +71,7 @@ bool check_command_word(const CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  install_signal_handlers();
   CLI::App app{"raycoh: which way of making secondary rays coherent pays off, on which scene, at what cost"};
   app.require_subcommand(1);
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

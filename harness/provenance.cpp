@@ -72,12 +72,12 @@ const Schema<Provenance>& provenance_schema() {
   using P = Provenance;
   static const Schema<P> schema = {
       column("git_revision", &P::git_revision, Text{}, Key::Yes),
-      column("build_type", &P::build_type, Text{}),
+      column("build_type", &P::build_type, Text{}, Key::Yes),
       column("compiler", &P::compiler, Text{}),
-      column("cpu", &P::cpu, Text{}),
+      column("cpu", &P::cpu, Text{}, Key::Yes),
       column("device", &P::device, Text{}),
       column("embree_version", &P::embree_version, Text{}),
-      column("threads", &P::threads, Integer<int>{}),
+      column("threads", &P::threads, Integer<int>{}, Key::Yes),
       column("started_utc", &P::timestamp, Text{}),
       column("command_line", &P::command_line, Text{}),
   };

@@ -26,7 +26,8 @@ Provenance collect_provenance(int argc, char** argv, int threads);
 // The device a tracer runs on, for the `device` column: the CUDA device's name for `cuda`, else "cpu".
 std::string device_of(const PluginSpec& tracer);
 
-// The provenance columns every CSV ends with; git_revision is part of the resume key.
+// The provenance columns every CSV ends with; git_revision, build_type, cpu and threads (everything a timing
+// depends on besides the row's own settings) are part of the resume key.
 const Schema<Provenance>& provenance_schema();
 
 }  // namespace raycoh

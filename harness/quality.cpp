@@ -18,7 +18,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
@@ -26,6 +28,7 @@
 #include "harness/quality_row.h"
 #include "harness/record_csv.h"
 #include "harness/render_common.h"
+#include "shading/reference.h"
 #include "shading/metrics.h"
 
 namespace raycoh {
@@ -50,6 +53,31 @@ void check_quality(const QualityOptions& o) {
   if (!o.reference.empty() && !fs::is_regular_file(o.reference))
     throw Error(fmt::format("--reference {}: no such image file", o.reference));
   check_crops(o.crops, o.common.width, o.common.height);
+  check_output_file("--out", o.out);
+  if (!o.image_dir.empty()) check_output_folder("--images", o.image_dir);
+  check_output_folder("--cache", o.cache_dir.empty() ? default_cache_dir() : o.cache_dir);
+}
+
+// What rows of an earlier run must hold to be this run's (harness/csv.h): the settings of every head().
+ResumeRule quality_rule(const QualityOptions& o, const Provenance& p) {
+  std::set<std::string> methods, scenes(o.scenes.begin(), o.scenes.end());
+  for (const PluginSpec& g : o.generators) methods.insert(g.text());
+  ResumeRule rule;
+  rule.require("scene_spec", scenes)
+      .require("method", methods)
+      .require("tracer_spec", {o.common.tracer.text()})
+      .require("width", {std::to_string(o.common.width)})
+      .require("height", {std::to_string(o.common.height)})
+      .require("frames", {std::to_string(o.frames)})
+      .require("ref_frames", {std::to_string(o.ref_frames)})
+      .require("bias_renders", {std::to_string(o.bias_renders)})
+      .require("seed", {std::to_string(o.common.seed)})
+      .require("max_depth", {std::to_string(o.common.max_depth)})
+      .require("rr_depth", {std::to_string(o.common.rr_depth)})
+      .require("tone_map", {describe(o.common.tone_map)})
+      .require("reference_kind", {o.reference.empty() ? "cache" : "file"});
+  if (!o.reference.empty()) rule.require("reference", {o.reference});
+  return require_provenance(rule, p);
 }
 
 double mean_of(const std::vector<double>& v) {
@@ -166,7 +194,8 @@ class QualityRun {
         generators_(make_generators("--generators", o.generators)),
         ref_kind_(o.reference.empty() ? "cache" : "file"),
         image_dir_(o.image_dir.empty() ? stem_path(o.out) + "-images" : o.image_dir),
-        csv_(o.out, quality_schema()) {}  // resumes the complete rows of an interrupted run with these columns
+        csv_(o.out, quality_schema(),
+             CsvWriter::Options::resumable(o.common.force, quality_rule(o, p))) {}
   int run();
 
  private:

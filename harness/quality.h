@@ -27,6 +27,7 @@ struct RenderCommon {
   // --tone-map aces|clamp, --exposure auto|(0, 1e6]: PNG output, PSNR and SSIM. Auto exposure (the default) is
   // resolved on the reference image (quality, converge, compare) or on the rendered image (render).
   ToneMap tone_map{ToneMapKind::Aces, 1.f, true};
+  bool force = false;  // --force: replace an existing --out (and what its .partial holds)
 };
 
 // `raycoh render --scene S --generator G --frames N --out img.exr [--crop x,y,w,h]...`

@@ -2,13 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <tuple>
 
 #include "bvh/bvh_build.h"
+#include "core/durable_file.h"
 #include "core/error.h"
+#include "harness/memory_check.h"
 #include "encoders/encoder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
@@ -112,6 +116,10 @@ void check_rays(const RaysOptions& o) {
     throw Error(fmt::format("--res {}x{}: width and height must be in [1, 16384]", o.width, o.height));
   if (o.frame < 0 || o.frame > (1 << 30)) throw Error(fmt::format("--frame {}: must be in [0, 2^30]", o.frame));
   if (o.out.empty()) throw Error("--out is required: the CSV file to write the rays to");
+  check_output_file("--out", o.out);
+  check_memory(fmt::format("--res {}x{}", o.width, o.height), experiment_bytes(o.width, o.height));
+  if (!o.force && std::filesystem::exists(o.out))
+    throw Error(fmt::format("--out {} already exists; pass --force to replace it, or choose another --out", o.out));
 }
 
 }  // namespace
@@ -143,7 +151,8 @@ int run_rays(const RaysOptions& o, const Provenance& provenance) {
     comment = fmt::format("encoder={} {}", encoder->name(), encoder->params());  // params end with box=lo..hi
   }
   const Schema<RayRow> schema = rays_schema(batch.has_groups(), !keys.empty());
-  RecordCsv<RayRow> csv(o.out, schema, CsvWriter::Resume::No, comment);  // a ray dump is one frame: never appended
+  // A ray dump is one frame: never appended. An existing --out was refused above unless --force.
+  RecordCsv<RayRow> csv(o.out, schema, CsvWriter::Options::once(true, {}, comment));
   for (size_t i = 0; i < batch.size(); ++i) {
     RayRow row = ray_row(batch, i, o);
     if (!keys.empty()) row.key = fmt::format("{:0{}x}", keys[i], encoder->key_bits() / 4);
@@ -176,6 +185,7 @@ BoundCommand bind_rays(CLI::App& parent) {
   cmd->add_option("--res", s->res, "resolution WxH")->capture_default_str();
   cmd->add_option("--seed", s->o.seed, "random seed")->capture_default_str();
   cmd->add_option("--out", s->o.out, "CSV file to write")->required();
+  cmd->add_flag("--force", s->o.force, "replace an existing --out");
   return {cmd, [s](const Provenance& provenance) {
             s->o.generator = parse_plugin_spec(s->generator);
             s->o.encoder = parse_plugin_spec(s->encoder);

@@ -15,7 +15,8 @@ struct RaysOptions {
   int width = 320, height = 240;   // --res, each in [1, 16384]
   int frame = 0;                   // --frame [0, 2^30]
   uint32_t seed = 1;
-  std::string out;  // required
+  std::string out;     // required
+  bool force = false;  // --force: replace an existing --out
 };
 int run_rays(const RaysOptions& options, const Provenance& provenance);
 

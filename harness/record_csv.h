@@ -1,39 +1,47 @@
-// A CSV of records: CsvWriter (harness/csv.h) driven by a column schema (harness/schema.h). Resumed rows are read
-// back into records once, here; a value its column cannot hold is a DamagedFileError naming file, line and column.
+// A CSV of records: CsvWriter (harness/csv.h) driven by a column schema (harness/schema.h). Rows of an earlier run
+// are read back into records once, here; a row whose value its column cannot hold is skipped by CsvWriter with a
+// warning naming file, line and column.
 #pragma once
 
 #include <fmt/format.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
 #include "harness/csv.h"
-#include "harness/exit_codes.h"
+#include "harness/provenance.h"
 #include "harness/schema.h"
 
 namespace raycoh {
 
+// The rule every command's earlier rows must meet besides its own settings: the same code revision and build,
+// and the same machine and thread count (timings of another CPU or thread count are not this run's).
+inline ResumeRule& require_provenance(ResumeRule& rule, const Provenance& p) {
+  return rule.require("git_revision", {p.git_revision})
+      .require("build_type", {p.build_type})
+      .require("cpu", {p.cpu})
+      .require("threads", {std::to_string(p.threads)});
+}
+
+// Resume::No outputs: an existing file written by the same command line at the same revision is complete.
+inline std::vector<std::pair<std::string, std::string>> same_command(const Provenance& p) {
+  return {{"command_line", p.command_line}, {"git_revision", p.git_revision}};
+}
+
 template <class Row>
 class RecordCsv {
  public:
-  RecordCsv(const std::string& path, const Schema<Row>& schema, CsvWriter::Resume resume = CsvWriter::Resume::Yes,
-            const std::string& comment = "")
-      : schema_(schema), csv_(path, column_names(schema), resume, comment) {
-    const auto& text = csv_.resumed_rows();
-    for (size_t i = 0; i < text.size(); ++i) {
-      try {
-        resumed_.push_back(read_row(schema_, text[i]));
-      } catch (const std::invalid_argument& e) {
-        throw DamagedFileError(fmt::format("{} line {}: {}; delete the file or fix the line to resume",
-                                           csv_.partial_path(), i + 2, e.what()));
-      }
-    }
+  RecordCsv(const std::string& path, const Schema<Row>& schema, CsvWriter::Options options)
+      : schema_(schema), csv_(path, column_names(schema), with_value_check(std::move(options), schema)) {
+    for (const auto& text : csv_.resumed_rows()) resumed_.push_back(read_row(schema_, text));
   }
 
   void write(const Row& row) { csv_.write_row(write_row(schema_, row)); }
   void finish() { csv_.finish(); }
   void discard_if_empty() { csv_.discard_if_empty(); }
+  bool already_complete() const { return csv_.already_complete(); }
   const std::vector<Row>& resumed() const { return resumed_; }
   size_t rows() const { return csv_.rows(); }
   std::string partial_path() const { return csv_.partial_path(); }
@@ -49,21 +57,19 @@ class RecordCsv {
                             e.what(), kept, partial_path()));
   }
 
-  // Keeps only the resumed records `keep` accepts (rewriting <path>.partial); returns how many were dropped.
-  template <class Pred>
-  size_t keep_resumed_if(Pred keep) {
-    std::vector<bool> kept;
-    std::vector<Row> rows;
-    for (Row& r : resumed_) {
-      kept.push_back(keep(r));
-      if (kept.back()) rows.push_back(std::move(r));
-    }
-    resumed_ = std::move(rows);
-    size_t i = 0;
-    return csv_.keep_resumed_if([&](const std::vector<std::string>&) { return kept[i++]; });
+ private:
+  static CsvWriter::Options with_value_check(CsvWriter::Options o, const Schema<Row>& schema) {
+    o.check_values = [&schema](const std::vector<std::string>& fields) -> std::string {
+      try {
+        read_row(schema, fields);
+        return "";
+      } catch (const std::invalid_argument& e) {
+        return e.what();
+      }
+    };
+    return o;
   }
 
- private:
   const Schema<Row>& schema_;
   CsvWriter csv_;
   std::vector<Row> resumed_;

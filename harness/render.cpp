@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
@@ -23,7 +24,11 @@ int run_render(const RenderOptions& o, const Provenance& provenance) {
   check_scene_spec("--scene", o.scene);
   check_crops(o.crops, o.common.width, o.common.height);
   check_output_image_path("--out", o.out);
+  check_output_file("--out", o.out);
+  if (!o.common.force && fs::exists(o.out))
+    throw Error(fmt::format("--out {} already exists; pass --force to replace it, or choose another --out", o.out));
   auto generator = make_generator(o.generator);
+  const OutputLock lock(o.out, "--out " + o.out);
 
   auto ls = load(o.scene, o.common.tracer);
   PathTracer pt(ls->scene, *ls->tracer, *generator, settings_of(o.common, o.common.seed));

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "harness/memory_check.h"
 #include "harness/progress.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
@@ -59,6 +60,7 @@ void check_common(const RenderCommon& c, bool needs_ssim) {
   if (c.max_depth < 1 || c.max_depth > 64) throw Error(fmt::format("--max-depth {}: must be in [1, 64]", c.max_depth));
   if (c.rr_depth < 1 || c.rr_depth > 64) throw Error(fmt::format("--rr-depth {}: must be in [1, 64]", c.rr_depth));
   check_exposure(c.tone_map);
+  check_memory(fmt::format("--res {}x{}", c.width, c.height), rendering_bytes(c.width, c.height));
   std::vector<std::string> names;
   for (const TracerInfo& t : tracer_infos()) names.push_back(t.name);
   if (std::find(names.begin(), names.end(), c.tracer.name) == names.end())

@@ -15,6 +15,7 @@
 #include <iterator>
 #include <tuple>
 
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
@@ -58,6 +59,7 @@ struct ValidateOptions {
   int width = 1920, height = 1080, frames = 1;
   uint32_t seed = 1;
   std::string out = "raycoh-validate.csv";
+  bool force = false;
 };
 
 // One compared cell: a row of the comparison CSV.
@@ -223,17 +225,23 @@ void check(const ValidateOptions& o) {
 
 int run_validate(const ValidateOptions& o, const Provenance& provenance) {
   check(o);
-  const std::vector<SceneResult> results = run_experiment(experiment_of(o), provenance);
+  RecordCsv<ValidateRow> csv(o.out, validate_schema(),
+                             CsvWriter::Options::once(o.force, same_command(provenance)));
+  if (csv.already_complete()) {
+    std::printf("%s already holds the result of this same command (same code revision): nothing to do; pass --force "
+                "to model it again\n",
+                o.out.c_str());
+    return 0;
+  }
+  ExperimentOptions e = experiment_of(o);
+  e.force = o.force;
+  const std::vector<SceneResult> results = run_experiment(e, provenance);
   const std::vector<ValidateRow> rows = compare(o, results.front(), provenance);
-  RecordCsv<ValidateRow> csv(o.out, validate_schema(), CsvWriter::Resume::No);
   for (const ValidateRow& v : rows) csv.write(v);
-  csv.finish();
   const std::string text = report(o, rows);
+  write_file_atomically(o.out + ".md", text);
+  csv.finish();
   std::fputs(("\n" + text).c_str(), stdout);
-  std::ofstream md(o.out + ".md");
-  md << text;
-  md.close();
-  if (!md) throw WriteError(fmt::format("{}.md: cannot write the report", o.out));
   std::printf("\nWrote %s, %s.md and %s.rows.csv (%s)\n", o.out.c_str(), o.out.c_str(), o.out.c_str(),
               provenance.git_revision.c_str());
   return 0;
@@ -259,6 +267,7 @@ BoundCommand bind_validate(CLI::App& parent) {
   cmd->add_option("--frames", s->o.frames, "frames (the model is deterministic per frame)")->capture_default_str();
   cmd->add_option("--seed", s->o.seed, "seed")->capture_default_str();
   cmd->add_option("--out", s->o.out, "comparison CSV (also <out>.md and <out>.rows.csv)")->capture_default_str();
+  cmd->add_flag("--force", s->o.force, "replace an existing --out");
   return {cmd, [s](const Provenance& provenance) {
             std::tie(s->o.width, s->o.height) = parse_res("--res", s->res);
             return run_validate(s->o, provenance);

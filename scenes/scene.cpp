@@ -317,13 +317,30 @@ void check_scene_spec(const std::string& option, const std::string& spec) {
                             join(builtins)));
 }
 
+std::string scene_name_of(const std::string& spec) {
+  namespace fs = std::filesystem;
+  const std::vector<std::string> builtins = builtin_scene_names();
+  const PluginSpec plugin = parse_plugin_spec(spec);
+  const bool builtin = std::find(builtins.begin(), builtins.end(), plugin.name) != builtins.end();
+  if (builtin) return plugin.name;
+  std::error_code ec;
+  const fs::path path(spec);
+  if (!spec.empty() && fs::exists(path, ec))
+    return (fs::is_directory(path, ec) ? pick_scene_file(path, spec) : path).stem().string();
+  const size_t colon = spec.rfind(':');
+  if (colon != std::string::npos && colon > 0 && fs::exists(fs::path(spec.substr(0, colon)), ec))
+    return scene_name_of(spec.substr(0, colon));
+  return plugin.name;
+}
+
 Scene load_scene(const std::string& spec) {
   namespace fs = std::filesystem;
   const std::vector<std::string> builtins = builtin_scene_names();
   const PluginSpec plugin = parse_plugin_spec(spec);
-  // A built-in name wins over a file or folder of that name in the working directory ("./cornell" means the file).
+  // A built-in name (with or without parameters) wins over a file or folder of that name in the working directory
+  // ("./cornell" means the file).
   const bool builtin = std::find(builtins.begin(), builtins.end(), plugin.name) != builtins.end();
-  if (builtin && spec.find('/') == std::string::npos) return make_builtin_scene(spec);
+  if (builtin) return make_builtin_scene(spec);
   std::error_code ec;
   const fs::path path(spec);
   if (!spec.empty() && fs::exists(path, ec)) {

@@ -91,6 +91,9 @@ Scene load_scene(const std::string& spec);
 // Cheap check, before anything is measured, that a spec names a built-in scene or an existing file or folder
 // (optionally followed by ":key=value" parameters); throws raycoh::Error naming `option` and the spec otherwise.
 void check_scene_spec(const std::string& option, const std::string& spec);
+// The name load_scene(spec) gives the scene (the CSV's `scene` column), without loading it: a built-in's name
+// (its parameters are not part of it), else the stem of the file the spec picks.
+std::string scene_name_of(const std::string& spec);
 
 // The pieces load_scene dispatches to.
 Scene load_gltf(const std::string& path);

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "core/params.h"
 
@@ -157,16 +158,15 @@ Image crop(const Image& image, const Crop& c) {
   return out;
 }
 
-void write_pfm(const Image& image, const std::string& path) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(fmt::format("{}: cannot write", path));
-  out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+std::string pfm_bytes(const Image& image) {
+  std::string bytes = fmt::format("PF\n{} {}\n-1.0\n", image.width, image.height);
   static_assert(std::endian::native == std::endian::little, "PFM writer assumes a little-endian host");
   for (int y = image.height - 1; y >= 0; --y)
-    out.write(reinterpret_cast<const char*>(&image.rgb[3 * image.index(0, y)]),
-              static_cast<std::streamsize>(3 * sizeof(float) * image.width));
-  if (!out) throw Error(fmt::format("{}: write failed", path));
+    bytes.append(reinterpret_cast<const char*>(&image.rgb[3 * image.index(0, y)]), 3 * sizeof(float) * image.width);
+  return bytes;
 }
+
+void write_pfm(const Image& image, const std::string& path) { write_file_atomically(path, pfm_bytes(image)); }
 
 Image read_pfm(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -111,12 +111,14 @@ Crop parse_crop(const std::string& what, const std::string& text);
 void check_crop(const std::string& what, const Crop& c, int width, int height);
 Image crop(const Image& image, const Crop& c);
 
-// PFM (always available).
+// PFM (always available). pfm_bytes is the file's content; write_pfm writes it through write_image's path.
+std::string pfm_bytes(const Image& image);
 void write_pfm(const Image& image, const std::string& path);
 Image read_pfm(const std::string& path);
 
-// By extension: .pfm, .exr (float) and .png (tone-mapped with tm, 8-bit). Writes to a temporary name in the
-// same folder and renames, so a reader never sees half a file. Throws raycoh::Error on failure.
+// By extension: .pfm, .exr (float) and .png (tone-mapped with tm, 8-bit). The file is encoded in memory and written
+// by write_file_atomically (core/durable_file.h): whole or not at all, synced, no temp file left behind. Throws
+// raycoh::Error for a path it cannot write (extension, build) and WriteError when the write fails.
 void write_image(const Image& image, const std::string& path, const ToneMap& tm = {});
 // .pfm and .exr (RGB or RGBA; alpha is dropped, a single channel is replicated).
 Image read_image(const std::string& path);

@@ -7,8 +7,6 @@
 //
 //   .exr  32-bit float RGB, zip compression (lossless: a written reference reads back bit for bit)
 //   .png  8-bit sRGB after tone mapping (shading/image.h ToneMap), values rounded to nearest
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -18,7 +16,10 @@
 #include "core/error.h"
 #include "shading/image.h"
 
+#include "core/durable_file.h"
+
 #if RAYCOH_IMAGE_IO
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #endif
 
@@ -39,12 +40,17 @@ std::string extension_of(const std::string& path) {
 }
 
 #if RAYCOH_IMAGE_IO
-void write_oiio(const Image& image, const std::string& path, bool png, const ToneMap& tm) {
+// The file's bytes, encoded in memory (OIIO's IOVecOutput proxy); `path` only chooses the format.
+std::string encode_oiio(const Image& image, const std::string& path, bool png, const ToneMap& tm) {
   auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error(path + ": cannot write: " + OIIO::geterror());
+  if (!out || !out->supports("ioproxy")) throw Error(path + ": cannot write: " + OIIO::geterror());
   const OIIO::TypeDesc type = png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
   OIIO::ImageSpec spec(image.width, image.height, 3, type);
   if (!png) spec.attribute("compression", "zip");
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  OIIO::Filesystem::IOProxy* proxy = &memory;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   std::vector<unsigned char> bytes;
   const void* data = image.rgb.data();
   if (png) {
@@ -54,7 +60,8 @@ void write_oiio(const Image& image, const std::string& path, bool png, const Ton
     data = bytes.data();
   }
   if (!out->open(path, spec) || !out->write_image(type, data) || !out->close())
-    throw Error(path + ": cannot write: " + out->geterror());
+    throw Error(path + ": cannot encode the image: " + out->geterror());
+  return std::string(encoded.begin(), encoded.end());
 }
 
 Image read_oiio(const std::string& path) {
@@ -93,25 +100,15 @@ void write_image(const Image& image, const std::string& path, [[maybe_unused]] c
   check_output_image_path("image", path);
   const std::string ext = extension_of(path);
   if (image.empty()) throw Error(path + ": cannot write an empty image");
-  const std::filesystem::path target(path);
   std::error_code ec;
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), ec);
-  // Same folder and extension (OIIO picks the format by extension), renamed when complete.
-  std::string tmp_name = target.stem().string();
-  tmp_name.insert(tmp_name.begin(), '.');  // not "." + string: GCC 12 warns falsely on that (PR 105329)
-  tmp_name += ".tmp" + std::to_string(::getpid()) + ext;
-  const std::filesystem::path tmp = target.parent_path() / tmp_name;
+  if (std::filesystem::path(path).has_parent_path())
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
   if (ext == ".pfm") {
-    write_pfm(image, tmp.string());
+    write_pfm(image, path);
   } else {
 #if RAYCOH_IMAGE_IO
-    write_oiio(image, tmp.string(), ext == ".png", tm);
+    write_file_atomically(path, encode_oiio(image, path, ext == ".png", tm));
 #endif
-  }
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(path + ": cannot write (rename failed)");
   }
 }
 

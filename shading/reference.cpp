@@ -2,16 +2,17 @@
 #include "shading/reference.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "generators/generator.h"
 #include "raycoh_git.h"
@@ -57,19 +58,19 @@ std::string safe_name(const std::string& name) {
   return out.empty() ? "scene" : out;
 }
 
-void write_text_atomically(const fs::path& path, const std::string& text) {
-  std::string tmp_name = path.filename().string();
-  tmp_name.insert(tmp_name.begin(), '.');  // not "." + string: GCC 12 warns falsely on that (PR 105329)
-  tmp_name += ".tmp" + std::to_string(::getpid());
-  const fs::path tmp = path.parent_path() / tmp_name;
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << text;
-    if (!out) throw Error(fmt::format("{}: cannot write", tmp.string()));
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw Error(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+uint64_t file_hash(const fs::path& path) {
+  Fnv1a h;
+  hash_file_bytes(h, path);
+  return h.h;
+}
+
+// The sidecar's checksum: FNV-1a of its canonical JSON without the checksum field itself, so that an edited field
+// (a key, the image hash, the render time) is found.
+std::string sidecar_checksum(nlohmann::json side) {
+  side.erase("checksum");
+  Fnv1a h;
+  h.add(side.dump());
+  return fmt::format("{:016x}", h.h);
 }
 
 }  // namespace
@@ -84,8 +85,7 @@ std::string default_cache_dir() {
 std::string scene_fingerprint(const std::string& spec) {
   const std::vector<std::string> builtins = builtin_scene_names();
   // The same rule as load_scene: a built-in name wins unless the spec is a path.
-  if (std::find(builtins.begin(), builtins.end(), parse_plugin_spec(spec).name) != builtins.end() &&
-      spec.find('/') == std::string::npos)
+  if (std::find(builtins.begin(), builtins.end(), parse_plugin_spec(spec).name) != builtins.end())
     return "builtin:" + spec;
   const fs::path path(spec);
   std::error_code ec;
@@ -138,11 +138,23 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
   Reference ref;
   ref.path = image_path.string();
   std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error(fmt::format("reference cache {}: cannot create the folder: {}", dir.string(), ec.message()));
+  // One run renders an entry; another run asking for the same one waits, then reads it.
+  const OutputLock lock((dir / stem).string(), "reference cache entry " + stem, OutputLock::Wait::Yes);
   if (fs::is_regular_file(sidecar_path, ec) && fs::is_regular_file(image_path, ec)) {
     std::ifstream in(sidecar_path);
     const nlohmann::json side = nlohmann::json::parse(in, nullptr, false);
-    if (!side.is_discarded() && side.is_object() && side.contains("key") && side["key"].is_object() &&
-        side["key"].dump() == key) {
+    const bool ours = !side.is_discarded() && side.is_object() && side.contains("key") && side["key"].is_object() &&
+                      side["key"].dump() == key;
+    const bool intact = ours && side.value("checksum", std::string()) == sidecar_checksum(side) &&
+                        side.value("image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(image_path));
+    if (ours && !intact)
+      std::fprintf(stderr,
+                   "reference cache: %s or its sidecar does not match the recorded checksum (edited or damaged); "
+                   "rendering it again\n",
+                   image_path.string().c_str());
+    if (intact) {
       try {
         Image img = read_image(image_path.string());
         if (img.width == r.settings.width && img.height == r.settings.height) {
@@ -170,16 +182,16 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
   ref.image = acc.mean();
   ref.non_finite = acc.non_finite_samples();
 
-  fs::create_directories(dir, ec);
-  if (ec) throw Error(fmt::format("reference cache {}: cannot create the folder: {}", dir.string(), ec.message()));
   fs::remove(sidecar_path, ec);  // an old sidecar must never describe the new image, even for a moment
   write_image(ref.image, image_path.string());
-  const nlohmann::json side = {{"key", nlohmann::json::parse(key)},
-                               {"digest", fmt::format("{:016x}", digest.h)},
-                               {"render_seconds", ref.render_s},
-                               {"non_finite_samples", ref.non_finite},
-                               {"image", image_path.filename().string()}};
-  write_text_atomically(sidecar_path, side.dump(2) + "\n");
+  nlohmann::json side = {{"key", nlohmann::json::parse(key)},
+                         {"digest", fmt::format("{:016x}", digest.h)},
+                         {"render_seconds", ref.render_s},
+                         {"non_finite_samples", ref.non_finite},
+                         {"image", image_path.filename().string()},
+                         {"image_fnv1a", fmt::format("{:016x}", file_hash(image_path))}};
+  side["checksum"] = sidecar_checksum(side);
+  write_file_atomically(sidecar_path.string(), side.dump(2) + "\n");
   return ref;
 }
 

@@ -4,9 +4,12 @@
 // A cache entry is two files in the cache folder (default $RAYCOH_CACHE, else results/cache):
 //   <scene>-<digest>.exr (or .pfm in a build without image I/O)  the mean image, 32-bit float
 //   <scene>-<digest>.json                                        the full key, written after the image
-// digest = 64-bit FNV-1a of the key's canonical JSON. An entry is reused only when the sidecar's key equals the
-// requested key field for field, and the image reads back with the key's size; otherwise the reference is
-// rendered again and both files are replaced (image first, then sidecar, each by an atomic rename).
+// digest = 64-bit FNV-1a of the key's canonical JSON. The sidecar also holds the FNV-1a of the image file's bytes
+// (image_fnv1a) and a checksum of its own fields (checksum). An entry is reused only when the sidecar's key equals
+// the requested key field for field, both checksums verify, and the image reads back with the key's size;
+// otherwise the reference is rendered again (with a warning when the checksums fail) and both files are replaced
+// (image first, then sidecar, each written whole and renamed). A lock on the entry ("<stem>.lock") lets one run
+// render it while another asking for the same entry waits and then reads it.
 //
 // The key: scene spec; scene fingerprint (built-in scenes: their spec, since the code revision covers the
 // generator; files: FNV-1a of the scene file's bytes plus name, size and modification time of every file beside

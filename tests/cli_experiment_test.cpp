@@ -58,7 +58,7 @@ TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
   for (int i = 0; i < 4; ++i) EXPECT_EQ(resumed[i], complete[i]);  // kept as measured, not measured again
   EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
 
-  // A row of another code revision is neither reused nor kept.
+  // A row of another code revision is refused, naming the field; --force starts afresh.
   std::string stale = complete[1];
   const size_t at = stale.find(",Release,");
   ASSERT_NE(at, std::string::npos) << stale;
@@ -67,8 +67,12 @@ TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
   std::filesystem::remove(out);
   write_file(out.string() + ".partial", complete[0] + "\n" + stale + "\n");
   const CommandResult again = run_raycoh(args);
-  ASSERT_EQ(again.exit_code, 0) << again.output;
-  EXPECT_NE(again.output.find("dropped 1 rows of another code revision"), std::string::npos) << again.output;
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find("line 2 was measured with other parameters: its git_revision is '0000000old'"),
+            std::string::npos)
+      << again.output;
+  const CommandResult forced = run_raycoh(args + " --force");
+  ASSERT_EQ(forced.exit_code, 0) << forced.output;
   const auto fresh = read_lines(out);
   EXPECT_EQ(fresh.size(), complete.size());
   for (const auto& line : fresh) EXPECT_EQ(line.find("0000000old"), std::string::npos);
@@ -110,7 +114,7 @@ TEST(CliExperiment, TableWithEncodersReportsTraceOnlyAndEndToEnd) {
   expect_error("table --encoders origin --permute sideways --res 8x8", "physical");
 }
 
-TEST(CliExperiment, ADamagedPartialFileIsADistinctOneLineError) {
+TEST(CliExperiment, ADamagedLineOfAPartialFileIsSkippedNamingLineAndColumn) {
   const auto dir = temp_dir("cli_damaged");
   const auto out = dir / "d.csv";
   const std::string args =
@@ -123,12 +127,16 @@ TEST(CliExperiment, ADamagedPartialFileIsADistinctOneLineError) {
   const size_t first = row.find(','), second = row.find(',', first + 1);
   row = row.substr(0, first + 1) + "12x4" + row.substr(second);
   std::filesystem::remove(out);
-  write_file(out.string() + ".partial", lines[0] + "\n" + row + "\n");
+  write_file(out.string() + ".partial", lines[0] + "\n" + row + "\n" + lines[2] + "\n");
   const CommandResult r = run_raycoh(args);
-  EXPECT_EQ(r.exit_code, 3) << r.output;
-  EXPECT_NE(r.output.find("column scene_triangles: '12x4' is not an integer"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("d.csv.partial line 2"), std::string::npos) << r.output;
-  EXPECT_EQ(r.output.find("terminate"), std::string::npos) << r.output;
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("d.csv.partial line 2 skipped: column scene_triangles: '12x4' is not an integer"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("resuming: 1 rows"), std::string::npos) << r.output;
+  EXPECT_EQ(read_lines(out).size(), 3u);
+  EXPECT_EQ(read_lines(out)[1], lines[2]);  // the good row, kept as measured
+  EXPECT_EQ(read_lines(out.string() + ".rejected")[1], row);
 }
 
 TEST(CliExperiment, AWriteFailureIsReportedNotWritten) {
@@ -138,7 +146,7 @@ TEST(CliExperiment, AWriteFailureIsReportedNotWritten) {
   std::filesystem::create_symlink("/dev/full", out.string() + ".partial");
   // A ray dump never resumes, so the .partial (a full disk here) is only written, never read.
   const CommandResult r = run_raycoh("rays --scene cornell --res 16x16 --out " + out.string());
-  EXPECT_EQ(r.exit_code, 4) << r.output;
+  EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("write failed"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));

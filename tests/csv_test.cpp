@@ -91,7 +91,7 @@ TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
     if (c.key) key.push_back(c.name);
   EXPECT_EQ(key, (std::vector<std::string>{"scene", "pass", "method", "generator_params", "tracer", "tracer_params",
                                            "width", "height", "frame", "seed", "repeats", "encoder_params", "permute",
-                                           "git_revision"}));
+                                           "git_revision", "build_type", "cpu", "threads"}));
 }
 
 TEST(Csv, RowsRoundTripThroughTheirSchema) {
@@ -140,22 +140,25 @@ TEST(Csv, DamagedValuesNameTheirColumn) {
   EXPECT_THROW(read_row(experiment_schema(), text), std::invalid_argument);
 }
 
-TEST(Csv, ADamagedPartialFileIsADamagedFileError) {
+TEST(Csv, ALineWithADamagedValueIsSkippedNamingLineAndColumn) {
   const auto dir = temp_dir("csv_damaged");
   const auto path = (dir / "e.csv").string();
   std::string header;
   for (const auto& n : column_names(experiment_schema())) header += (header.empty() ? "" : ",") + n;
   auto row = write_row(experiment_schema(), ExperimentRow{});
+  std::string good;
+  for (size_t i = 0; i < row.size(); ++i) good += (i ? "," : "") + csv_escape(row[i]);
   row[10] = "first";  // frame
   std::string line;
   for (size_t i = 0; i < row.size(); ++i) line += (i ? "," : "") + csv_escape(row[i]);
-  write_file(path + ".partial", header + "\n" + line + "\n");
-  try {
-    RecordCsv<ExperimentRow> csv(path, experiment_schema());
-    FAIL() << "no error";
-  } catch (const DamagedFileError& e) {
-    EXPECT_NE(std::string(e.what()).find("e.csv.partial line 2: column frame: 'first'"), std::string::npos) << e.what();
-  }
+  write_file(path + ".partial", header + "\n" + line + "\n" + good + "\n");
+  RecordCsv<ExperimentRow> csv(path, experiment_schema(), CsvWriter::Options::resumable(false, {}));
+  EXPECT_EQ(csv.resumed().size(), 1u);  // the good row after the damaged one is kept
+  const auto aside = read_lines(path + ".rejected");
+  ASSERT_EQ(aside.size(), 2u);
+  EXPECT_NE(aside[0].find("e.csv.partial line 2: column frame: 'first' is not an integer"), std::string::npos)
+      << aside[0];
+  EXPECT_EQ(aside[1], line);
 }
 
 TEST(Csv, WriteFailuresAreErrors) {
@@ -163,7 +166,7 @@ TEST(Csv, WriteFailuresAreErrors) {
   const auto dir = temp_dir("csv_full");
   const auto path = (dir / "full.csv").string();
   std::filesystem::create_symlink("/dev/full", path + ".partial");
-  EXPECT_THROW(CsvWriter(path, {"a", "b"}, CsvWriter::Resume::No), WriteError);
+  EXPECT_THROW(CsvWriter(path, {"a", "b"}, CsvWriter::Options::once(true)), WriteError);
 }
 
 }  // namespace

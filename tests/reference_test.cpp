@@ -1,5 +1,5 @@
 // The reference cache (shading/reference.h): reused only when every key field matches, invalidated by an edited
-// sidecar or a changed scene file.
+// sidecar, an image that is not the one recorded, or a changed scene file.
 #include "shading/reference.h"
 
 #include <gtest/gtest.h>
@@ -65,6 +65,22 @@ TEST(ReferenceCache, ReusedOnlyWhenEveryKeyFieldMatches) {
   EXPECT_TRUE(get_reference(s, bvh, req).from_cache);
   fs::remove(first.path);
   EXPECT_FALSE(get_reference(s, bvh, req).from_cache);
+
+  // Another image of the same size in the entry's place, or an edited sidecar field: the checksums catch both.
+  const Reference other = changed([](ReferenceRequest& r) { r.settings.seed = 9; });
+  fs::copy_file(other.path, first.path, fs::copy_options::overwrite_existing);
+  EXPECT_FALSE(get_reference(s, bvh, req).from_cache);
+  EXPECT_TRUE(get_reference(s, bvh, req).from_cache);
+  std::ifstream side_in(sidecar);
+  std::string side((std::istreambuf_iterator<char>(side_in)), std::istreambuf_iterator<char>());
+  const size_t at = side.find("\"non_finite_samples\": 0");
+  ASSERT_NE(at, std::string::npos) << side;
+  side.replace(at, std::strlen("\"non_finite_samples\": 0"), "\"non_finite_samples\": 5");
+  test::write_file(sidecar, side);
+  const Reference edited = get_reference(s, bvh, req);
+  EXPECT_FALSE(edited.from_cache);
+  EXPECT_EQ(edited.non_finite, 0u);
+  EXPECT_FALSE(fs::exists(fs::path(first.path).replace_extension("").string() + ".lock"));
 
   EXPECT_NE(renderer_revision().find("r" + std::to_string(kRendererVersion) + "/"), std::string::npos);
   EXPECT_EQ(scene_fingerprint("cornell"), "builtin:cornell");

@@ -30,9 +30,11 @@ void write_file(const std::filesystem::path& path, const std::string& bytes) {
   out << bytes;
 }
 
-CommandResult run_raycoh(const std::string& args) {
+CommandResult run_raycoh(const std::string& args) { return run_shell("$R " + args); }
+
+CommandResult run_shell(const std::string& script) {
   CommandResult result;
-  const std::string cmd = std::string(RAYCOH_BINARY) + " " + args + " 2>&1";
+  const std::string cmd = "R='" + std::string(RAYCOH_BINARY) + "'; { " + script + "\n} 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buf;

@@ -31,6 +31,9 @@ struct CommandResult {
 };
 // Runs the raycoh binary with the given argument string (shell syntax).
 CommandResult run_raycoh(const std::string& args);
+// Runs a shell script in which $R is the raycoh binary (for limits, signals and background runs); stdout and
+// stderr together; exit_code is the script's (-1 when a signal ended the shell).
+CommandResult run_shell(const std::string& script);
 
 // Runs fn, which should throw raycoh::Error; returns the message, or "no error".
 template <typename Fn>
