@@ -140,12 +140,23 @@ TEST(QualityCommands, QualityWritesRowsImagesAndResumes) {
   ASSERT_EQ(run_quality(q, prov), 0);
   EXPECT_EQ(read_lines(dir / "q.csv"), lines);
 
-  // Another revision does not reuse them.
+  // Another revision is refused before anything is rendered (its rows would not belong together), and the
+  // results already written stay as they were; --force starts afresh.
   fs::rename(dir / "q.csv", dir / "q.csv.partial");
   prov.git_revision = "test2";
+  try {
+    run_quality(q, prov);
+    ADD_FAILURE() << "a partial file of another revision was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("its git_revision is 'test', this run's is 'test2'"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(read_lines(dir / "q.csv.partial"), lines);
+  q.common.force = true;
   ASSERT_EQ(run_quality(q, prov), 0);
   const auto redone = read_lines(dir / "q.csv");
-  EXPECT_EQ(redone.size(), 5u);  // the old rows stay, two new ones follow
+  ASSERT_EQ(redone.size(), 3u);
+  EXPECT_FALSE(fs::exists(dir / "q.csv.partial"));
 }
 
 TEST(QualityCommands, ConvergeWritesCurvesAndRatios) {
