@@ -133,15 +133,16 @@ CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& co
     if (fd_ < 0) throw WriteError(fmt::format("--out {}: cannot open {}: {}", path_, partial_path(), strerror(errno)));
   } else {
     fd_ = ::open(partial_path().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd_ < 0) throw WriteError(fmt::format("--out {}: cannot create {}: {}", path_, partial_path(), strerror(errno)));
+    if (fd_ < 0)
+      throw WriteError(fmt::format("--out {}: cannot create {}: {}", path_, partial_path(), strerror(errno)));
     std::string head;
     if (!o.comment.empty()) head = "# " + o.comment + '\n';
     put(head + csv_line(columns_));
   }
-  set_interrupt_hint(o.resume == Resume::Yes
-                         ? fmt::format("rows measured so far are kept in {}; run the same command again to resume",
-                                       partial_path())
-                         : fmt::format("{} is left as it was; this command starts again when run again", path_));
+  set_interrupt_hint(
+      o.resume == Resume::Yes
+          ? fmt::format("rows measured so far are kept in {}; run the same command again to resume", partial_path())
+          : fmt::format("{} is left as it was; this command starts again when run again", path_));
 }
 
 // Rows of an interrupted (<path>.partial) or finished (<path>) run; see the header.
@@ -187,9 +188,10 @@ void CsvWriter::read_earlier_run(const Options& o) {
     for (const auto& [col, values] : rule)
       if (!values.count(fields[col]))
         throw Error(fmt::format(
-            "--out {}: {} line {} was measured with other parameters: its {} is '{}', this run's is {}; pass --force "
-            "to replace the file, or choose another --out",
-            path_, source, l.number, columns_[col], fields[col], quoted_list(values)));
+            "--out {}: {} line {} was measured with other parameters: its {} is '{}', this run's {} {}; pass "
+            "--force to replace the file, or choose another --out",
+            path_, source, l.number, columns_[col], fields[col], values.size() == 1 ? "is" : "are one of",
+            quoted_list(values)));
     rewrite = rewrite || l.had_cr;
     resumed_.push_back(fields);
   }
@@ -201,8 +203,7 @@ void CsvWriter::read_earlier_run(const Options& o) {
       kept_aside += fmt::format("# {} line {}: {}\n", source, l->number, why) + l->text + "\n";
       if (i < 10) std::fprintf(stderr, "resume: %s line %zu skipped: %s\n", source.c_str(), l->number, why.c_str());
     }
-    if (rejected.size() > 10)
-      std::fprintf(stderr, "resume: ... %zu lines skipped in all\n", rejected.size());
+    if (rejected.size() > 10) std::fprintf(stderr, "resume: ... %zu lines skipped in all\n", rejected.size());
     std::fprintf(stderr, "resume: the skipped lines are copied to %s; their rows are measured again\n",
                  rejected_path().c_str());
     const int fd = ::open(rejected_path().c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
@@ -271,9 +272,10 @@ void CsvWriter::put(const std::string& text) {
     if (before >= 0 && ::ftruncate(fd_, before) != 0) {
       // The torn line stays; a resume skips it.
     }
-    throw WriteError(fmt::format("{} ({} rows before it are kept there, whole; free space and run the same command "
-                                 "again)",
-                                 e.what(), rows_ + resumed_.size()));
+    throw WriteError(
+        fmt::format("{} ({} rows before it are kept there, whole; free space and run the same command "
+                    "again)",
+                    e.what(), rows_ + resumed_.size()));
   }
 }
 
