@@ -188,16 +188,18 @@ OutputLock::OutputLock(const std::string& target, const std::string& what, Wait 
       const std::string holder = read_holder(path_);
       if (wait == Wait::No) {
         ::close(fd);
-        throw Error(fmt::format("{} is being written by another run ({}); wait for it to finish or choose another "
-                                "output (lock file {})",
-                                what, holder, path_));
+        throw Error(
+            fmt::format("{} is being written by another run ({}); wait for it to finish or choose another "
+                        "output (lock file {})",
+                        what, holder, path_));
       }
       std::fprintf(stderr, "%s: waiting for %s\n", what.c_str(), holder.c_str());
       while (::flock(fd, LOCK_EX) != 0)
         if (errno != EINTR) throw Error(fmt::format("{}: cannot lock {}: {}", what, path_, reason(errno)));
     }
     // The holder before us may have removed the file while we waited: the lock must be on the file at the path.
-    struct stat held {}, now {};
+    struct stat held {
+    }, now{};
     if (::fstat(fd, &held) == 0 && ::stat(path_.c_str(), &now) == 0 && held.st_ino == now.st_ino &&
         held.st_dev == now.st_dev) {
       fd_ = fd;
@@ -245,7 +247,9 @@ void OutputLock::release() {
 }
 
 void install_signal_handlers() {
-  std::signal(SIGINT, on_terminating_signal);
+  // A SIGINT ignored from the start (a background job of a non-interactive shell, which must not die of the
+  // terminal's Ctrl-C) stays ignored.
+  if (std::signal(SIGINT, on_terminating_signal) == SIG_IGN) std::signal(SIGINT, SIG_IGN);
   std::signal(SIGTERM, on_terminating_signal);
   std::signal(SIGXFSZ, SIG_IGN);
 }

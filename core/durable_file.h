@@ -69,7 +69,8 @@ class OutputLock {
 
 // Ctrl-C (SIGINT) and SIGTERM: print "raycoh: interrupted" with the hint of the run in progress (how to resume),
 // remove registered lock and temp files, then die of the signal (exit status 128 + signal). SIGXFSZ is ignored,
-// so that a file size limit is a failed write (WriteError), not a silent kill. Called once by main().
+// so that a file size limit is a failed write (WriteError), not a silent kill. A SIGINT that was ignored when the
+// process started (a background job) stays ignored. Called once by main().
 void install_signal_handlers();
 // The line printed after "raycoh: interrupted: " while a run writes its rows; empty clears it.
 void set_interrupt_hint(const std::string& hint);
