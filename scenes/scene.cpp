@@ -134,7 +134,8 @@ const char* to_string(MaterialClass c) {
 
 MaterialClass classify_material(const Material& m) {
   if (max_component(m.emission) > 0.f) return MaterialClass::Emissive;
-  if (m.transmission > 0.5f) return MaterialClass::Transmissive;
+  // KHR_materials_transmission: transmission replaces only the dielectric part, so a metal stays a metal.
+  if (m.transmission * (1.f - m.metallic) > 0.5f) return MaterialClass::Transmissive;
   if (m.roughness <= kSpecularRoughness) return MaterialClass::Specular;
   if (m.roughness <= kGlossyRoughness || m.metallic >= 0.5f) return MaterialClass::Glossy;
   return MaterialClass::Diffuse;
@@ -216,6 +217,13 @@ std::vector<float> repair_normals_and_measure(Scene& scene) {
     }
   }
   scene.degenerate_tris = degenerate;
+  if (degenerate == tris) {
+    const std::string& who = scene.source.empty() ? scene.name : scene.source;
+    throw Error(
+        fmt::format("scene '{}': all {} triangles have zero area in float (collapsed by their scale or "
+                    "position?); nothing can be hit",
+                    who, tris));
+  }
   if (any_repair) {
     for (size_t i = 0; i < scene.normals.size(); ++i) {
       if (!repair[i]) continue;
@@ -293,11 +301,9 @@ SceneFeatures analyse(const Scene& scene) {
   f.has_textures = textured > 0;
   f.needs_env_light = scene.env.enabled;
 
-  // Every stage shades with material constants; textures would only change colours, not ray directions.
-  f.skipped_stages.push_back(f.has_textures ? fmt::format("texture decoding: no stage needs textures ({} textured "
-                                                          "materials use their base colour factor)",
-                                                          textured)
-                                            : std::string("texture decoding: scene has no textures"));
+  // glTF textures are folded into per-triangle materials at load time (scenes/gltf_textures.cpp); OBJ texture
+  // maps are not read.
+  if (!f.has_textures) f.skipped_stages.push_back("texture decoding: scene has no textures");
   if (!f.has_glossy) f.skipped_stages.push_back("hybrid groups: no glossy materials");
   if (!f.has_transmissive) f.skipped_stages.push_back("transmission handling: no transmissive materials");
   if (!f.has_emissive) f.skipped_stages.push_back("emitter sampling: scene has no emitters");

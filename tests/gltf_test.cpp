@@ -113,6 +113,36 @@ TEST(GltfLoader, StripsFansAndSkippedLines) {
   const Scene s = load_scene(w.write("gltf_modes", "modes.glb").string());
   EXPECT_EQ(s.triangle_count(), 3u + 3u);  // strip of 5 -> 3, fan of 5 -> 3; lines and points skipped
   expect_valid(s);
+  // Nothing is dropped silently: scenes info lists both kinds.
+  EXPECT_TRUE(test::has_note(s, "dropped 1 point primitive")) << join(s.load_notes, " | ");
+  EXPECT_TRUE(test::has_note(s, "dropped 1 line primitive")) << join(s.load_notes, " | ");
+}
+
+TEST(GltfLoader, ExtensionsAreNotedAndUnsupportedRequiredOnesRefusedByName) {
+  {
+    GltfWriter w = one_triangle();
+    w.extra = R"(,"extensionsUsed":["EXT_unknown_thing","KHR_materials_ior"])";
+    const Scene s = load_scene(w.write("gltf_ext", "optional.glb").string());
+    EXPECT_TRUE(test::has_note(s, "extension EXT_unknown_thing: ignored")) << join(s.load_notes, " | ");
+    EXPECT_TRUE(test::has_note(s, "extension KHR_materials_ior: supported")) << join(s.load_notes, " | ");
+  }
+  for (const char* ext : {"EXT_unknown_thing", "KHR_draco_mesh_compression"}) {
+    GltfWriter w = one_triangle();
+    w.extra = fmt::format(R"(,"extensionsUsed":["{0}"],"extensionsRequired":["{0}"])", ext);
+    expect_load_error(w.write("gltf_ext", fmt::format("required_{}.glb", ext)), std::string("extension ") + ext);
+  }
+  GltfWriter w = one_triangle();
+  w.extra = R"(,"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"])";
+  expect_load_error(w.write("gltf_ext", "draco.glb"), "Draco");
+}
+
+TEST(GltfLoader, MetalWinsOverTransmission) {
+  GltfWriter w = one_triangle();
+  w.meshes = mesh_json(0, 1, ",\"material\":0");
+  w.materials = R"([{"pbrMetallicRoughness":{"metallicFactor":1,"roughnessFactor":0.3},
+                     "extensions":{"KHR_materials_transmission":{"transmissionFactor":1}}}])";
+  const Scene s = load_scene(w.write("gltf_metal_transmission", "m.glb").string());
+  EXPECT_EQ(s.materials[0].cls, MaterialClass::Glossy);
 }
 
 TEST(GltfLoader, MaterialsFromFactorsAndExtensions) {
@@ -125,9 +155,9 @@ TEST(GltfLoader, MaterialsFromFactorsAndExtensions) {
   w.materials = R"([
     {"name":"light","emissiveFactor":[1,0.5,0.25],
      "extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":8}}},
-    {"name":"glass",
+    {"name":"glass","pbrMetallicRoughness":{"metallicFactor":0},
      "extensions":{"KHR_materials_transmission":{"transmissionFactor":1},"KHR_materials_ior":{"ior":1.33}}},
-    {"name":"solid",
+    {"name":"solid","pbrMetallicRoughness":{"metallicFactor":0},
      "extensions":{"KHR_materials_transmission":{"transmissionFactor":0.9},"KHR_materials_volume":{}}},
     {"name":"mirror",
      "pbrMetallicRoughness":{"baseColorFactor":[0.9,0.9,0.9,1],"metallicFactor":1,"roughnessFactor":0.01}},
@@ -269,7 +299,7 @@ TEST(BadInput, MissingOrUnloadableBuffers) {
   const GltfWriter w = one_triangle();
   const fs::path dir = test::temp_dir("bad_buffers");
   test::write_file(dir / "missing_bin.gltf", w.json("missing.bin"));
-  expect_load_error(dir / "missing_bin.gltf");
+  expect_load_error(dir / "missing_bin.gltf", "buffer file 'missing.bin' not found");
   // A .gltf whose buffer has no uri and no GLB chunk to stand for.
   test::write_file(dir / "no_uri.gltf", w.json());
   expect_load_error(dir / "no_uri.gltf");
@@ -319,6 +349,12 @@ TEST(BadInput, NoTrianglesToTrace) {
     const int pos = w.positions(kTri);
     w.meshes = mesh_json(pos, w.u16({0, 1}));
     expect_load_error(w.write("bad_empty", "two_indices.glb"), "no triangles");
+  }
+  {
+    // A cube far from the origin collapses in float: nothing could ever be hit.
+    GltfWriter w = one_triangle();
+    w.nodes = R"([{"mesh":0,"translation":[1e9,0,0],"scale":[1e-3,1e-3,1e-3]}])";
+    expect_load_error(w.write("bad_empty", "collapsed.glb"), "zero area");
   }
 }
 
