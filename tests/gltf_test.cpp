@@ -118,6 +118,42 @@ TEST(GltfLoader, StripsFansAndSkippedLines) {
   EXPECT_TRUE(test::has_note(s, "dropped 1 line primitive")) << join(s.load_notes, " | ");
 }
 
+TEST(GltfLoader, MorphDefaultWeightsSparseAccessorsAndInstancing) {
+  GltfWriter w;
+  const int pos = w.positions(kTri);
+  const int idx = w.u16({0, 1, 2});
+  const int offsets = w.positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
+  // Sparse: element 1 of a second position accessor replaced by (2, 0, 0).
+  const int sparse_pos = w.positions(kTri);
+  const int sparse_idx = w.u16({1});
+  const int sparse_val = w.positions({2, 0, 0});
+  w.accessors[static_cast<size_t>(sparse_pos)] = fmt::format(
+      R"({{"bufferView":{},"componentType":5126,"count":3,"type":"VEC3","sparse":{{"count":1,
+          "indices":{{"bufferView":{},"componentType":5123}},"values":{{"bufferView":{}}}}}}})",
+      sparse_pos, sparse_idx, sparse_val);
+  // Instances: translations (10, 0, 0) and (20, 0, 0).
+  const int inst = w.positions({10, 0, 0, 20, 0, 0});
+  w.meshes = fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{}}},"indices":{},
+                                "targets":[{{"POSITION":{}}}]}}],"weights":[0.5]}},
+                            {{"primitives":[{{"attributes":{{"POSITION":{}}},"indices":{}}}]}}])",
+                         pos, idx, offsets, sparse_pos, idx);
+  w.nodes = fmt::format(R"([{{"mesh":0}},{{"mesh":1,"translation":[0,5,0]}},
+                            {{"mesh":1,"extensions":{{"EXT_mesh_gpu_instancing":{{"attributes":{{"TRANSLATION":{}}}}}}}}}])",
+                        inst);
+  w.scenes = R"([{"nodes":[0,1,2]}])";
+  w.extra = R"(,"extensionsUsed":["EXT_mesh_gpu_instancing"])";
+  const Scene s = load_scene(w.write("gltf_morph_sparse", "m.glb").string());
+  ASSERT_EQ(s.triangle_count(), 1u + 1u + 2u);
+  expect_valid(s);
+  EXPECT_FLOAT_EQ(s.positions[0].z, 0.5f);  // base + 0.5 x target
+  EXPECT_FLOAT_EQ(s.positions[4].x, 2.f);   // sparse substitution (mesh 1 at node 1)
+  EXPECT_FLOAT_EQ(s.positions[4].y, 5.f);
+  EXPECT_FLOAT_EQ(s.positions[7].x, 12.f);  // instance 1 of mesh 1: (2, 0, 0) + (10, 0, 0)
+  EXPECT_FLOAT_EQ(s.positions[10].x, 22.f);
+  EXPECT_TRUE(test::has_note(s, "EXT_mesh_gpu_instancing: 2 instance(s) on 1 node(s)")) << join(s.load_notes, " | ");
+  EXPECT_TRUE(test::has_note(s, "default weights")) << join(s.load_notes, " | ");
+}
+
 TEST(GltfLoader, ExtensionsAreNotedAndUnsupportedRequiredOnesRefusedByName) {
   {
     GltfWriter w = one_triangle();
