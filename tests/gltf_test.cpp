@@ -154,6 +154,50 @@ TEST(GltfLoader, MorphDefaultWeightsSparseAccessorsAndInstancing) {
   EXPECT_TRUE(test::has_note(s, "default weights")) << join(s.load_notes, " | ");
 }
 
+// A 2 x 2 RGBA PNG: top row white, bottom row black.
+const std::vector<uint8_t> kTwoRowPng = {
+    137, 80,  78, 71, 13,  10,  26, 10,  0,  0,   0,  13,  73, 72, 68, 82, 0,   0,   0,  2,   0,   0,  0,  2,  8,
+    6,   0,   0,  0,  114, 182, 13, 36,  0,  0,   0,  17,  73, 68, 65, 84, 120, 156, 99, 248, 15,  5,  12, 64, 0,
+    34,  254, 3,  0,  113, 160, 9,  247, 61, 251, 21, 187, 0,  0,  0,  0,  73,  69,  78, 68,  174, 66, 96, 130};
+
+TEST(GltfLoader, TexturesDecideMaterialsPerTriangle) {
+  for (bool transform : {false, true}) {
+    GltfWriter w;
+    // Two triangles; every vertex of the first samples the top row (v = 0.25), of the second the bottom row.
+    const int pos = w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 2, 1, 0});
+    const int uv =
+        w.add(std::vector<float>{0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f},
+              5126, "SCALAR");
+    w.accessors[static_cast<size_t>(uv)] =
+        fmt::format(R"({{"bufferView":{},"componentType":5126,"count":6,"type":"VEC2"}})", uv);
+    const int png = w.add(kTwoRowPng, 5121, "SCALAR");
+    w.meshes =
+        fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{},"TEXCOORD_0":{}}},"material":0}}]}}])", pos, uv);
+    // Emissive and metallic-roughness textures: white = lit, metal (blue 1) and rough (green 1); black = dark,
+    // smooth dielectric. With KHR_texture_transform's offset [0, 0.5] and REPEAT the rows swap.
+    const std::string ext = transform ? R"(,"extensions":{"KHR_texture_transform":{"offset":[0,0.5]}})" : std::string();
+    w.materials = fmt::format(R"([{{"emissiveFactor":[2,2,2],"emissiveTexture":{{"index":0{0}}},
+        "pbrMetallicRoughness":{{"metallicFactor":1,"roughnessFactor":1,"metallicRoughnessTexture":{{"index":0{0}}}}}}}])",
+                              ext);
+    w.extra = fmt::format(R"(,"textures":[{{"source":0}}],"images":[{{"bufferView":{},"mimeType":"image/png"}}])", png);
+    const Scene s = load_scene(w.write("gltf_textures", fmt::format("t{}.glb", transform)).string());
+    ASSERT_EQ(s.triangle_count(), 2u);
+    expect_valid(s);
+    const Material& lit = s.materials[s.tri_material[transform ? 1 : 0]];
+    const Material& dark = s.materials[s.tri_material[transform ? 0 : 1]];
+    EXPECT_EQ(lit.cls, MaterialClass::Emissive);
+    EXPECT_FLOAT_EQ(lit.emission.x, 2.f);
+    EXPECT_FLOAT_EQ(lit.metallic, 1.f);
+    EXPECT_FLOAT_EQ(dark.emission.x, 0.f);
+    EXPECT_FLOAT_EQ(dark.metallic, 0.f);
+    EXPECT_FLOAT_EQ(dark.roughness, 0.f);
+    EXPECT_EQ(dark.cls, MaterialClass::Specular);
+    // Emitter sampling sees the textured emitter only.
+    EXPECT_EQ(s.emissive_tris, std::vector<uint32_t>{transform ? 1u : 0u});
+    EXPECT_TRUE(test::has_note(s, "textures: 2 triangle(s)")) << join(s.load_notes, " | ");
+  }
+}
+
 TEST(GltfLoader, ExtensionsAreNotedAndUnsupportedRequiredOnesRefusedByName) {
   {
     GltfWriter w = one_triangle();
