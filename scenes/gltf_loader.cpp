@@ -223,4 +223,11 @@ Scene load_gltf(const std::string& path) {
   return scene;
 }
 
+std::vector<FileCamera> gltf_cameras(const std::string& path) {
+  std::vector<std::string> notes;
+  const tinygltf::Model model = parse_model(path, read_bytes(path), notes);
+  Scene unused;
+  return gltf::GltfReader(model, path, unused).cameras();
+}
+
 }  // namespace raycoh

@@ -132,20 +132,55 @@ void GltfReader::visit(int root, const Mat4& parent) {
 }
 
 void GltfReader::take_camera(const tinygltf::Node& node, const Mat4& world) {
-  if (scene_.camera.from_file || static_cast<size_t>(node.camera) >= model_.cameras.size()) return;
+  if (scene_.camera.from_file) return;
+  Camera cam;
+  if (camera_of(node, world, cam).empty()) scene_.camera = cam;
+}
+
+std::string GltfReader::camera_of(const tinygltf::Node& node, const Mat4& world, Camera& out) const {
+  if (node.camera < 0 || static_cast<size_t>(node.camera) >= model_.cameras.size())
+    return fmt::format("camera {} does not exist", node.camera);
   const tinygltf::Camera& cam = model_.cameras[static_cast<size_t>(node.camera)];
-  if (cam.type != "perspective") return;
+  if (cam.type != "perspective") return fmt::format("{} cameras are not supported", cam.type);
   const Vec3 forward = -world.column(2), up = world.column(1), eye = world.column(3);
   const double yfov = cam.perspective.yfov * 180.0 / 3.14159265358979323846;
   if (!is_finite(eye) || !is_finite(forward) || !is_finite(up) || !(dot(forward, forward) > 0.f) ||
       !(dot(up, up) > 0.f) || !(yfov > 0.0 && yfov < 180.0))
-    return;
+    return "its transform or field of view is degenerate";
   // The target is one unit ahead: only the direction matters to the camera model.
-  scene_.camera.eye = eye;
-  scene_.camera.target = eye + normalize(forward);
-  scene_.camera.up = normalize(up);
-  scene_.camera.vfov_deg = static_cast<float>(yfov);
-  scene_.camera.from_file = true;
+  out.eye = eye;
+  out.target = eye + normalize(forward);
+  out.up = normalize(up);
+  out.vfov_deg = static_cast<float>(yfov);
+  out.from_file = true;
+  return {};
+}
+
+std::vector<FileCamera> GltfReader::cameras() const {
+  std::vector<FileCamera> out;
+  std::vector<uint8_t> seen(model_.nodes.size(), 0);
+  for (int root : root_nodes()) {
+    std::vector<std::pair<int, Mat4>> stack{{root, Mat4{}}};
+    while (!stack.empty()) {
+      auto [index, parent_world] = stack.back();
+      stack.pop_back();
+      if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size() || seen[static_cast<size_t>(index)]++)
+        continue;  // read() reports these
+      const tinygltf::Node& node = model_.nodes[static_cast<size_t>(index)];
+      const Mat4 world = parent_world * local_transform(node);
+      if (node.camera >= 0) {
+        FileCamera fc;
+        fc.name = node.name;
+        if (fc.name.empty() && static_cast<size_t>(node.camera) < model_.cameras.size())
+          fc.name = model_.cameras[static_cast<size_t>(node.camera)].name;
+        if (fc.name.empty()) fc.name = fmt::format("camera{}", out.size());
+        fc.unusable = camera_of(node, world, fc.camera);
+        out.push_back(fc);
+      }
+      for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, world);
+    }
+  }
+  return out;
 }
 
 }  // namespace raycoh::gltf

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "scenes/gltf_cameras.h"
 #include "scenes/scene.h"
 
 namespace raycoh::gltf {
@@ -95,6 +96,8 @@ class GltfReader {
       : model_(model), path_(path), scene_(scene) {}
 
   void read();
+  // Every camera node of the default scene, in traversal order (meshes are not read).
+  std::vector<FileCamera> cameras() const;
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
@@ -104,6 +107,8 @@ class GltfReader {
   std::vector<int> root_nodes() const;
   void visit(int root, const Mat4& parent);
   void take_camera(const tinygltf::Node& node, const Mat4& world);
+  // The view of camera node `node` at `world`; empty when usable, else why not.
+  std::string camera_of(const tinygltf::Node& node, const Mat4& world, Camera& out) const;
 
   // gltf_accessors.cpp
   const unsigned char* bytes(int buffer_view, size_t offset, size_t stride, size_t count, size_t elem,

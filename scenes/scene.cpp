@@ -18,6 +18,7 @@
 
 #include "core/error.h"
 #include "core/params.h"
+#include "scenes/gltf_cameras.h"
 
 namespace raycoh {
 
@@ -112,6 +113,29 @@ std::filesystem::path pick_scene_file(const std::filesystem::path& dir, const st
   std::sort(names.begin(), names.end());
   throw Error(
       fmt::format("scene '{}': the directory holds several scene files ({}); name one of them", spec, join(names)));
+}
+
+// `:camera=N|name` of a glTF file: its N-th camera node (traversal order) or the one of that name. The choices
+// are listed by get_choice's error; an orthographic or degenerate camera is refused naming why.
+void select_camera(Scene& scene, const std::string& path, ParamSet& params) {
+  std::vector<FileCamera> cams;
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  if (is_gltf_ext(ext)) cams = gltf_cameras(path);
+  std::vector<std::string> choices;
+  for (size_t i = 0; i < cams.size(); ++i) choices.push_back(std::to_string(i));
+  for (const FileCamera& c : cams) choices.push_back(c.name);
+  if (choices.empty()) choices.push_back("(none: the file has no camera)");
+  const std::string pick = params.get_choice("camera", "", choices);
+  if (pick.empty()) return;
+  size_t i = 0;
+  while (i < cams.size() && std::to_string(i) != pick) ++i;
+  if (i == cams.size()) {
+    i = 0;
+    while (cams[i].name != pick) ++i;
+  }
+  if (!cams[i].unusable.empty())
+    throw Error(fmt::format("scene '{}': camera={} ('{}'): {}", path, pick, cams[i].name, cams[i].unusable));
+  scene.camera = cams[i].camera;
 }
 
 }  // namespace
@@ -368,6 +392,7 @@ Scene load_scene(const std::string& spec) {
     Scene scene = load_scene(spec.substr(0, colon));
     ParamSet params(fmt::format("scene '{}'", spec.substr(0, colon)), spec.substr(colon + 1));
     const Vec3 sun = params.get_vec3("sun", scene.env.sun_dir, -1e3f, 1e3f);
+    select_camera(scene, spec.substr(0, colon), params);
     params.finish();
     if (!(dot(sun, sun) > 0.f)) throw Error(fmt::format("scene '{}': sun direction must not be zero", spec));
     scene.env.sun_dir = normalize(sun);

@@ -282,6 +282,23 @@ TEST(GltfLoader, CameraFromTrsNodeAndFallbackWithoutScenes) {
   EXPECT_NEAR(s.camera.vfov_deg, 0.5f * 180.f / 3.14159265f, 1e-3f);
 }
 
+TEST(GltfLoader, CameraParameterPicksACameraByIndexOrName) {
+  GltfWriter w = one_triangle();
+  w.cameras = R"([{"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}},
+                  {"type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}])";
+  w.nodes = R"([{"mesh":0,"children":[1,2,3]},{"camera":0,"name":"ortho"},{"camera":1,"translation":[5,1,0]},
+                {"camera":1,"name":"side","translation":[0,0,7]}])";
+  const std::string file = w.write("gltf_camera_pick", "cams.glb").string();
+  EXPECT_NEAR(load_scene(file).camera.eye.x, 5.f, 1e-6f);  // the first usable camera by default
+  EXPECT_NEAR(load_scene(file + ":camera=2").camera.eye.z, 7.f, 1e-6f);
+  EXPECT_NEAR(load_scene(file + ":camera=side").camera.eye.z, 7.f, 1e-6f);
+  EXPECT_NEAR(load_scene(file + ":camera=camera1").camera.eye.x, 5.f, 1e-6f);
+  const std::string ortho = test::error_of([&] { load_scene(file + ":camera=ortho"); });
+  EXPECT_NE(ortho.find("orthographic cameras are not supported"), std::string::npos) << ortho;
+  const std::string bad = test::error_of([&] { load_scene(file + ":camera=9"); });
+  EXPECT_NE(bad.find("0, 1, 2, ortho, camera1, side"), std::string::npos) << bad;
+}
+
 TEST(GltfLoader, ZeroAreaTrianglesAreCountedAndKept) {
   GltfWriter w;
   const int pos = w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0});
