@@ -392,7 +392,8 @@ Scene load_scene(const std::string& spec) {
     Scene scene = load_scene(spec.substr(0, colon));
     ParamSet params(fmt::format("scene '{}'", spec.substr(0, colon)), spec.substr(colon + 1));
     const Vec3 sun = params.get_vec3("sun", scene.env.sun_dir, -1e3f, 1e3f);
-    select_camera(scene, spec.substr(0, colon), params);
+    // Only a camera choice parses the file a second time (for its camera list).
+    if (spec.find("camera=", colon) != std::string::npos) select_camera(scene, spec.substr(0, colon), params);
     params.finish();
     if (!(dot(sun, sun) > 0.f)) throw Error(fmt::format("scene '{}': sun direction must not be zero", spec));
     scene.env.sun_dir = normalize(sun);
