@@ -55,9 +55,10 @@ void check_scene_names(const std::vector<std::string>& specs) {
   for (const std::string& spec : specs) {
     const auto [it, fresh] = seen.emplace(scene_name_of(spec), spec);
     if (!fresh)
-      throw Error(fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
-                              "separate --out files",
-                              it->second, spec, it->first));
+      throw Error(
+          fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
+                      "separate --out files",
+                      it->second, spec, it->first));
   }
 }
 
@@ -108,6 +109,7 @@ SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o, std:
                scene.name.c_str(), scene.triangle_count(), load_s, bvh.stats.inner_nodes, bvh.stats.leaves,
                bvh.stats.max_depth, bvh.stats.sah_cost, bvh.stats.bytes / 1048576.0, bvh.stats.build_seconds);
   for (const std::string& s : analyse(scene).skipped_stages) std::fprintf(stderr, "    skipped: %s\n", s.c_str());
+  for (const std::string& s : scene.load_notes) std::fprintf(stderr, "    loader: %s\n", s.c_str());
   for (const PluginSpec& t : o.tracers) {
     tracers.push_back(make_tracer(t, scene, bvh));
     const std::string p = tracers.back()->params();
@@ -185,8 +187,7 @@ ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
       provenance_(p),
       generators_(checked_generators(o)),
       permute_(parse_permute_mode(o.permute)),
-      csv_(o.out, experiment_schema(),
-           CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
+      csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
   for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
   if (!done_.empty())
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
@@ -360,6 +361,12 @@ void ExperimentRun::run_frame(int frame) {
   if (frame_resumed(frame)) return;
   const FirstHits first = first_hits(setup_->scene, *setup_->gbuffer_tracer, o_.width, o_.height, primary_order_,
                                      o_.seed, static_cast<uint32_t>(frame), true);
+  // A frame without a single hit would measure 0 secondary rays: a table of zeros is no result.
+  if (first.gbuffer.hits == 0)
+    throw Error(
+        fmt::format("scene '{}': the camera sees no triangle ({} of {} camera rays hit at {}x{}); nothing "
+                    "to measure",
+                    setup_->scene.source, 0, first.primary.rays.size(), o_.width, o_.height));
   const std::vector<Ray>& rays = first.primary.rays;
   hits_.resize(rays.size());
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {  // primary rays: the coherent bound

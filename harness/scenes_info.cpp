@@ -1,4 +1,5 @@
-// `raycoh scenes info SCENE`: a scene's features, the stages it skips, its camera and BVH statistics.
+// `raycoh scenes info SCENE`: a scene's features, the stages it skips, what the loader did (extensions, dropped
+// primitives, instancing, warnings), its camera and BVH statistics.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <memory>
@@ -31,6 +32,7 @@ void print_scene_info(const std::string& spec) {
               scene.camera.eye.y, scene.camera.eye.z, scene.camera.target.x, scene.camera.target.y,
               scene.camera.target.z, scene.camera.vfov_deg);
   for (const std::string& s : f.skipped_stages) std::printf("skipped      %s\n", s.c_str());
+  for (const std::string& s : scene.load_notes) std::printf("loader       %s\n", s.c_str());
   const Bvh bvh = build_bvh(scene);
   std::printf("bvh          %zu inner nodes, %zu leaves, depth %zu, SAH cost %.2f, %.2f MiB, built in %.3f s\n",
               bvh.stats.inner_nodes, bvh.stats.leaves, bvh.stats.max_depth, bvh.stats.sah_cost,

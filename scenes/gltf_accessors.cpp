@@ -5,6 +5,7 @@
 // Part of the glTF loader, the one adapter for tinygltf.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -12,45 +13,144 @@
 
 namespace raycoh::gltf {
 
-AccessorView GltfReader::view(int index, const std::string& what) const {
+// `count` elements of `elem` bytes, `stride` apart, at `offset` into buffer view `index`, all checked.
+const unsigned char* GltfReader::bytes(int index, size_t offset, size_t stride, size_t count, size_t elem,
+                                       const std::string& name) const {
+  if (index < 0 || static_cast<size_t>(index) >= model_.bufferViews.size())
+    fail(fmt::format("{} refers to buffer view {}, but there are {} buffer views", name, index,
+                     model_.bufferViews.size()));
+  const tinygltf::BufferView& bv = model_.bufferViews[static_cast<size_t>(index)];
+  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model_.buffers.size())
+    fail(fmt::format("buffer view {} refers to buffer {}, but there are {} buffers", index, bv.buffer,
+                     model_.buffers.size()));
+  const size_t buffer_size = model_.buffers[static_cast<size_t>(bv.buffer)].data.size();
+  if (buffer_size == 0) fail(fmt::format("buffer {} is empty or could not be loaded", bv.buffer));
+  if (bv.byteOffset > buffer_size || bv.byteLength > buffer_size - bv.byteOffset)
+    fail(fmt::format("buffer view {} ({} bytes at offset {}) lies outside buffer {} ({} bytes)", index, bv.byteLength,
+                     bv.byteOffset, bv.buffer, buffer_size));
+  if (count == 0) return nullptr;
+  // 128-bit arithmetic: count and offsets come straight from JSON and may be absurd.
+  const unsigned __int128 end =
+      static_cast<unsigned __int128>(offset) + static_cast<unsigned __int128>(stride) * (count - 1) + elem;
+  if (end > bv.byteLength)
+    fail(fmt::format("{} needs {} elements of {} bytes at offset {} (stride {}), beyond the {} bytes of buffer view {}",
+                     name, count, elem, offset, stride, bv.byteLength, index));
+  return model_.buffers[static_cast<size_t>(bv.buffer)].data.data() + bv.byteOffset + offset;
+}
+
+AccessorView GltfReader::view(int index, const std::string& what, bool allow_sparse) const {
   if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
     fail(fmt::format("{} refers to accessor {}, but there are {} accessors", what, index, model_.accessors.size()));
   const tinygltf::Accessor& a = model_.accessors[static_cast<size_t>(index)];
   const std::string name = fmt::format("accessor {} ({})", index, what);
-  if (a.sparse.isSparse) fail(name + " is sparse; sparse accessors are not supported");
-  if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model_.bufferViews.size())
-    fail(fmt::format("{} refers to buffer view {}, but there are {} buffer views", name, a.bufferView,
-                     model_.bufferViews.size()));
-  const tinygltf::BufferView& bv = model_.bufferViews[static_cast<size_t>(a.bufferView)];
-  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model_.buffers.size())
-    fail(fmt::format("buffer view {} refers to buffer {}, but there are {} buffers", a.bufferView, bv.buffer,
-                     model_.buffers.size()));
-  const size_t buffer_size = model_.buffers[static_cast<size_t>(bv.buffer)].data.size();
-  if (buffer_size == 0) fail(fmt::format("buffer {} is empty or could not be loaded", bv.buffer));
+  if (a.sparse.isSparse && !allow_sparse) fail(name + " is sparse; sparse index accessors are not supported");
   const int comp = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
   const int ncomp = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
   if (comp <= 0 || ncomp <= 0)
     fail(fmt::format("{} has an invalid component type {} or type {}", name, a.componentType, a.type));
-  const size_t elem = static_cast<size_t>(comp) * static_cast<size_t>(ncomp);
-  const size_t stride = bv.byteStride ? bv.byteStride : elem;
-  if (stride < elem) fail(fmt::format("{}: byte stride {} is smaller than its {}-byte elements", name, stride, elem));
-  if (bv.byteOffset > buffer_size || bv.byteLength > buffer_size - bv.byteOffset)
-    fail(fmt::format("buffer view {} ({} bytes at offset {}) lies outside buffer {} ({} bytes)", a.bufferView,
-                     bv.byteLength, bv.byteOffset, bv.buffer, buffer_size));
   AccessorView v;
-  v.stride = stride;
   v.count = a.count;
   v.component_type = a.componentType;
   v.type = a.type;
-  if (a.count == 0) return v;
-  // 128-bit arithmetic: count and offsets come straight from JSON and may be absurd.
-  const unsigned __int128 end =
-      static_cast<unsigned __int128>(a.byteOffset) + static_cast<unsigned __int128>(stride) * (a.count - 1) + elem;
-  if (end > bv.byteLength)
-    fail(fmt::format("{} needs {} elements of {} bytes at offset {} (stride {}), beyond the {} bytes of buffer view {}",
-                     name, a.count, elem, a.byteOffset, stride, bv.byteLength, a.bufferView));
-  v.data = model_.buffers[static_cast<size_t>(bv.buffer)].data.data() + bv.byteOffset + a.byteOffset;
+  v.normalized = a.normalized;
+  const size_t elem = static_cast<size_t>(comp) * static_cast<size_t>(ncomp);
+  // Without a buffer view the values are zeros (only sparse substitutions change them).
+  if (a.bufferView < 0 && allow_sparse && a.sparse.isSparse) return v;
+  size_t stride = elem;
+  if (a.bufferView >= 0 && static_cast<size_t>(a.bufferView) < model_.bufferViews.size()) {
+    const size_t s = model_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride;
+    stride = s ? s : elem;
+  }
+  if (stride < elem) fail(fmt::format("{}: byte stride {} is smaller than its {}-byte elements", name, stride, elem));
+  v.stride = stride;
+  v.data = bytes(a.bufferView, a.byteOffset, stride, a.count, elem, name);
   return v;
+}
+
+namespace {
+
+// One component as a float: floats as they are, integers normalised (glTF 2.0 section 3.11) or converted.
+float component(const unsigned char* p, int component_type, bool normalized) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float f;
+      std::memcpy(&f, p, 4);
+      return f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const auto c = static_cast<int8_t>(p[0]);
+      return normalized ? std::max(c / 127.f, -1.f) : static_cast<float>(c);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return normalized ? p[0] / 255.f : static_cast<float>(p[0]);
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t c;
+      std::memcpy(&c, p, 2);
+      return normalized ? std::max(c / 32767.f, -1.f) : static_cast<float>(c);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t c;
+      std::memcpy(&c, p, 2);
+      return normalized ? c / 65535.f : static_cast<float>(c);
+    }
+    default:
+      return 0.f;
+  }
+}
+
+}  // namespace
+
+std::vector<float> GltfReader::read_floats(int accessor, int type, const std::string& what) const {
+  const AccessorView v = view(accessor, what, true);
+  const std::string name = fmt::format("accessor {} ({})", accessor, what);
+  const bool integer =
+      v.component_type == TINYGLTF_COMPONENT_TYPE_BYTE || v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+      v.component_type == TINYGLTF_COMPONENT_TYPE_SHORT || v.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  if (v.type != type || (v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && !integer))
+    fail(fmt::format("{} must be float {} (or KHR_mesh_quantization's byte or short; component type {}, type {} given)",
+                     name, type == TINYGLTF_TYPE_VEC3 ? "VEC3" : (type == TINYGLTF_TYPE_VEC2 ? "VEC2" : "VEC4"),
+                     v.component_type, v.type));
+  const size_t n = static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(type)));
+  const size_t csize = static_cast<size_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(v.component_type)));
+  if (v.count > (size_t{1} << 32)) fail(fmt::format("{} has {} elements, too many", name, v.count));
+  std::vector<float> out(v.count * n, 0.f);
+  auto put = [&](size_t i, const unsigned char* p) {
+    for (size_t c = 0; c < n; ++c) out[i * n + c] = component(p + c * csize, v.component_type, v.normalized);
+  };
+  if (v.data)
+    for (size_t i = 0; i < v.count; ++i) put(i, v.data + i * v.stride);
+  const tinygltf::Accessor& a = model_.accessors[static_cast<size_t>(accessor)];
+  if (a.sparse.isSparse) {
+    // Sparse substitution (glTF 2.0 section 3.6.2.3): count (index, value) pairs replace elements.
+    const size_t count = a.sparse.count > 0 ? static_cast<size_t>(a.sparse.count) : 0;
+    const int ict = a.sparse.indices.componentType;
+    const int isize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(ict));
+    if (ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(fmt::format("{}: sparse indices have component type {}; must be unsigned byte, short or int", name, ict));
+    const unsigned char* idx =
+        bytes(a.sparse.indices.bufferView, static_cast<size_t>(std::max(a.sparse.indices.byteOffset, 0)),
+              static_cast<size_t>(isize), count, static_cast<size_t>(isize), name + " sparse indices");
+    const unsigned char* val =
+        bytes(a.sparse.values.bufferView, static_cast<size_t>(std::max(a.sparse.values.byteOffset, 0)), n * csize,
+              count, n * csize, name + " sparse values");
+    for (size_t k = 0; k < count; ++k) {
+      uint32_t target = 0;
+      if (isize == 1) target = idx[k];
+      if (isize == 2) {
+        uint16_t t16;
+        std::memcpy(&t16, idx + 2 * k, 2);
+        target = t16;
+      }
+      if (isize == 4) std::memcpy(&target, idx + 4 * k, 4);
+      if (target >= v.count)
+        fail(fmt::format("{}: sparse index {} is out of range ({} elements)", name, target, v.count));
+      put(target, val + k * n * csize);
+    }
+  }
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!std::isfinite(out[i])) fail(fmt::format("{}: element {} is not finite ({})", name, i / n, out[i]));
+  return out;
 }
 
 std::vector<uint32_t> GltfReader::read_indices(int accessor, size_t vertex_count, const std::string& what) const {
@@ -86,41 +186,42 @@ std::vector<uint32_t> GltfReader::read_indices(int accessor, size_t vertex_count
   return out;
 }
 
-void GltfReader::check_float3(const AccessorView& v, int accessor, const std::string& what) const {
-  if (v.type != TINYGLTF_TYPE_VEC3 || v.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT)
-    fail(fmt::format("accessor {} ({}) must be float VEC3 (component type {}, type {} given)", accessor, what,
-                     v.component_type, v.type));
+void GltfReader::append_positions(const std::vector<float>& p, const Mat4& world) {
+  for (size_t i = 0; i + 2 < p.size(); i += 3) scene_.positions.push_back(world.point(&p[i]));
 }
 
-void GltfReader::append_positions(const AccessorView& pv, int accessor, const std::string& what, const Mat4& world) {
-  for (size_t i = 0; i < pv.count; ++i) {
-    float p[3];
-    std::memcpy(p, pv.data + i * pv.stride, sizeof p);
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-      fail(fmt::format("accessor {} ({}): vertex {} is not finite ({}, {}, {})", accessor, what, i, p[0], p[1], p[2]));
-    scene_.positions.push_back(world.point(p));
-  }
-}
-
-// The NORMAL attribute through the normal matrix; without one, zero normals that finalize_scene replaces by
-// area-weighted ones. `base` is the index of the primitive's first vertex.
+// The NORMAL attribute (plus morph targets' offsets) through the normal matrix; without one, zero normals that
+// finalize_scene replaces by area-weighted ones. `base` is the index of the primitive's first vertex.
 void GltfReader::append_normals(const tinygltf::Primitive& prim, const std::string& where, size_t base,
-                                size_t position_count, const NormalMatrix& normal_matrix) {
+                                size_t position_count, const NormalMatrix& normal_matrix,
+                                const std::vector<double>& weights) {
   const auto nrm_it = prim.attributes.find("NORMAL");
   if (nrm_it == prim.attributes.end()) {
     scene_.normals.resize(base + position_count, Vec3{0.f, 0.f, 0.f});
     scene_.generated_normals = true;
     return;
   }
-  const std::string nrm_what = "NORMAL of " + where;
-  const AccessorView nv = view(nrm_it->second, nrm_what);
-  check_float3(nv, nrm_it->second, nrm_what);
-  if (nv.count != position_count)
-    fail(fmt::format("{} has {} normals for {} positions", where, nv.count, position_count));
-  for (size_t i = 0; i < nv.count; ++i) {
-    float n[3];
-    std::memcpy(n, nv.data + i * nv.stride, sizeof n);
-    scene_.normals.push_back(normal_matrix.apply(n));
+  std::vector<float> n = read_floats(nrm_it->second, TINYGLTF_TYPE_VEC3, "NORMAL of " + where);
+  if (n.size() != 3 * position_count)
+    fail(fmt::format("{} has {} normals for {} positions", where, n.size() / 3, position_count));
+  morph(prim, "NORMAL", where, weights, n);
+  for (size_t i = 0; i < position_count; ++i) scene_.normals.push_back(normal_matrix.apply(&n[3 * i]));
+}
+
+// Adds the morph targets' `attribute` offsets with the default weights (glTF 2.0 section 3.7.2.2).
+void GltfReader::morph(const tinygltf::Primitive& prim, const char* attribute, const std::string& where,
+                       const std::vector<double>& weights, std::vector<float>& values) {
+  for (size_t t = 0; t < prim.targets.size() && t < weights.size(); ++t) {
+    if (weights[t] == 0.0) continue;
+    const auto it = prim.targets[t].find(attribute);
+    if (it == prim.targets[t].end()) continue;
+    const std::vector<float> d =
+        read_floats(it->second, TINYGLTF_TYPE_VEC3, fmt::format("{} of morph target {} of {}", attribute, t, where));
+    if (d.size() != values.size())
+      fail(fmt::format("morph target {} of {} has {} {} values for {}", t, where, d.size() / 3, attribute,
+                       values.size() / 3));
+    for (size_t i = 0; i < values.size(); ++i) values[i] += static_cast<float>(weights[t]) * d[i];
+    morph_weighted_ = true;
   }
 }
 

@@ -1,7 +1,8 @@
 // glTF material mapping: a tinygltf::Material becomes a classified raycoh Material. It reads the
 // pbrMetallicRoughness factors, emissiveFactor x KHR_materials_emissive_strength, KHR_materials_transmission,
 // KHR_materials_ior and KHR_materials_volume (present = solid, absent = thin-walled), and notes whether any
-// texture is referenced (images are never decoded). Part of the glTF loader, the one adapter for tinygltf.
+// texture is referenced (gltf_textures.cpp then scales the factors per triangle by the decoded textures). Part of
+// the glTF loader, the one adapter for tinygltf.
 #include <fmt/format.h>
 
 #include "scenes/gltf_reader.h"

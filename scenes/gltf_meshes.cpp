@@ -11,19 +11,60 @@
 
 namespace raycoh::gltf {
 
-void GltfReader::read_mesh(int mesh_index, const Mat4& world) {
+// Morph weights: the node's, else the mesh's default weights (glTF 2.0 section 3.7.2.2).
+void GltfReader::read_mesh(int mesh_index, const Mat4& world, const std::vector<double>& node_weights) {
   const tinygltf::Mesh& mesh = model_.meshes[static_cast<size_t>(mesh_index)];
   const NormalMatrix normal_matrix(world);
+  const std::vector<double>& weights = node_weights.empty() ? mesh.weights : node_weights;
   for (size_t pi = 0; pi < mesh.primitives.size(); ++pi)
-    read_primitive(mesh.primitives[pi], fmt::format("mesh {} primitive {}", mesh_index, pi), world, normal_matrix);
+    read_primitive(mesh.primitives[pi], fmt::format("mesh {} primitive {}", mesh_index, pi), world, normal_matrix,
+                   weights);
+}
+
+// EXT_mesh_gpu_instancing, flattened: the mesh once per instance, at node world x T x R x S of the instance.
+void GltfReader::read_instanced_mesh(int node_index, const tinygltf::Node& node, const Mat4& world) {
+  const tinygltf::Value& ext = node.extensions.at("EXT_mesh_gpu_instancing");
+  const std::string where = fmt::format("EXT_mesh_gpu_instancing of node {}", node_index);
+  if (!ext.IsObject() || !ext.Has("attributes") || !ext.Get("attributes").IsObject())
+    fail(where + " has no attributes object");
+  const tinygltf::Value& attrs = ext.Get("attributes");
+  std::vector<float> t, r, s;
+  size_t count = 0;
+  bool any = false;
+  auto read = [&](const char* key, int type, std::vector<float>& out) {
+    if (!attrs.Has(key)) return;
+    const tinygltf::Value& v = attrs.Get(key);
+    if (!v.IsInt()) fail(fmt::format("{}: {} is not an accessor index", where, key));
+    out = read_floats(v.GetNumberAsInt(), type, fmt::format("{} of {}", key, where));
+    const size_t n = out.size() / static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(type)));
+    if (any && n != count) fail(fmt::format("{}: {} has {} instances, other attributes {}", where, key, n, count));
+    count = n;
+    any = true;
+  };
+  read("TRANSLATION", TINYGLTF_TYPE_VEC3, t);
+  read("ROTATION", TINYGLTF_TYPE_VEC4, r);
+  read("SCALE", TINYGLTF_TYPE_VEC3, s);
+  if (!any) fail(where + " has none of TRANSLATION, ROTATION, SCALE");
+  ++instanced_nodes_;
+  instances_ += count;
+  for (size_t i = 0; i < count; ++i) {
+    tinygltf::Node trs;
+    if (!t.empty()) trs.translation = {t[3 * i], t[3 * i + 1], t[3 * i + 2]};
+    if (!r.empty()) trs.rotation = {r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]};
+    if (!s.empty()) trs.scale = {s[3 * i], s[3 * i + 1], s[3 * i + 2]};
+    read_mesh(node.mesh, world * local_transform(trs), node.weights);
+  }
 }
 
 void GltfReader::read_primitive(const tinygltf::Primitive& prim, const std::string& where, const Mat4& world,
-                                const NormalMatrix& normal_matrix) {
+                                const NormalMatrix& normal_matrix, const std::vector<double>& weights) {
   const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-  if (mode == TINYGLTF_MODE_POINTS || mode == TINYGLTF_MODE_LINE || mode == TINYGLTF_MODE_LINE_LOOP ||
-      mode == TINYGLTF_MODE_LINE_STRIP) {
-    ++skipped_primitives_;
+  if (mode == TINYGLTF_MODE_POINTS) {
+    ++skipped_points_;
+    return;
+  }
+  if (mode == TINYGLTF_MODE_LINE || mode == TINYGLTF_MODE_LINE_LOOP || mode == TINYGLTF_MODE_LINE_STRIP) {
+    ++skipped_lines_;
     return;
   }
   if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
@@ -31,16 +72,18 @@ void GltfReader::read_primitive(const tinygltf::Primitive& prim, const std::stri
 
   const auto pos_it = prim.attributes.find("POSITION");
   if (pos_it == prim.attributes.end()) fail(where + " has no POSITION attribute");
-  const std::string pos_what = "POSITION of " + where;
-  const AccessorView pv = view(pos_it->second, pos_what);
-  check_float3(pv, pos_it->second, pos_what);
+  std::vector<float> p = read_floats(pos_it->second, TINYGLTF_TYPE_VEC3, "POSITION of " + where);
+  const size_t count = p.size() / 3;
   const size_t base = scene_.positions.size();
-  if (pv.count > UINT32_MAX - base) fail(fmt::format("more than {} vertices", UINT32_MAX));
+  if (count > UINT32_MAX - base) fail(fmt::format("more than {} vertices", UINT32_MAX));
 
+  if (!prim.targets.empty()) ++morph_primitives_;
   const uint32_t material = primitive_material(prim, where);
-  const std::vector<uint32_t> idx = primitive_indices(prim, pv.count, where);
-  append_positions(pv, pos_it->second, pos_what, world);
-  append_normals(prim, where, base, pv.count, normal_matrix);
+  const std::vector<uint32_t> idx = primitive_indices(prim, count, where);
+  morph(prim, "POSITION", where, weights, p);
+  append_positions(p, world);
+  append_normals(prim, where, base, count, normal_matrix, weights);
+  append_texcoords(prim, where, count);
   emit_triangles(mode, idx, base, material, normal_matrix.sign < 0.0);
 }
 

@@ -46,11 +46,42 @@ void GltfReader::read() {
     scene_.materials.push_back(convert_material(model_.materials[i], i));
   visit_count_.assign(model_.nodes.size(), 0);
   for (int root : root_nodes()) visit(root, Mat4{});
+  const size_t skipped = skipped_points_ + skipped_lines_;
   if (scene_.indices.empty()) {
-    if (skipped_primitives_ > 0)
-      fail(fmt::format("only point or line primitives ({} skipped); no triangles to trace", skipped_primitives_));
+    if (skipped > 0) fail(fmt::format("only point or line primitives ({} skipped); no triangles to trace", skipped));
     fail("no triangles");
   }
+  apply_textures();
+  note_dropped();
+}
+
+// Everything in the file that is not traced as it would animate or render, so that nothing is dropped silently.
+void GltfReader::note_dropped() {
+  auto& notes = scene_.load_notes;
+  if (skipped_points_ > 0)
+    notes.push_back(fmt::format("dropped {} point primitive(s): points have no area to trace", skipped_points_));
+  if (skipped_lines_ > 0)
+    notes.push_back(fmt::format("dropped {} line primitive(s): lines have no area to trace", skipped_lines_));
+  if (instances_ > 0)
+    notes.push_back(fmt::format("EXT_mesh_gpu_instancing: {} instance(s) on {} node(s), flattened into world space",
+                                instances_, instanced_nodes_));
+  if (morph_primitives_ > 0)
+    notes.push_back(fmt::format("{} primitive(s) with morph targets: base shape{}", morph_primitives_,
+                                morph_weighted_ ? " plus the mesh's default weights" : " (default weights 0)"));
+  if (!model_.skins.empty())
+    notes.push_back(fmt::format("{} skin(s): meshes at their node transforms (rest pose), joints not applied",
+                                model_.skins.size()));
+  if (!model_.animations.empty())
+    notes.push_back(fmt::format("{} animation(s) ignored: the static pose is traced", model_.animations.size()));
+  if (model_.scenes.size() > 1)
+    notes.push_back(fmt::format("{} scenes in the file: the default scene is traced", model_.scenes.size()));
+  size_t ortho = 0;
+  for (const auto& c : model_.cameras) ortho += c.type == "orthographic";
+  if (!model_.cameras.empty())
+    notes.push_back(fmt::format(
+        "{} camera(s) in the file{}: {}", model_.cameras.size(),
+        ortho ? fmt::format(" ({} orthographic, not supported)", ortho) : std::string(),
+        scene_.camera.from_file ? "the first perspective camera in the scene is used" : "none used, default framing"));
 }
 
 void GltfReader::fail(const std::string& what) const { throw Error(fmt::format("scene '{}': {}", path_, what)); }
@@ -89,7 +120,10 @@ void GltfReader::visit(int root, const Mat4& parent) {
     if (node.mesh >= 0) {
       if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
         fail(fmt::format("node {} refers to mesh {}, but there are {} meshes", index, node.mesh, model_.meshes.size()));
-      read_mesh(node.mesh, world);
+      if (node.extensions.count("EXT_mesh_gpu_instancing"))
+        read_instanced_mesh(index, node, world);
+      else
+        read_mesh(node.mesh, world, node.weights);
     }
     if (node.camera >= 0) take_camera(node, world);
     // Reversed so that children are visited in file order (the first camera found is the first in the file).
@@ -98,20 +132,55 @@ void GltfReader::visit(int root, const Mat4& parent) {
 }
 
 void GltfReader::take_camera(const tinygltf::Node& node, const Mat4& world) {
-  if (scene_.camera.from_file || static_cast<size_t>(node.camera) >= model_.cameras.size()) return;
+  if (scene_.camera.from_file) return;
+  Camera cam;
+  if (camera_of(node, world, cam).empty()) scene_.camera = cam;
+}
+
+std::string GltfReader::camera_of(const tinygltf::Node& node, const Mat4& world, Camera& out) const {
+  if (node.camera < 0 || static_cast<size_t>(node.camera) >= model_.cameras.size())
+    return fmt::format("camera {} does not exist", node.camera);
   const tinygltf::Camera& cam = model_.cameras[static_cast<size_t>(node.camera)];
-  if (cam.type != "perspective") return;
+  if (cam.type != "perspective") return fmt::format("{} cameras are not supported", cam.type);
   const Vec3 forward = -world.column(2), up = world.column(1), eye = world.column(3);
   const double yfov = cam.perspective.yfov * 180.0 / 3.14159265358979323846;
   if (!is_finite(eye) || !is_finite(forward) || !is_finite(up) || !(dot(forward, forward) > 0.f) ||
       !(dot(up, up) > 0.f) || !(yfov > 0.0 && yfov < 180.0))
-    return;
+    return "its transform or field of view is degenerate";
   // The target is one unit ahead: only the direction matters to the camera model.
-  scene_.camera.eye = eye;
-  scene_.camera.target = eye + normalize(forward);
-  scene_.camera.up = normalize(up);
-  scene_.camera.vfov_deg = static_cast<float>(yfov);
-  scene_.camera.from_file = true;
+  out.eye = eye;
+  out.target = eye + normalize(forward);
+  out.up = normalize(up);
+  out.vfov_deg = static_cast<float>(yfov);
+  out.from_file = true;
+  return {};
+}
+
+std::vector<FileCamera> GltfReader::cameras() const {
+  std::vector<FileCamera> out;
+  std::vector<uint8_t> seen(model_.nodes.size(), 0);
+  for (int root : root_nodes()) {
+    std::vector<std::pair<int, Mat4>> stack{{root, Mat4{}}};
+    while (!stack.empty()) {
+      auto [index, parent_world] = stack.back();
+      stack.pop_back();
+      if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size() || seen[static_cast<size_t>(index)]++)
+        continue;  // read() reports these
+      const tinygltf::Node& node = model_.nodes[static_cast<size_t>(index)];
+      const Mat4 world = parent_world * local_transform(node);
+      if (node.camera >= 0) {
+        FileCamera fc;
+        fc.name = node.name;
+        if (fc.name.empty() && static_cast<size_t>(node.camera) < model_.cameras.size())
+          fc.name = model_.cameras[static_cast<size_t>(node.camera)].name;
+        if (fc.name.empty()) fc.name = fmt::format("camera{}", out.size());
+        fc.unusable = camera_of(node, world, fc.camera);
+        out.push_back(fc);
+      }
+      for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, world);
+    }
+  }
+  return out;
 }
 
 }  // namespace raycoh::gltf

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "scenes/gltf_cameras.h"
 #include "scenes/scene.h"
 
 namespace raycoh::gltf {
@@ -84,6 +85,7 @@ struct AccessorView {
   size_t count = 0;
   int component_type = 0;
   int type = 0;
+  bool normalized = false;
 };
 
 // Flattens the default scene's node hierarchy of a parsed model into `scene`, checking every reference and byte
@@ -94,27 +96,43 @@ class GltfReader {
       : model_(model), path_(path), scene_(scene) {}
 
   void read();
+  // Every camera node of the default scene, in traversal order (meshes are not read).
+  std::vector<FileCamera> cameras() const;
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
+  void note_dropped();
 
   // gltf_nodes.cpp
   std::vector<int> root_nodes() const;
   void visit(int root, const Mat4& parent);
   void take_camera(const tinygltf::Node& node, const Mat4& world);
+  // The view of camera node `node` at `world`; empty when usable, else why not.
+  std::string camera_of(const tinygltf::Node& node, const Mat4& world, Camera& out) const;
 
   // gltf_accessors.cpp
-  AccessorView view(int index, const std::string& what) const;
+  const unsigned char* bytes(int buffer_view, size_t offset, size_t stride, size_t count, size_t elem,
+                             const std::string& name) const;
+  AccessorView view(int index, const std::string& what, bool allow_sparse = false) const;
   std::vector<uint32_t> read_indices(int accessor, size_t vertex_count, const std::string& what) const;
-  void check_float3(const AccessorView& v, int accessor, const std::string& what) const;
-  void append_positions(const AccessorView& pv, int accessor, const std::string& what, const Mat4& world);
+  // Every element as floats (type: TINYGLTF_TYPE_VEC2/3/4): float, or byte/short (normalised or not, as
+  // KHR_mesh_quantization allows), with sparse substitutions applied; non-finite values are errors.
+  std::vector<float> read_floats(int accessor, int type, const std::string& what) const;
+  void append_positions(const std::vector<float>& p, const Mat4& world);
   void append_normals(const tinygltf::Primitive& prim, const std::string& where, size_t base, size_t position_count,
-                      const NormalMatrix& normal_matrix);
+                      const NormalMatrix& normal_matrix, const std::vector<double>& weights);
+  void morph(const tinygltf::Primitive& prim, const char* attribute, const std::string& where,
+             const std::vector<double>& weights, std::vector<float>& values);
+
+  // gltf_textures.cpp
+  void append_texcoords(const tinygltf::Primitive& prim, const std::string& where, size_t count);
+  void apply_textures();
 
   // gltf_meshes.cpp
-  void read_mesh(int mesh_index, const Mat4& world);
+  void read_mesh(int mesh_index, const Mat4& world, const std::vector<double>& node_weights);
+  void read_instanced_mesh(int node_index, const tinygltf::Node& node, const Mat4& world);
   void read_primitive(const tinygltf::Primitive& prim, const std::string& where, const Mat4& world,
-                      const NormalMatrix& normal_matrix);
+                      const NormalMatrix& normal_matrix, const std::vector<double>& weights);
   uint32_t primitive_material(const tinygltf::Primitive& prim, const std::string& where);
   std::vector<uint32_t> primitive_indices(const tinygltf::Primitive& prim, size_t vertex_count,
                                           const std::string& where) const;
@@ -125,7 +143,11 @@ class GltfReader {
   const std::string& path_;
   Scene& scene_;
   std::vector<uint32_t> visit_count_;
-  size_t skipped_primitives_ = 0;
+  size_t skipped_points_ = 0, skipped_lines_ = 0;  // primitives not traced (no area)
+  size_t morph_primitives_ = 0;                    // primitives with morph targets
+  bool morph_weighted_ = false;                    // some morph target had a non-zero default weight
+  size_t instanced_nodes_ = 0, instances_ = 0;     // EXT_mesh_gpu_instancing, flattened
+  std::vector<float> uv_[2];                       // TEXCOORD_0 and _1 per scene vertex (zero where absent)
   int64_t default_material_ = -1;
 };
 

@@ -21,7 +21,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -70,11 +73,39 @@ std::string first_line(const std::string& text) {
   throw Error(fmt::format("scene '{}': {}", path, what));
 }
 
+// tinyobjloader reads "v 1 zero 0" as (1, 0, 0) and "v 1 0" as (1, 0, 0) without a word, so every v, vn and vt
+// line is checked first: each value a finite number (strtod must consume the whole token), and the count right
+// (v: x y z, optionally w or r g b; vn: x y z; vt: u, optionally v and w).
+void check_numbers(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    const size_t hash = line.find('#');
+    std::istringstream tokens(line.substr(0, hash));
+    std::string key;
+    if (!(tokens >> key) || (key != "v" && key != "vn" && key != "vt")) continue;
+    size_t count = 0;
+    for (std::string tok; tokens >> tok; ++count) {
+      char* end = nullptr;
+      const double value = std::strtod(tok.c_str(), &end);
+      if (end != tok.c_str() + tok.size() || !std::isfinite(value))
+        fail(path, fmt::format("line {}: '{}' is not a finite number (in \"{}\")", number, tok, first_line(line)));
+    }
+    const size_t lo = key == "vt" ? 1 : 3, hi = key == "v" ? 6 : 3;
+    if (count < lo || count > hi || (key == "v" && count == 5))
+      fail(path, fmt::format("line {}: '{}' needs {} numbers, not {} (in \"{}\")", number, key,
+                             key == "v" ? "3 (x y z), 4 (x y z w) or 6 (x y z r g b)"
+                                        : (key == "vn" ? "3 (x y z)" : "1 to 3 (u v w)"),
+                             count, first_line(line)));
+  }
+}
+
 // Checks that the file exists and is not empty, then parses it (faces untriangulated).
 void parse_obj(const std::string& path, tinyobj::ObjReader& reader) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) fail(path, "no such file");
   if (std::filesystem::file_size(path, ec) == 0) fail(path, "the file is empty");
+  check_numbers(path);
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;

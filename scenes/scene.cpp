@@ -18,6 +18,7 @@
 
 #include "core/error.h"
 #include "core/params.h"
+#include "scenes/gltf_cameras.h"
 
 namespace raycoh {
 
@@ -114,6 +115,29 @@ std::filesystem::path pick_scene_file(const std::filesystem::path& dir, const st
       fmt::format("scene '{}': the directory holds several scene files ({}); name one of them", spec, join(names)));
 }
 
+// `:camera=N|name` of a glTF file: its N-th camera node (traversal order) or the one of that name. The choices
+// are listed by get_choice's error; an orthographic or degenerate camera is refused naming why.
+void select_camera(Scene& scene, const std::string& path, ParamSet& params) {
+  std::vector<FileCamera> cams;
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  if (is_gltf_ext(ext)) cams = gltf_cameras(path);
+  std::vector<std::string> choices;
+  for (size_t i = 0; i < cams.size(); ++i) choices.push_back(std::to_string(i));
+  for (const FileCamera& c : cams) choices.push_back(c.name);
+  if (choices.empty()) choices.push_back("(none: the file has no camera)");
+  const std::string pick = params.get_choice("camera", "", choices);
+  if (pick.empty()) return;
+  size_t i = 0;
+  while (i < cams.size() && std::to_string(i) != pick) ++i;
+  if (i == cams.size()) {
+    i = 0;
+    while (cams[i].name != pick) ++i;
+  }
+  if (!cams[i].unusable.empty())
+    throw Error(fmt::format("scene '{}': camera={} ('{}'): {}", path, pick, cams[i].name, cams[i].unusable));
+  scene.camera = cams[i].camera;
+}
+
 }  // namespace
 
 const char* to_string(MaterialClass c) {
@@ -134,7 +158,8 @@ const char* to_string(MaterialClass c) {
 
 MaterialClass classify_material(const Material& m) {
   if (max_component(m.emission) > 0.f) return MaterialClass::Emissive;
-  if (m.transmission > 0.5f) return MaterialClass::Transmissive;
+  // KHR_materials_transmission: transmission replaces only the dielectric part, so a metal stays a metal.
+  if (m.transmission * (1.f - m.metallic) > 0.5f) return MaterialClass::Transmissive;
   if (m.roughness <= kSpecularRoughness) return MaterialClass::Specular;
   if (m.roughness <= kGlossyRoughness || m.metallic >= 0.5f) return MaterialClass::Glossy;
   return MaterialClass::Diffuse;
@@ -216,6 +241,13 @@ std::vector<float> repair_normals_and_measure(Scene& scene) {
     }
   }
   scene.degenerate_tris = degenerate;
+  if (degenerate == tris) {
+    const std::string& who = scene.source.empty() ? scene.name : scene.source;
+    throw Error(
+        fmt::format("scene '{}': all {} triangles have zero area in float (collapsed by their scale or "
+                    "position?); nothing can be hit",
+                    who, tris));
+  }
   if (any_repair) {
     for (size_t i = 0; i < scene.normals.size(); ++i) {
       if (!repair[i]) continue;
@@ -293,11 +325,9 @@ SceneFeatures analyse(const Scene& scene) {
   f.has_textures = textured > 0;
   f.needs_env_light = scene.env.enabled;
 
-  // Every stage shades with material constants; textures would only change colours, not ray directions.
-  f.skipped_stages.push_back(f.has_textures ? fmt::format("texture decoding: no stage needs textures ({} textured "
-                                                          "materials use their base colour factor)",
-                                                          textured)
-                                            : std::string("texture decoding: scene has no textures"));
+  // glTF textures are folded into per-triangle materials at load time (scenes/gltf_textures.cpp); OBJ texture
+  // maps are not read.
+  if (!f.has_textures) f.skipped_stages.push_back("texture decoding: scene has no textures");
   if (!f.has_glossy) f.skipped_stages.push_back("hybrid groups: no glossy materials");
   if (!f.has_transmissive) f.skipped_stages.push_back("transmission handling: no transmissive materials");
   if (!f.has_emissive) f.skipped_stages.push_back("emitter sampling: scene has no emitters");
@@ -362,6 +392,8 @@ Scene load_scene(const std::string& spec) {
     Scene scene = load_scene(spec.substr(0, colon));
     ParamSet params(fmt::format("scene '{}'", spec.substr(0, colon)), spec.substr(colon + 1));
     const Vec3 sun = params.get_vec3("sun", scene.env.sun_dir, -1e3f, 1e3f);
+    // Only a camera choice parses the file a second time (for its camera list).
+    if (spec.find("camera=", colon) != std::string::npos) select_camera(scene, spec.substr(0, colon), params);
     params.finish();
     if (!(dot(sun, sun) > 0.f)) throw Error(fmt::format("scene '{}': sun direction must not be zero", spec));
     scene.env.sun_dir = normalize(sun);

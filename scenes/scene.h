@@ -66,7 +66,11 @@ struct Scene {
   Environment env;
   Bounds bounds;
   uint32_t degenerate_tris = 0;  // zero-area triangles (kept; they are never hit)
+  size_t alpha_cut_tris = 0;     // triangles removed by an alpha MASK (glTF textures, per triangle)
   bool generated_normals = false;
+  // What the loader did that changes the workload or the materials, one line each, for `scenes info`: each glTF
+  // extension used (supported / mapped / ignored), dropped primitives by kind, instancing, tinygltf's warnings.
+  std::vector<std::string> load_notes;
 
   size_t triangle_count() const { return indices.size() / 3; }
 };

@@ -125,6 +125,14 @@ Image read_image(const std::string& path);
 // Throws raycoh::Error naming `what` (e.g. "--out") unless write_image can write `path` in this build (a known
 // extension, and image I/O for .exr/.png): lets a command fail before it renders rather than after.
 void check_output_image_path(const std::string& what, const std::string& path);
+// An 8-bit RGBA image decoded from an encoded file's bytes (scene textures: PNG, JPEG, WebP): grey is replicated
+// and missing alpha is 255. Returns false and says why when the bytes cannot be decoded, or when this build has
+// no image I/O (RAYCOH_IMAGE_IO=OFF).
+struct Rgba8Image {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgba;
+};
+bool decode_rgba8(const unsigned char* bytes, size_t size, Rgba8Image& out, std::string& why);
 // True when this build reads and writes EXR/PNG (RAYCOH_IMAGE_IO=ON).
 bool image_io_available();
 // The extension references and float images use in this build: ".exr" with image I/O, else ".pfm".

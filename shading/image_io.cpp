@@ -10,13 +10,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <string>
 
+#include "core/durable_file.h"
 #include "core/error.h"
 #include "shading/image.h"
-
-#include "core/durable_file.h"
 
 #if RAYCOH_IMAGE_IO
 #include <OpenImageIO/filesystem.h>
@@ -88,6 +88,56 @@ Image read_oiio(const std::string& path) {
 }  // namespace
 
 bool image_io_available() { return RAYCOH_IMAGE_IO != 0; }
+
+bool decode_rgba8([[maybe_unused]] const unsigned char* bytes, [[maybe_unused]] size_t size,
+                  [[maybe_unused]] Rgba8Image& out, std::string& why) {
+#if RAYCOH_IMAGE_IO
+  // The format comes from the magic bytes: embedded images have no file name, and URIs may lie.
+  const char* name = nullptr;
+  if (size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0) name = "texture.png";
+  if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) name = "texture.jpg";
+  if (size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0) name = "texture.webp";
+  if (!name) {
+    why = "not a PNG, JPEG or WebP image";
+    return false;
+  }
+  OIIO::Filesystem::IOMemReader memory(bytes, size);
+  auto in = OIIO::ImageInput::open(name, nullptr, &memory);
+  if (!in) {
+    why = OIIO::geterror();
+    return false;
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1 ||
+      static_cast<double>(spec.width) * spec.height > 1 << 28) {
+    why = "unsupported size or channel count";
+    return false;
+  }
+  const int channels = std::min(spec.nchannels, 4);
+  const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  std::vector<unsigned char> data(pixels * static_cast<size_t>(channels));
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, data.data())) {
+    why = in->geterror();
+    return false;
+  }
+  out.width = spec.width;
+  out.height = spec.height;
+  out.rgba.resize(pixels * 4);
+  for (size_t p = 0; p < pixels; ++p) {
+    const unsigned char* s = &data[p * static_cast<size_t>(channels)];
+    unsigned char* d = &out.rgba[4 * p];
+    const bool grey = channels <= 2;
+    d[0] = s[0];
+    d[1] = grey ? s[0] : s[1];
+    d[2] = grey ? s[0] : s[2];
+    d[3] = channels == 2 ? s[1] : (channels == 4 ? s[3] : 255);
+  }
+  return true;
+#else
+  why = "texture decoding needs a build with -DRAYCOH_IMAGE_IO=ON (OpenImageIO)";
+  return false;
+#endif
+}
 
 void check_output_image_path(const std::string& what, const std::string& path) {
   const std::string ext = extension_of(path);

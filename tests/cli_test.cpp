@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/cli_util.h"
+#include "tests/scenes_test_util.h"
 
 namespace raycoh::test {
 namespace {
@@ -21,6 +22,18 @@ TEST(Cli, BadNamesAndValuesExitWithCode2AndNameTheChoices) {
   expect_error("rays --scene cornell --generator nope --out /tmp/x.csv", "valid generators");
   expect_error("table --generators ours:k=65 --res 8x8", "k=65");
   expect_error("table --generators ours:kk=2 --res 8x8", "valid parameters: tile, k, order, seed");
+}
+
+TEST(Cli, ARunWhoseCameraSeesNothingFailsClearly) {
+  GltfWriter w = one_triangle();
+  // The camera at z = 5 looks down +z, away from the triangle at z = 0.
+  w.cameras = R"([{"type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}])";
+  w.nodes = R"([{"mesh":0},{"camera":0,"translation":[0,0,5],"rotation":[0,1,0,0]}])";
+  w.scenes = R"([{"nodes":[0,1]}])";
+  const std::string file = w.write("cli_no_hits", "away.glb").string();
+  const std::string out = temp_dir("cli_no_hits").string() + "/t.csv";
+  expect_error(fmt::format("table --scenes {} --tracers cpu --res 8x8 --frames 1 --out {}", file, out),
+               "camera sees no triangle");
 }
 
 TEST(Cli, ListNamesEveryPlugin) {

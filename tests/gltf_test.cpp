@@ -113,6 +113,116 @@ TEST(GltfLoader, StripsFansAndSkippedLines) {
   const Scene s = load_scene(w.write("gltf_modes", "modes.glb").string());
   EXPECT_EQ(s.triangle_count(), 3u + 3u);  // strip of 5 -> 3, fan of 5 -> 3; lines and points skipped
   expect_valid(s);
+  // Nothing is dropped silently: scenes info lists both kinds.
+  EXPECT_TRUE(test::has_note(s, "dropped 1 point primitive")) << join(s.load_notes, " | ");
+  EXPECT_TRUE(test::has_note(s, "dropped 1 line primitive")) << join(s.load_notes, " | ");
+}
+
+TEST(GltfLoader, MorphDefaultWeightsSparseAccessorsAndInstancing) {
+  GltfWriter w;
+  const int pos = w.positions(kTri);
+  const int idx = w.u16({0, 1, 2});
+  const int offsets = w.positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
+  // Sparse: element 1 of a second position accessor replaced by (2, 0, 0).
+  const int sparse_pos = w.positions(kTri);
+  const int sparse_idx = w.u16({1});
+  const int sparse_val = w.positions({2, 0, 0});
+  w.accessors[static_cast<size_t>(sparse_pos)] = fmt::format(
+      R"({{"bufferView":{},"componentType":5126,"count":3,"type":"VEC3","sparse":{{"count":1,
+          "indices":{{"bufferView":{},"componentType":5123}},"values":{{"bufferView":{}}}}}}})",
+      sparse_pos, sparse_idx, sparse_val);
+  // Instances: translations (10, 0, 0) and (20, 0, 0).
+  const int inst = w.positions({10, 0, 0, 20, 0, 0});
+  w.meshes = fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{}}},"indices":{},
+                                "targets":[{{"POSITION":{}}}]}}],"weights":[0.5]}},
+                            {{"primitives":[{{"attributes":{{"POSITION":{}}},"indices":{}}}]}}])",
+                         pos, idx, offsets, sparse_pos, idx);
+  w.nodes = fmt::format(R"([{{"mesh":0}},{{"mesh":1,"translation":[0,5,0]}},
+                            {{"mesh":1,"extensions":{{"EXT_mesh_gpu_instancing":{{"attributes":{{"TRANSLATION":{}}}}}}}}}])",
+                        inst);
+  w.scenes = R"([{"nodes":[0,1,2]}])";
+  w.extra = R"(,"extensionsUsed":["EXT_mesh_gpu_instancing"])";
+  const Scene s = load_scene(w.write("gltf_morph_sparse", "m.glb").string());
+  ASSERT_EQ(s.triangle_count(), 1u + 1u + 2u);
+  expect_valid(s);
+  EXPECT_FLOAT_EQ(s.positions[0].z, 0.5f);  // base + 0.5 x target
+  EXPECT_FLOAT_EQ(s.positions[4].x, 2.f);   // sparse substitution (mesh 1 at node 1)
+  EXPECT_FLOAT_EQ(s.positions[4].y, 5.f);
+  EXPECT_FLOAT_EQ(s.positions[7].x, 12.f);  // instance 1 of mesh 1: (2, 0, 0) + (10, 0, 0)
+  EXPECT_FLOAT_EQ(s.positions[10].x, 22.f);
+  EXPECT_TRUE(test::has_note(s, "EXT_mesh_gpu_instancing: 2 instance(s) on 1 node(s)")) << join(s.load_notes, " | ");
+  EXPECT_TRUE(test::has_note(s, "default weights")) << join(s.load_notes, " | ");
+}
+
+// A 2 x 2 RGBA PNG: top row white, bottom row black.
+const std::vector<uint8_t> kTwoRowPng = {
+    137, 80,  78, 71, 13,  10,  26, 10,  0,  0,   0,  13,  73, 72, 68, 82, 0,   0,   0,  2,   0,   0,  0,  2,  8,
+    6,   0,   0,  0,  114, 182, 13, 36,  0,  0,   0,  17,  73, 68, 65, 84, 120, 156, 99, 248, 15,  5,  12, 64, 0,
+    34,  254, 3,  0,  113, 160, 9,  247, 61, 251, 21, 187, 0,  0,  0,  0,  73,  69,  78, 68,  174, 66, 96, 130};
+
+TEST(GltfLoader, TexturesDecideMaterialsPerTriangle) {
+  for (bool transform : {false, true}) {
+    GltfWriter w;
+    // Two triangles; every vertex of the first samples the top row (v = 0.25), of the second the bottom row.
+    const int pos = w.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 2, 1, 0});
+    const int uv =
+        w.add(std::vector<float>{0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f},
+              5126, "SCALAR");
+    w.accessors[static_cast<size_t>(uv)] =
+        fmt::format(R"({{"bufferView":{},"componentType":5126,"count":6,"type":"VEC2"}})", uv);
+    const int png = w.add(kTwoRowPng, 5121, "SCALAR");
+    w.meshes =
+        fmt::format(R"([{{"primitives":[{{"attributes":{{"POSITION":{},"TEXCOORD_0":{}}},"material":0}}]}}])", pos, uv);
+    // Emissive and metallic-roughness textures: white = lit, metal (blue 1) and rough (green 1); black = dark,
+    // smooth dielectric. With KHR_texture_transform's offset [0, 0.5] and REPEAT the rows swap.
+    const std::string ext = transform ? R"(,"extensions":{"KHR_texture_transform":{"offset":[0,0.5]}})" : std::string();
+    w.materials = fmt::format(R"([{{"emissiveFactor":[2,2,2],"emissiveTexture":{{"index":0{0}}},
+        "pbrMetallicRoughness":{{"metallicFactor":1,"roughnessFactor":1,"metallicRoughnessTexture":{{"index":0{0}}}}}}}])",
+                              ext);
+    w.extra = fmt::format(R"(,"textures":[{{"source":0}}],"images":[{{"bufferView":{},"mimeType":"image/png"}}])", png);
+    const Scene s = load_scene(w.write("gltf_textures", fmt::format("t{}.glb", transform)).string());
+    ASSERT_EQ(s.triangle_count(), 2u);
+    expect_valid(s);
+    const Material& lit = s.materials[s.tri_material[transform ? 1 : 0]];
+    const Material& dark = s.materials[s.tri_material[transform ? 0 : 1]];
+    EXPECT_EQ(lit.cls, MaterialClass::Emissive);
+    EXPECT_FLOAT_EQ(lit.emission.x, 2.f);
+    EXPECT_FLOAT_EQ(lit.metallic, 1.f);
+    EXPECT_FLOAT_EQ(dark.emission.x, 0.f);
+    EXPECT_FLOAT_EQ(dark.metallic, 0.f);
+    EXPECT_FLOAT_EQ(dark.roughness, 0.f);
+    EXPECT_EQ(dark.cls, MaterialClass::Specular);
+    // Emitter sampling sees the textured emitter only.
+    EXPECT_EQ(s.emissive_tris, std::vector<uint32_t>{transform ? 1u : 0u});
+    EXPECT_TRUE(test::has_note(s, "textures: 2 triangle(s)")) << join(s.load_notes, " | ");
+  }
+}
+
+TEST(GltfLoader, ExtensionsAreNotedAndUnsupportedRequiredOnesRefusedByName) {
+  {
+    GltfWriter w = one_triangle();
+    w.extra = R"(,"extensionsUsed":["EXT_unknown_thing","KHR_materials_ior"])";
+    const Scene s = load_scene(w.write("gltf_ext", "optional.glb").string());
+    EXPECT_TRUE(test::has_note(s, "extension EXT_unknown_thing: ignored")) << join(s.load_notes, " | ");
+    EXPECT_TRUE(test::has_note(s, "extension KHR_materials_ior: supported")) << join(s.load_notes, " | ");
+  }
+  for (const char* ext : {"EXT_unknown_thing", "KHR_draco_mesh_compression"}) {
+    GltfWriter w = one_triangle();
+    w.extra = fmt::format(R"(,"extensionsUsed":["{0}"],"extensionsRequired":["{0}"])", ext);
+    expect_load_error(w.write("gltf_ext", fmt::format("required_{}.glb", ext)), std::string("extension ") + ext);
+  }
+  GltfWriter w = one_triangle();
+  w.extra = R"(,"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"])";
+  expect_load_error(w.write("gltf_ext", "draco.glb"), "Draco");
+}
+
+TEST(GltfLoader, MetalWinsOverTransmission) {
+  GltfWriter w = one_triangle();
+  w.meshes = mesh_json(0, 1, ",\"material\":0");
+  w.materials = R"([{"pbrMetallicRoughness":{"metallicFactor":1,"roughnessFactor":0.3},
+                     "extensions":{"KHR_materials_transmission":{"transmissionFactor":1}}}])";
+  const Scene s = load_scene(w.write("gltf_metal_transmission", "m.glb").string());
+  EXPECT_EQ(s.materials[0].cls, MaterialClass::Glossy);
 }
 
 TEST(GltfLoader, MaterialsFromFactorsAndExtensions) {
@@ -125,9 +235,9 @@ TEST(GltfLoader, MaterialsFromFactorsAndExtensions) {
   w.materials = R"([
     {"name":"light","emissiveFactor":[1,0.5,0.25],
      "extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":8}}},
-    {"name":"glass",
+    {"name":"glass","pbrMetallicRoughness":{"metallicFactor":0},
      "extensions":{"KHR_materials_transmission":{"transmissionFactor":1},"KHR_materials_ior":{"ior":1.33}}},
-    {"name":"solid",
+    {"name":"solid","pbrMetallicRoughness":{"metallicFactor":0},
      "extensions":{"KHR_materials_transmission":{"transmissionFactor":0.9},"KHR_materials_volume":{}}},
     {"name":"mirror",
      "pbrMetallicRoughness":{"baseColorFactor":[0.9,0.9,0.9,1],"metallicFactor":1,"roughnessFactor":0.01}},
@@ -170,6 +280,23 @@ TEST(GltfLoader, CameraFromTrsNodeAndFallbackWithoutScenes) {
   const Vec3 d = normalize(s.camera.target - s.camera.eye);
   EXPECT_NEAR(d.x, -1.f, 1e-5f);
   EXPECT_NEAR(s.camera.vfov_deg, 0.5f * 180.f / 3.14159265f, 1e-3f);
+}
+
+TEST(GltfLoader, CameraParameterPicksACameraByIndexOrName) {
+  GltfWriter w = one_triangle();
+  w.cameras = R"([{"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}},
+                  {"type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}])";
+  w.nodes = R"([{"mesh":0,"children":[1,2,3]},{"camera":0,"name":"ortho"},{"camera":1,"translation":[5,1,0]},
+                {"camera":1,"name":"side","translation":[0,0,7]}])";
+  const std::string file = w.write("gltf_camera_pick", "cams.glb").string();
+  EXPECT_NEAR(load_scene(file).camera.eye.x, 5.f, 1e-6f);  // the first usable camera by default
+  EXPECT_NEAR(load_scene(file + ":camera=2").camera.eye.z, 7.f, 1e-6f);
+  EXPECT_NEAR(load_scene(file + ":camera=side").camera.eye.z, 7.f, 1e-6f);
+  EXPECT_NEAR(load_scene(file + ":camera=camera1").camera.eye.x, 5.f, 1e-6f);
+  const std::string ortho = test::error_of([&] { load_scene(file + ":camera=ortho"); });
+  EXPECT_NE(ortho.find("orthographic cameras are not supported"), std::string::npos) << ortho;
+  const std::string bad = test::error_of([&] { load_scene(file + ":camera=9"); });
+  EXPECT_NE(bad.find("0, 1, 2, ortho, camera1, side"), std::string::npos) << bad;
 }
 
 TEST(GltfLoader, ZeroAreaTrianglesAreCountedAndKept) {
@@ -269,7 +396,7 @@ TEST(BadInput, MissingOrUnloadableBuffers) {
   const GltfWriter w = one_triangle();
   const fs::path dir = test::temp_dir("bad_buffers");
   test::write_file(dir / "missing_bin.gltf", w.json("missing.bin"));
-  expect_load_error(dir / "missing_bin.gltf");
+  expect_load_error(dir / "missing_bin.gltf", "buffer file 'missing.bin' not found");
   // A .gltf whose buffer has no uri and no GLB chunk to stand for.
   test::write_file(dir / "no_uri.gltf", w.json());
   expect_load_error(dir / "no_uri.gltf");
@@ -319,6 +446,12 @@ TEST(BadInput, NoTrianglesToTrace) {
     const int pos = w.positions(kTri);
     w.meshes = mesh_json(pos, w.u16({0, 1}));
     expect_load_error(w.write("bad_empty", "two_indices.glb"), "no triangles");
+  }
+  {
+    // A cube far from the origin collapses in float: nothing could ever be hit.
+    GltfWriter w = one_triangle();
+    w.nodes = R"([{"mesh":0,"translation":[1e9,0,0],"scale":[1e-3,1e-3,1e-3]}])";
+    expect_load_error(w.write("bad_empty", "collapsed.glb"), "zero area");
   }
 }
 

@@ -40,6 +40,19 @@ TEST(ObjLoader, BadFaceIndicesAreErrors) {
   expect_load_error(write_obj("obj_bad", "nofaces.obj", verts), "no triangles");
 }
 
+TEST(ObjLoader, NonNumericOrMissingCoordinatesAreErrorsNamingTheLine) {
+  const std::string tail = "v 0 1 0\nf 1 2 3\n";
+  expect_load_error(write_obj("obj_numbers", "word.obj", "v 0 0 0\nv 1 zero 0\n" + tail), "line 2: 'zero'");
+  expect_load_error(write_obj("obj_numbers", "comma.obj", "v 0 0 0\nv 1,5 0 0\n" + tail), "line 2: '1,5'");
+  expect_load_error(write_obj("obj_numbers", "short.obj", "v 0 0 0\nv 1 0\n" + tail), "line 2: 'v' needs");
+  expect_load_error(write_obj("obj_numbers", "nan.obj", "v 0 0 0\nv 1 nan 0\n" + tail), "line 2");
+  expect_load_error(write_obj("obj_numbers", "normal.obj", "v 0 0 0\nv 1 0 0\n" + tail + "vn 0 1\n"), "line 5");
+  // Comments, w and vertex colours are fine.
+  const Scene s =
+      load_scene(write_obj("obj_numbers", "ok.obj", "v 0 0 0 1 # w\nv 1 0 0 0.5 0.5 0.5\nvt 0.5\n" + tail).string());
+  EXPECT_EQ(s.triangle_count(), 1u);
+}
+
 TEST(ObjLoader, PolygonsNormalsAndMissingMtl) {
   // A pentagon fans into 3 triangles, a quad into 2; the quad has normals, the pentagon gets generated ones.
   const std::string obj =

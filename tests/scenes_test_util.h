@@ -55,6 +55,13 @@ inline void expect_valid(const Scene& s) {
   EXPECT_NEAR(length(s.env.sun_dir), 1.f, 1e-5f);
 }
 
+// Whether some loader note contains `text`.
+inline bool has_note(const Scene& s, const std::string& text) {
+  for (const std::string& n : s.load_notes)
+    if (n.find(text) != std::string::npos) return true;
+  return false;
+}
+
 // --- A small glTF writer for the synthetic cases --------------------------------------------------------------
 
 template <typename T>

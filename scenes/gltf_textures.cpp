@@ -1,0 +1,302 @@
+// glTF textures deciding materials, per triangle: the base colour, metallic-roughness, emissive and transmission
+// textures (TEXCOORD_0/1, KHR_texture_transform, the sampler's wrap modes, bilinear) are sampled at 16 points
+// spread over each triangle (the centroids of its 16 sub-triangles after two midpoint subdivisions), and the
+// mean of those texels times the factors becomes the triangle's material. Triangles with equal quantised values
+// share one derived material, so every stage, the CUDA generators included, reads textured materials through the
+// usual per-triangle material index, and emitter sampling weighs each triangle by its mean emissive texel.
+// Alpha MASK cuts out a triangle when fewer than half of its samples reach alphaCutoff (no any-hit test, so
+// cut-outs are per triangle, not per texel); BLEND is traced as opaque. Normal and occlusion maps are not read.
+// Part of the glTF loader, the one adapter for tinygltf.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+
+#include "scenes/gltf_reader.h"
+
+namespace raycoh::gltf {
+
+namespace {
+
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+// One texture reference of a material: image, UV set and the affine UV transform u' = m[0] u + m[1] v + m[2],
+// v' = m[3] u + m[4] v + m[5] (KHR_texture_transform: translation x rotation x scale).
+struct TextureRef {
+  const tinygltf::Image* image = nullptr;
+  int texcoord = 0;
+  double m[6] = {1, 0, 0, 0, 1, 0};
+  int wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
+  explicit operator bool() const { return image != nullptr; }
+};
+
+double number_of(const tinygltf::Value& v, const char* key, int i, double def) {
+  if (!v.Has(key)) return def;
+  const tinygltf::Value& x = v.Get(key);
+  if (i >= 0) {
+    if (!x.IsArray() || x.ArrayLen() <= static_cast<size_t>(i) || !x.Get(i).IsNumber()) return def;
+    return x.Get(i).GetNumberAsDouble();
+  }
+  return x.IsNumber() ? x.GetNumberAsDouble() : def;
+}
+
+// A decoded image behind texture `index`, with the UV set, transform and wrap modes that apply; empty when the
+// texture or its image is missing or was not decoded (tinygltf's warnings say why).
+TextureRef texture_ref(const tinygltf::Model& model, int index, int texcoord, const tinygltf::ExtensionMap& ext) {
+  TextureRef r;
+  if (index < 0 || static_cast<size_t>(index) >= model.textures.size()) return r;
+  const tinygltf::Texture& tex = model.textures[static_cast<size_t>(index)];
+  if (tex.source < 0 || static_cast<size_t>(tex.source) >= model.images.size()) return r;
+  const tinygltf::Image& img = model.images[static_cast<size_t>(tex.source)];
+  if (img.width < 1 || img.height < 1 || img.component != 4 || img.bits != 8 ||
+      img.image.size() != 4 * static_cast<size_t>(img.width) * static_cast<size_t>(img.height))
+    return r;
+  r.image = &img;
+  r.texcoord = texcoord;
+  if (tex.sampler >= 0 && static_cast<size_t>(tex.sampler) < model.samplers.size()) {
+    r.wrap_s = model.samplers[static_cast<size_t>(tex.sampler)].wrapS;
+    r.wrap_t = model.samplers[static_cast<size_t>(tex.sampler)].wrapT;
+  }
+  const auto it = ext.find("KHR_texture_transform");
+  if (it != ext.end() && it->second.IsObject()) {
+    const tinygltf::Value& t = it->second;
+    const double ox = number_of(t, "offset", 0, 0), oy = number_of(t, "offset", 1, 0);
+    const double rot = number_of(t, "rotation", -1, 0);
+    const double sx = number_of(t, "scale", 0, 1), sy = number_of(t, "scale", 1, 1);
+    const double c = std::cos(rot), s = std::sin(rot);
+    // Rotation counter-clockwise in UV space with v pointing down (the extension's example: offset [0, 1],
+    // rotation pi/2, scale 0.5 picks the lower-left quadrant).
+    r.m[0] = c * sx, r.m[1] = s * sy, r.m[2] = ox;
+    r.m[3] = -s * sx, r.m[4] = c * sy, r.m[5] = oy;
+    if (t.Has("texCoord") && t.Get("texCoord").IsInt()) r.texcoord = t.Get("texCoord").GetNumberAsInt();
+  }
+  return r;
+}
+
+// A texture in an extension object (e.g. KHR_materials_transmission's transmissionTexture).
+TextureRef extension_texture(const tinygltf::Model& model, const tinygltf::ExtensionMap& ext, const char* name,
+                             const char* key) {
+  const auto it = ext.find(name);
+  if (it == ext.end() || !it->second.IsObject() || !it->second.Has(key)) return {};
+  const tinygltf::Value& info = it->second.Get(key);
+  if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsInt()) return {};
+  const int texcoord = info.Has("texCoord") && info.Get("texCoord").IsInt() ? info.Get("texCoord").GetNumberAsInt() : 0;
+  tinygltf::ExtensionMap nested;
+  if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+    const tinygltf::Value& e = info.Get("extensions");
+    if (e.Has("KHR_texture_transform")) nested["KHR_texture_transform"] = e.Get("KHR_texture_transform");
+  }
+  return texture_ref(model, info.Get("index").GetNumberAsInt(), texcoord, nested);
+}
+
+int wrap(int i, int n, int mode) {
+  if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return std::clamp(i, 0, n - 1);
+  if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) {
+    const int period = 2 * n;
+    int k = i % period;
+    if (k < 0) k += period;
+    return k < n ? k : period - 1 - k;
+  }
+  int k = i % n;
+  return k < 0 ? k + n : k;
+}
+
+// Bilinear RGBA in [0, 1] at texture coordinates (u, v) before the reference's transform.
+std::array<float, 4> sample(const TextureRef& r, float u0, float v0) {
+  const double u = r.m[0] * u0 + r.m[1] * v0 + r.m[2], v = r.m[3] * u0 + r.m[4] * v0 + r.m[5];
+  const int w = r.image->width, h = r.image->height;
+  const double x = u * w - 0.5, y = v * h - 0.5;
+  // Texture coordinates far outside [0, 1] are clamped or wrapped (by whole mirror periods) before they reach int.
+  auto start = [](double c, int n, int mode) {
+    const double f = std::floor(c);
+    return static_cast<int>(mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE ? std::clamp(f, -1.0, double(n))
+                                                                        : std::fmod(f, 2.0 * n));
+  };
+  const double fx = std::floor(x), fy = std::floor(y);
+  const int x0 = start(x, w, r.wrap_s), y0 = start(y, h, r.wrap_t);
+  const float ax = static_cast<float>(x - fx), ay = static_cast<float>(y - fy);
+  std::array<float, 4> out{0, 0, 0, 0};
+  for (int k = 0; k < 4; ++k) {
+    const int xi = wrap(x0 + (k & 1), w, r.wrap_s), yi = wrap(y0 + (k >> 1), h, r.wrap_t);
+    const float wk = ((k & 1) ? ax : 1.f - ax) * ((k >> 1) ? ay : 1.f - ay);
+    const unsigned char* p = &r.image->image[4 * (static_cast<size_t>(yi) * static_cast<size_t>(w) + xi)];
+    for (int c = 0; c < 4; ++c) out[c] += wk * (p[c] / 255.f);
+  }
+  return out;
+}
+
+// The decoded textures of one material.
+struct MaterialTextures {
+  TextureRef base, metal_rough, emissive, transmission;
+  bool any() const { return base || metal_rough || emissive || transmission; }
+};
+
+// Barycentric (b1, b2) of the 16 sample points: centroids of the 16 sub-triangles of a 4 x 4 subdivision.
+std::array<std::array<float, 2>, 16> sample_points() {
+  std::array<std::array<float, 2>, 16> out{};
+  int n = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; i + j < 4; ++j) {
+      out[n++] = {(i + 1.f / 3.f) / 4.f, (j + 1.f / 3.f) / 4.f};                 // upright sub-triangle
+      if (i + j < 3) out[n++] = {(i + 2.f / 3.f) / 4.f, (j + 2.f / 3.f) / 4.f};  // inverted one
+    }
+  return out;
+}
+
+// Quantised values of a derived material: its key, and the values it stands for.
+constexpr float kColourSteps = 64.f, kFactorSteps = 32.f, kEmissionSteps = 256.f;
+int q(float v, float steps) { return static_cast<int>(std::lround(v * steps)); }
+
+}  // namespace
+
+void GltfReader::append_texcoords(const tinygltf::Primitive& prim, const std::string& where, size_t count) {
+  for (int set = 0; set < 2; ++set) {
+    std::vector<float>& uv = uv_[set];
+    const auto it = prim.attributes.find(set == 0 ? "TEXCOORD_0" : "TEXCOORD_1");
+    if (it == prim.attributes.end()) {
+      uv.resize(uv.size() + 2 * count, 0.f);
+      continue;
+    }
+    const std::vector<float> t =
+        read_floats(it->second, TINYGLTF_TYPE_VEC2, fmt::format("TEXCOORD_{} of {}", set, where));
+    if (t.size() != 2 * count)
+      fail(fmt::format("{} has {} TEXCOORD_{} values for {} positions", where, t.size() / 2, set, count));
+    uv.insert(uv.end(), t.begin(), t.end());
+  }
+}
+
+void GltfReader::apply_textures() {
+  const size_t nm = model_.materials.size();
+  std::vector<MaterialTextures> tex(nm);
+  size_t textured = 0, referenced = 0;
+  for (size_t i = 0; i < nm; ++i) {
+    const tinygltf::Material& gm = model_.materials[i];
+    const auto& pbr = gm.pbrMetallicRoughness;
+    tex[i].base =
+        texture_ref(model_, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions);
+    tex[i].metal_rough = texture_ref(model_, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                                     pbr.metallicRoughnessTexture.extensions);
+    tex[i].emissive =
+        texture_ref(model_, gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions);
+    tex[i].transmission = extension_texture(model_, gm.extensions, "KHR_materials_transmission", "transmissionTexture");
+    textured += tex[i].any();
+    referenced += scene_.materials[i].has_texture;
+  }
+  auto& notes = scene_.load_notes;
+  if (referenced > textured)
+    notes.push_back(fmt::format("{} of {} textured material(s) have no decoded texture: their factors are used",
+                                referenced - textured, referenced));
+  bool normal_maps = false, blend = false;
+  for (const auto& gm : model_.materials) {
+    normal_maps |= gm.normalTexture.index >= 0;
+    blend |= gm.alphaMode == "BLEND";
+  }
+  if (normal_maps) notes.push_back("normal maps are not applied: shading normals are the interpolated vertex normals");
+  if (blend) notes.push_back("alpha BLEND materials are traced as opaque surfaces");
+  if (textured == 0) return;
+
+  const auto points = sample_points();
+  std::map<std::array<int, 11>, uint32_t> derived;
+  std::vector<uint32_t> kept_indices, kept_materials;
+  kept_indices.reserve(scene_.indices.size());
+  kept_materials.reserve(scene_.tri_material.size());
+  size_t cut = 0, retextured = 0;
+  for (size_t t = 0; t < scene_.tri_material.size(); ++t) {
+    const uint32_t* idx = &scene_.indices[3 * t];
+    uint32_t mat = scene_.tri_material[t];
+    if (mat < nm && tex[mat].any()) {
+      const MaterialTextures& mt = tex[mat];
+      const tinygltf::Material& gm = model_.materials[mat];
+      const Material& base = scene_.materials[mat];
+      float colour[3] = {0, 0, 0}, metal = 0, rough = 0, emission[3] = {0, 0, 0}, trans = 0;
+      int opaque = 0;
+      for (const auto& b : points) {
+        float uv[2][2];
+        for (int set = 0; set < 2; ++set)
+          for (int c = 0; c < 2; ++c)
+            uv[set][c] = uv_[set][2 * idx[0] + c] * (1.f - b[0] - b[1]) + uv_[set][2 * idx[1] + c] * b[0] +
+                         uv_[set][2 * idx[2] + c] * b[1];
+        auto at = [&](const TextureRef& r) {
+          const int set = std::clamp(r.texcoord, 0, 1);
+          return sample(r, uv[set][0], uv[set][1]);
+        };
+        float alpha = gm.pbrMetallicRoughness.baseColorFactor.size() >= 4
+                          ? static_cast<float>(gm.pbrMetallicRoughness.baseColorFactor[3])
+                          : 1.f;
+        if (mt.base) {
+          const auto c = at(mt.base);
+          for (int k = 0; k < 3; ++k) colour[k] += srgb_to_linear(c[k]) * base.base_color[k];
+          alpha *= c[3];
+        } else {
+          for (int k = 0; k < 3; ++k) colour[k] += base.base_color[k];
+        }
+        if (mt.metal_rough) {
+          const auto c = at(mt.metal_rough);  // glTF: green = roughness, blue = metalness
+          rough += c[1] * base.roughness;
+          metal += c[2] * base.metallic;
+        } else {
+          rough += base.roughness;
+          metal += base.metallic;
+        }
+        if (mt.emissive) {
+          const auto c = at(mt.emissive);
+          for (int k = 0; k < 3; ++k) emission[k] += srgb_to_linear(c[k]) * base.emission[k];
+        } else {
+          for (int k = 0; k < 3; ++k) emission[k] += base.emission[k];
+        }
+        trans += mt.transmission ? at(mt.transmission)[0] * base.transmission : base.transmission;
+        opaque += alpha >= static_cast<float>(gm.alphaCutoff);
+      }
+      if (gm.alphaMode == "MASK" && 2 * opaque < static_cast<int>(points.size())) {
+        ++cut;
+        continue;
+      }
+      const float inv = 1.f / static_cast<float>(points.size());
+      const std::array<int, 11> key = {static_cast<int>(mat),
+                                       q(colour[0] * inv, kColourSteps),
+                                       q(colour[1] * inv, kColourSteps),
+                                       q(colour[2] * inv, kColourSteps),
+                                       q(metal * inv, kFactorSteps),
+                                       q(rough * inv, kFactorSteps),
+                                       q(emission[0] * inv, kEmissionSteps),
+                                       q(emission[1] * inv, kEmissionSteps),
+                                       q(emission[2] * inv, kEmissionSteps),
+                                       q(trans * inv, kFactorSteps),
+                                       0};
+      auto [it, inserted] = derived.try_emplace(key, static_cast<uint32_t>(scene_.materials.size()));
+      if (inserted) {
+        Material d = base;
+        d.name = fmt::format("{}#{}", base.name, derived.size());
+        for (int k = 0; k < 3; ++k) {
+          d.base_color[k] = static_cast<float>(key[1 + k]) / kColourSteps;
+          d.emission[k] = static_cast<float>(key[6 + k]) / kEmissionSteps;
+        }
+        d.metallic = static_cast<float>(key[4]) / kFactorSteps;
+        d.roughness = static_cast<float>(key[5]) / kFactorSteps;
+        d.transmission = static_cast<float>(key[9]) / kFactorSteps;
+        d.cls = classify_material(d);
+        scene_.materials.push_back(d);
+      }
+      mat = it->second;
+      ++retextured;
+    }
+    kept_indices.insert(kept_indices.end(), idx, idx + 3);
+    kept_materials.push_back(mat);
+  }
+  scene_.indices.swap(kept_indices);
+  scene_.tri_material.swap(kept_materials);
+  scene_.alpha_cut_tris = cut;
+  notes.push_back(
+      fmt::format("textures: {} triangle(s) of {} textured material(s) take the mean of 16 texels each "
+                  "(base colour, metallic-roughness, emissive, transmission), {} derived material(s)",
+                  retextured, textured, derived.size()));
+  if (cut > 0)
+    notes.push_back(
+        fmt::format("alpha MASK: {} triangle(s) cut out (fewer than half of their texels opaque); "
+                    "cut-outs are per triangle, not per texel",
+                    cut));
+}
+
+}  // namespace raycoh::gltf
