@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
@@ -20,6 +21,7 @@
 #include "harness/memory_check.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
+#include "shading/reference.h"
 #include "simt/pipeline_model.h"
 #include "simt/timed_replay.h"
 #include "tracers/tracer.h"
@@ -55,9 +57,10 @@ void check_scene_names(const std::vector<std::string>& specs) {
   for (const std::string& spec : specs) {
     const auto [it, fresh] = seen.emplace(scene_name_of(spec), spec);
     if (!fresh)
-      throw Error(fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
-                              "separate --out files",
-                              it->second, spec, it->first));
+      throw Error(
+          fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
+                      "separate --out files",
+                      it->second, spec, it->first));
   }
 }
 
@@ -66,6 +69,8 @@ void check_options(const ExperimentOptions& o) {
     throw Error(fmt::format("--res {}x{}: width and height must be in [1, 16384]", o.width, o.height));
   if (o.frames < 1 || o.frames > 100000) throw Error(fmt::format("--frames {}: must be in [1, 100000]", o.frames));
   if (o.repeats < 1 || o.repeats > 1000) throw Error(fmt::format("--repeat {}: must be in [1, 1000]", o.repeats));
+  if (o.shard.count < 1 || o.shard.count > kMaxShards || o.shard.index < 0 || o.shard.index >= o.shard.count)
+    throw Error(fmt::format("--shard {}: expected I/N with N in [1, {}] and I in [0, N)", o.shard.text(), kMaxShards));
   if (o.scenes.empty()) throw Error("--scenes: empty list");
   if (o.tracers.empty()) throw Error("--tracers: empty list");
   RAYCOH_CHECK(std::any_of(o.methods.begin(), o.methods.end(), [](const Method& m) { return m.label == "noopt"; }),
@@ -84,8 +89,20 @@ std::vector<std::unique_ptr<Generator>> checked_generators(const ExperimentOptio
   return generators;
 }
 
+// The scene column's fingerprint (shading/reference.h): built-in scenes by their spec, files by their bytes and
+// the files beside them. A file spec with a ":sun=..." suffix is the file's fingerprint plus the suffix.
+std::string experiment_fingerprint(const std::string& spec) {
+  std::error_code ec;
+  const size_t colon = spec.rfind(':');
+  if (!std::filesystem::exists(spec, ec) && colon != std::string::npos && colon > 0 &&
+      std::filesystem::exists(spec.substr(0, colon), ec))
+    return scene_fingerprint(spec.substr(0, colon)) + spec.substr(colon);
+  return scene_fingerprint(spec);
+}
+
 // One scene with its BVH, tracers and encoders; tracers keep references to scene and BVH, so it never moves.
 struct SceneSetup {
+  std::string fingerprint;
   Scene scene;
   Bvh bvh;
   std::vector<std::unique_ptr<Tracer>> tracers;
@@ -99,6 +116,7 @@ struct SceneSetup {
 
 SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o, std::vector<std::string>& labels) {
   const auto t_load = Clock::now();
+  fingerprint = experiment_fingerprint(spec);
   scene = load_scene(spec);
   const double load_s = seconds_since(t_load);
   bvh = build_bvh(scene);
@@ -126,6 +144,8 @@ class ExperimentRun {
   std::vector<SceneResult> run();
 
  private:
+  bool owns(size_t si, int frame, size_t mi) const;
+  bool owns_any(size_t si, int frame) const;
   void run_scene(size_t si);
   void run_frame(int frame);
   void run_methods(int frame, const GBuffer& gbuffer);
@@ -147,6 +167,7 @@ class ExperimentRun {
   std::set<std::string> used_;                        // keys of done_ this run asked for
   Progress progress_;
   std::unique_ptr<SceneSetup> setup_;
+  size_t si_ = 0;  // the scene being measured
   SceneResult res_;
   std::vector<uint32_t> primary_order_, order_;
   std::vector<Hit> hits_;
@@ -185,8 +206,7 @@ ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
       provenance_(p),
       generators_(checked_generators(o)),
       permute_(parse_permute_mode(o.permute)),
-      csv_(o.out, experiment_schema(),
-           CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
+      csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
   for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
   if (!done_.empty())
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
@@ -196,6 +216,9 @@ std::vector<SceneResult> ExperimentRun::run() {
   std::vector<SceneResult> results;
   try {
     for (size_t si = 0; si < o_.scenes.size(); ++si) {
+      bool any = false;
+      for (int frame = 0; frame < o_.frames && !any; ++frame) any = owns_any(si, frame);
+      if (!any) continue;  // a shard that owns none of the scene's units does not load it
       run_scene(si);
       results.push_back(std::move(res_));
     }
@@ -219,8 +242,22 @@ std::vector<SceneResult> ExperimentRun::run() {
   return results;
 }
 
+// Units (harness/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
+bool ExperimentRun::owns(size_t si, int frame, size_t mi) const {
+  if (o_.shard.whole()) return true;
+  const std::string method = mi == o_.methods.size() ? "primary" : o_.methods[mi].label;
+  return o_.shard.owns(experiment_unit(scene_name_of(o_.scenes[si]), frame, method));
+}
+
+bool ExperimentRun::owns_any(size_t si, int frame) const {
+  for (size_t mi = 0; mi <= o_.methods.size(); ++mi)
+    if (owns(si, frame, mi)) return true;
+  return false;
+}
+
 void ExperimentRun::run_scene(size_t si) {
   std::fprintf(stderr, "[%zu/%zu] ", si + 1, o_.scenes.size());
+  si_ = si;
   res_ = SceneResult{};
   setup_.reset();  // the previous scene's tracers go before the next scene is loaded
   setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, res_.tracer_labels);
@@ -242,6 +279,7 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
   ExperimentRow r;
   r.scene = setup_->scene.name;
   r.scene_triangles = setup_->scene.triangle_count();
+  r.scene_fingerprint = setup_->fingerprint;
   r.pass = pass;
   r.method = primary ? "primary" : o_.methods[mi].label;
   r.generator = primary ? "primary" : o_.methods[mi].generator.name;
@@ -271,16 +309,18 @@ bool ExperimentRun::resumed(const ExperimentRow& head, size_t ti) {
   return true;
 }
 
-// A frame whose every row was measured is taken as it is, without tracing its primary rays again.
+// A frame whose every row (of this shard) was measured is taken as it is, without tracing its primary rays again.
 bool ExperimentRun::frame_resumed(int frame) {
   const size_t primary = o_.methods.size();
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
     for (size_t mi = 0; mi <= primary; ++mi)
-      if (!done_.count(resume_key(experiment_schema(), head(mi == primary ? "primary" : "secondary", mi, ti, frame))))
+      if (owns(si_, frame, mi) &&
+          !done_.count(resume_key(experiment_schema(), head(mi == primary ? "primary" : "secondary", mi, ti, frame))))
         return false;
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {
-    resumed(head("primary", primary, ti, frame), ti);
-    for (size_t mi = 0; mi < primary; ++mi) resumed(head("secondary", mi, ti, frame), ti);
+    if (owns(si_, frame, primary)) resumed(head("primary", primary, ti, frame), ti);
+    for (size_t mi = 0; mi < primary; ++mi)
+      if (owns(si_, frame, mi)) resumed(head("secondary", mi, ti, frame), ti);
   }
   return true;
 }
@@ -357,12 +397,12 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
 }
 
 void ExperimentRun::run_frame(int frame) {
-  if (frame_resumed(frame)) return;
+  if (!owns_any(si_, frame) || frame_resumed(frame)) return;
   const FirstHits first = first_hits(setup_->scene, *setup_->gbuffer_tracer, o_.width, o_.height, primary_order_,
                                      o_.seed, static_cast<uint32_t>(frame), true);
   const std::vector<Ray>& rays = first.primary.rays;
   hits_.resize(rays.size());
-  for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {  // primary rays: the coherent bound
+  for (size_t ti = 0; ti < o_.tracers.size() && owns(si_, frame, o_.methods.size()); ++ti) {  // the coherent bound
     ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
     if (resumed(r, ti)) continue;
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), hits_.data()); });
@@ -378,6 +418,7 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
   double gen_s = 0.0;
   GenerationStats gs;
   for (size_t mi = 0; mi < o_.methods.size(); ++mi) {
+    if (!owns(si_, frame, mi)) continue;
     std::vector<std::pair<size_t, ExperimentRow>> todo;  // tracer index, row head
     for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
       if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) todo.emplace_back(ti, std::move(r));
