@@ -97,6 +97,13 @@ Input read_input(const std::string& path, const std::vector<std::string>& column
   return input;
 }
 
+int count_lines(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
 size_t column_index(const std::vector<std::string>& columns, const std::string& name) {
   const auto it = std::find(columns.begin(), columns.end(), name);
   RAYCOH_CHECK(it != columns.end(), "merge: unknown column");
@@ -248,6 +255,20 @@ int run_merge(const MergeOptions& o, const Provenance& provenance) {
       if (std::filesystem::equivalent(o.inputs[i], o.inputs[j], ec))
         throw Error(fmt::format("merge: {} and {} are the same file; name each shard once", o.inputs[j], o.inputs[i]));
   }
+  // Inputs that are not there (a shard that failed or is still running) are listed together.
+  std::vector<std::string> absent;
+  for (const std::string& path : o.inputs) {
+    if (std::filesystem::exists(path, ec)) continue;
+    const std::string partial = path + ".partial";
+    absent.push_back(
+        std::filesystem::exists(partial, ec)
+            ? fmt::format("{} (unfinished: {} holds {} row(s); run that shard's command again, it resumes)", path,
+                          partial, std::max<int>(0, count_lines(partial) - 1))
+            : fmt::format("{} (no such file)", path));
+  }
+  if (!absent.empty())
+    throw Error(fmt::format("merge: not writing {}: {} of {} input(s) missing: {}", o.out, absent.size(),
+                            o.inputs.size(), join(absent, "; ")));
   const std::vector<std::string> columns = column_names(experiment_schema());
   std::vector<Input> inputs;
   std::vector<RunFacts> facts;

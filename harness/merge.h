@@ -5,8 +5,8 @@
 // - files that disagree where the shards of one run must agree: git_revision, build_type, compiler,
 //   embree_version, width, height, seed, a scene's scene_fingerprint or tracer_params, and the command line
 //   without --shard, --out and --force (every other option: scenes, methods, tracers, frames, repeat, threads);
-// - files of different shard counts, and unfinished files (<out>.partial: run that shard's command again, it
-//   resumes);
+// - files of different shard counts; inputs that do not exist (listed together, each with the rows its
+//   <file>.partial holds when the shard is unfinished: run its command again, it resumes) and .partial inputs;
 // - an incomplete or doubled result: shards none of the files holds, rows missing from the product scene x frame x
 //   row kind (with the shard that owes each), and rows whose key (the resume key less the provenance columns)
 //   is in two places. Nothing is written then: never a short file that looks whole.

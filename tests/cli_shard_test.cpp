@@ -110,6 +110,11 @@ TEST(CliShard, MergeRefusesWhatDoesNotBelongTogetherNamingFilesAndField) {
   // A missing shard is named; nothing is written.
   expect_error("merge --out " + out.string() + " " + a.string(), "shard(s) 1/2 missing");
   EXPECT_FALSE(fs::exists(out));
+  // A shard that did not finish: its file is named with the rows its .partial holds.
+  const auto c = dir / "c.csv";
+  write_file(c.string() + ".partial", read_lines(a)[0] + "\n" + read_lines(a)[1] + "\n");
+  expect_error("merge --out " + out.string() + " " + a.string() + " " + c.string(),
+               c.string() + " (unfinished: " + c.string() + ".partial holds 1 row(s)");
   // The same rows twice (a copy of a shard's file) are duplicates.
   const auto copy = dir / "copy.csv";
   fs::copy_file(a, copy);
