@@ -144,6 +144,7 @@ class ExperimentRun {
   std::vector<SceneResult> run();
 
  private:
+  std::string unit(size_t si, int frame, size_t mi) const;
   bool owns(size_t si, int frame, size_t mi) const;
   bool owns_any(size_t si, int frame) const;
   void run_scene(size_t si);
@@ -165,6 +166,7 @@ class ExperimentRun {
   RecordCsv<ExperimentRow> csv_;
   std::map<std::string, const ExperimentRow*> done_;  // resume key -> resumed row
   std::set<std::string> used_;                        // keys of done_ this run asked for
+  std::set<std::string> owned_;                       // --shard: the units this shard measures
   Progress progress_;
   std::unique_ptr<SceneSetup> setup_;
   size_t si_ = 0;  // the scene being measured
@@ -208,6 +210,15 @@ ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
       permute_(parse_permute_mode(o.permute)),
       csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
   for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
+  if (!o.shard.whole()) {
+    std::vector<std::string> units;
+    for (size_t si = 0; si < o.scenes.size(); ++si)
+      for (int frame = 0; frame < o.frames; ++frame)
+        for (size_t mi = 0; mi <= o.methods.size(); ++mi) units.push_back(unit(si, frame, mi));
+    const std::vector<int> owner = deal_units(units, o.shard.count);
+    for (size_t u = 0; u < units.size(); ++u)
+      if (owner[u] == o.shard.index) owned_.insert(units[u]);
+  }
   if (!done_.empty())
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
 }
@@ -243,10 +254,13 @@ std::vector<SceneResult> ExperimentRun::run() {
 }
 
 // Units (harness/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
+std::string ExperimentRun::unit(size_t si, int frame, size_t mi) const {
+  return experiment_unit(scene_name_of(o_.scenes[si]), frame,
+                         mi == o_.methods.size() ? "primary" : o_.methods[mi].label);
+}
+
 bool ExperimentRun::owns(size_t si, int frame, size_t mi) const {
-  if (o_.shard.whole()) return true;
-  const std::string method = mi == o_.methods.size() ? "primary" : o_.methods[mi].label;
-  return o_.shard.owns(experiment_unit(scene_name_of(o_.scenes[si]), frame, method));
+  return o_.shard.whole() || owned_.count(unit(si, frame, mi));
 }
 
 bool ExperimentRun::owns_any(size_t si, int frame) const {

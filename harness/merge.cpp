@@ -341,6 +341,18 @@ int run_merge(const MergeOptions& o, const Provenance& provenance) {
     if (!shards_present.count(s)) missing_shards.push_back(fmt::format("{}/{}", s, count));
   // An input without rows is a shard that owned no unit (more shards than units): it stands for one absent shard.
   if (missing_shards.size() <= empty_files) missing_shards.clear();
+  // The units of the run as the rows show them (every scene x frame x method seen), dealt as the shards dealt them.
+  std::set<std::string> methods;
+  for (const auto& [scene, by_kind] : kinds)
+    for (const auto& [kind, example] : by_kind)
+      methods.insert((*example)[c_pass] == "primary" ? std::string("primary") : (*example)[c_method]);
+  std::vector<std::string> units;
+  for (const auto& [scene, by_kind] : kinds)
+    for (int frame = 0; frame < frames; ++frame)
+      for (const std::string& m : methods) units.push_back(experiment_unit(scene, frame, m));
+  const std::vector<int> dealt = deal_units(units, count);
+  std::map<std::string, int> owner_of;
+  for (size_t u = 0; u < units.size(); ++u) owner_of[units[u]] = dealt[u];
   std::map<int, size_t> owed;  // shard -> missing rows
   for (const auto& [scene, by_kind] : kinds)
     for (int frame = 0; frame < frames; ++frame)
@@ -350,8 +362,8 @@ int run_merge(const MergeOptions& o, const Provenance& provenance) {
         std::string key;
         for (size_t c : key_columns) key += row[c] + '\x1f';
         if (where.count(key)) continue;
-        const std::string& method = row[c_pass] == "primary" ? std::string("primary") : row[c_method];
-        ++owed[Shard::owner(experiment_unit(scene, frame, method), count)];
+        const std::string method = row[c_pass] == "primary" ? std::string("primary") : row[c_method];
+        ++owed[owner_of.at(experiment_unit(scene, frame, method))];
         missing_rows.push_back(describe(row));
       }
   if (!missing_shards.empty())

@@ -9,7 +9,8 @@
 //   <file>.partial holds when the shard is unfinished: run its command again, it resumes) and .partial inputs;
 // - an incomplete or doubled result: shards none of the files holds, rows missing from the product scene x frame x
 //   row kind (with the shard that owes each), and rows whose key (the resume key less the provenance columns)
-//   is in two places. Nothing is written then: never a short file that looks whole.
+//   is in two places. The shard owing a missing row is found by dealing the units the rows show (harness/shard.h).
+//   Nothing is written then: never a short file that looks whole.
 // Rows keep every field as the shard wrote it (timings as measured, host and cpu per row). Rows are ordered by
 // scene, frame, then the order the shards wrote them in, which is the single process's order wherever the
 // shards show it. OUT is written whole or not at all (core/durable_file.h); an existing OUT is refused unless

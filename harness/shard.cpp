@@ -2,24 +2,40 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "core/error.h"
 
 namespace raycoh {
 
-int Shard::owner(const std::string& unit_key, int count) {
+namespace {
+
+uint64_t unit_hash(const std::string& key) {
   uint64_t h = 1469598103934665603ull;  // FNV-1a 64
-  for (unsigned char c : unit_key) {
+  for (unsigned char c : key) {
     h ^= c;
     h *= 1099511628211ull;
   }
-  h ^= h >> 30;  // splitmix64 finalizer: FNV's low bits alone are poorly mixed for short, similar keys
+  h ^= h >> 30;  // splitmix64's finalizer: FNV's bits alone are poorly mixed for short, similar keys
   h *= 0xbf58476d1ce4e5b9ull;
   h ^= h >> 27;
   h *= 0x94d049bb133111ebull;
   h ^= h >> 31;
-  return static_cast<int>(h % static_cast<uint64_t>(count));
+  return h;
+}
+
+}  // namespace
+
+std::vector<int> deal_units(const std::vector<std::string>& units, int count) {
+  std::vector<std::pair<uint64_t, size_t>> order;  // (hash, index); equal hashes fall back to the name below
+  for (size_t i = 0; i < units.size(); ++i) order.emplace_back(unit_hash(units[i]), i);
+  std::sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : units[a.second] < units[b.second];
+  });
+  std::vector<int> owner(units.size());
+  for (size_t r = 0; r < order.size(); ++r) owner[order[r].second] = static_cast<int>(r % static_cast<size_t>(count));
+  return owner;
 }
 
 Shard parse_shard(const std::string& option, const std::string& text) {

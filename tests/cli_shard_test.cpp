@@ -115,6 +115,15 @@ TEST(CliShard, MergeRefusesWhatDoesNotBelongTogetherNamingFilesAndField) {
   write_file(c.string() + ".partial", read_lines(a)[0] + "\n" + read_lines(a)[1] + "\n");
   expect_error("merge --out " + out.string() + " " + a.string() + " " + c.string(),
                c.string() + " (unfinished: " + c.string() + ".partial holds 1 row(s)");
+  // A row gone from a shard's file: the row and the shard that owes it are named.
+  const auto a_lines = read_lines(a);
+  ASSERT_GE(a_lines.size(), 3u);
+  std::string cut;
+  for (size_t i = 0; i + 1 < a_lines.size(); ++i) cut += a_lines[i] + "\n";
+  const auto short_a = dir / "short.csv";
+  write_file(short_a, cut);
+  expect_error("merge --out " + out.string() + " " + short_a.string() + " " + b.string(),
+               "1 row(s) missing (shard 0/2: 1)");
   // The same rows twice (a copy of a shard's file) are duplicates.
   const auto copy = dir / "copy.csv";
   fs::copy_file(a, copy);

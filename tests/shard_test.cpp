@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -25,38 +27,42 @@ std::vector<std::string> units() {
   return u;
 }
 
-// Union = the whole list, pairwise disjoint: every unit is owned by exactly one shard, for N = 1 .. 300.
+// Union = the whole list, pairwise disjoint: every unit has exactly one shard in [0, N), for N = 1 .. 300; shard
+// sizes differ by at most one.
 TEST(Shard, TheShardsPartitionTheWorkListForAnyCount) {
   const std::vector<std::string> all = units();
   ASSERT_EQ(std::set<std::string>(all.begin(), all.end()).size(), all.size());
   for (int n = 1; n <= 300; ++n) {
-    size_t total = 0;
-    std::set<std::string> seen;
-    for (int i = 0; i < n; ++i) {
-      const Shard shard{i, n};
-      for (const std::string& u : all)
-        if (shard.owns(u)) {
-          ++total;
-          EXPECT_TRUE(seen.insert(u).second) << "unit owned twice, n = " << n;
-        }
+    const std::vector<int> owner = deal_units(all, n);
+    ASSERT_EQ(owner.size(), all.size());
+    std::vector<std::set<std::string>> shards(n);
+    for (size_t u = 0; u < all.size(); ++u) {
+      ASSERT_GE(owner[u], 0);
+      ASSERT_LT(owner[u], n);
+      shards[owner[u]].insert(all[u]);
     }
-    EXPECT_EQ(total, all.size()) << "n = " << n;
-    EXPECT_EQ(seen.size(), all.size()) << "n = " << n;
+    std::set<std::string> together;
+    size_t smallest = all.size(), largest = 0;
+    for (const auto& s : shards) {
+      for (const std::string& u : s) EXPECT_TRUE(together.insert(u).second) << "in two shards: n = " << n;
+      smallest = std::min(smallest, s.size());
+      largest = std::max(largest, s.size());
+    }
+    EXPECT_EQ(together, std::set<std::string>(all.begin(), all.end())) << "n = " << n;
+    EXPECT_LE(largest - smallest, 1u) << "n = " << n;
   }
 }
 
-// The owner depends on the unit's name only (any list order, any other units), and small counts spread the work.
-TEST(Shard, OwnershipDependsOnTheUnitAloneAndIsSpread) {
-  const std::vector<std::string> all = units();  // 210 units
-  for (int n : {2, 3, 4, 8}) {
-    std::vector<int> per(n, 0);
-    for (const std::string& u : all) ++per[Shard::owner(u, n)];
-    for (int c : per) EXPECT_GT(c, static_cast<int>(all.size()) / n / 2) << "n = " << n;
-  }
-  EXPECT_EQ(Shard::owner(experiment_unit("cornell", 3, "ours"), 5), Shard::owner("cornell\x1f"
-                                                                                 "3\x1fours",
-                                                                                 5));
-  EXPECT_TRUE((Shard{0, 1}.owns("anything")));
+// A unit's shard depends on the set of units, not on the order they are listed in.
+TEST(Shard, TheDealDoesNotDependOnListOrder) {
+  std::vector<std::string> all = units();
+  const std::vector<int> owner = deal_units(all, 7);
+  std::map<std::string, int> by_name;
+  for (size_t u = 0; u < all.size(); ++u) by_name[all[u]] = owner[u];
+  std::reverse(all.begin(), all.end());
+  const std::vector<int> reversed = deal_units(all, 7);
+  for (size_t u = 0; u < all.size(); ++u) EXPECT_EQ(reversed[u], by_name[all[u]]) << all[u];
+  EXPECT_EQ(deal_units({"anything"}, 1), std::vector<int>{0});
 }
 
 TEST(Shard, ParsesIOfNAndNamesTheValidRange) {
