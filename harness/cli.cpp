@@ -50,11 +50,16 @@ void bind_experiment(CLI::App* cmd, ExperimentOptions& o, ExperimentText& t) {
   cmd->add_option("--out", o.out, "CSV file to write")->capture_default_str();
   cmd->add_flag("--force", o.force,
                 "replace what --out (and its .partial) holds instead of resuming it or refusing other parameters");
+  t.shard = o.shard.text();
+  cmd->add_option("--shard", t.shard,
+                  "I/N: measure only shard I (0-based) of N of the work list; join the N outputs with raycoh merge")
+      ->capture_default_str();
 }
 
 void resolve_experiment(ExperimentOptions& o, const ExperimentText& t) {
   o.tracers = split_nonempty("--tracers", t.tracers);
   std::tie(o.width, o.height) = parse_res("--res", t.res);
+  o.shard = parse_shard("--shard", t.shard);
 }
 
 void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& t) {

@@ -18,9 +18,9 @@ std::vector<PluginSpec> split_nonempty(const std::string& option, const std::str
 // "WxH" without a range (the runner checks it).
 std::pair<int, int> parse_res(const std::string& option, const std::string& text);
 
-// --tracers, --res, --frames, --seed, --repeat, --out of `table` and `sweep`; defaults from `o`.
+// --tracers, --res, --frames, --seed, --repeat, --out, --force, --shard of `table` and `sweep`; defaults from `o`.
 struct ExperimentText {
-  std::string tracers, res;
+  std::string tracers, res, shard;
 };
 void bind_experiment(CLI::App* cmd, ExperimentOptions& o, ExperimentText& text);
 void resolve_experiment(ExperimentOptions& o, const ExperimentText& text);

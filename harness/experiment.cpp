@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
@@ -20,6 +21,7 @@
 #include "harness/memory_check.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
+#include "shading/reference.h"
 #include "simt/pipeline_model.h"
 #include "simt/timed_replay.h"
 #include "tracers/tracer.h"
@@ -67,6 +69,8 @@ void check_options(const ExperimentOptions& o) {
     throw Error(fmt::format("--res {}x{}: width and height must be in [1, 16384]", o.width, o.height));
   if (o.frames < 1 || o.frames > 100000) throw Error(fmt::format("--frames {}: must be in [1, 100000]", o.frames));
   if (o.repeats < 1 || o.repeats > 1000) throw Error(fmt::format("--repeat {}: must be in [1, 1000]", o.repeats));
+  if (o.shard.count < 1 || o.shard.count > kMaxShards || o.shard.index < 0 || o.shard.index >= o.shard.count)
+    throw Error(fmt::format("--shard {}: expected I/N with N in [1, {}] and I in [0, N)", o.shard.text(), kMaxShards));
   if (o.scenes.empty()) throw Error("--scenes: empty list");
   if (o.tracers.empty()) throw Error("--tracers: empty list");
   RAYCOH_CHECK(std::any_of(o.methods.begin(), o.methods.end(), [](const Method& m) { return m.label == "noopt"; }),
@@ -85,8 +89,20 @@ std::vector<std::unique_ptr<Generator>> checked_generators(const ExperimentOptio
   return generators;
 }
 
+// The scene column's fingerprint (shading/reference.h): built-in scenes by their spec, files by their bytes and
+// the files beside them. A file spec with a ":sun=..." suffix is the file's fingerprint plus the suffix.
+std::string experiment_fingerprint(const std::string& spec) {
+  std::error_code ec;
+  const size_t colon = spec.rfind(':');
+  if (!std::filesystem::exists(spec, ec) && colon != std::string::npos && colon > 0 &&
+      std::filesystem::exists(spec.substr(0, colon), ec))
+    return scene_fingerprint(spec.substr(0, colon)) + spec.substr(colon);
+  return scene_fingerprint(spec);
+}
+
 // One scene with its BVH, tracers and encoders; tracers keep references to scene and BVH, so it never moves.
 struct SceneSetup {
+  std::string fingerprint;
   Scene scene;
   Bvh bvh;
   std::vector<std::unique_ptr<Tracer>> tracers;
@@ -100,6 +116,7 @@ struct SceneSetup {
 
 SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o, std::vector<std::string>& labels) {
   const auto t_load = Clock::now();
+  fingerprint = experiment_fingerprint(spec);
   scene = load_scene(spec);
   const double load_s = seconds_since(t_load);
   bvh = build_bvh(scene);
@@ -128,6 +145,9 @@ class ExperimentRun {
   std::vector<SceneResult> run();
 
  private:
+  std::string unit(size_t si, int frame, size_t mi) const;
+  bool owns(size_t si, int frame, size_t mi) const;
+  bool owns_any(size_t si, int frame) const;
   void run_scene(size_t si);
   void run_frame(int frame);
   void run_methods(int frame, const GBuffer& gbuffer);
@@ -147,8 +167,10 @@ class ExperimentRun {
   RecordCsv<ExperimentRow> csv_;
   std::map<std::string, const ExperimentRow*> done_;  // resume key -> resumed row
   std::set<std::string> used_;                        // keys of done_ this run asked for
+  std::set<std::string> owned_;                       // --shard: the units this shard measures
   Progress progress_;
   std::unique_ptr<SceneSetup> setup_;
+  size_t si_ = 0;  // the scene being measured
   SceneResult res_;
   std::vector<uint32_t> primary_order_, order_;
   std::vector<Hit> hits_;
@@ -189,6 +211,15 @@ ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
       permute_(parse_permute_mode(o.permute)),
       csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
   for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
+  if (!o.shard.whole()) {
+    std::vector<std::string> units;
+    for (size_t si = 0; si < o.scenes.size(); ++si)
+      for (int frame = 0; frame < o.frames; ++frame)
+        for (size_t mi = 0; mi <= o.methods.size(); ++mi) units.push_back(unit(si, frame, mi));
+    const std::vector<int> owner = deal_units(units, o.shard.count);
+    for (size_t u = 0; u < units.size(); ++u)
+      if (owner[u] == o.shard.index) owned_.insert(units[u]);
+  }
   if (!done_.empty())
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
 }
@@ -197,6 +228,9 @@ std::vector<SceneResult> ExperimentRun::run() {
   std::vector<SceneResult> results;
   try {
     for (size_t si = 0; si < o_.scenes.size(); ++si) {
+      bool any = false;
+      for (int frame = 0; frame < o_.frames && !any; ++frame) any = owns_any(si, frame);
+      if (!any) continue;  // a shard that owns none of the scene's units does not load it
       run_scene(si);
       results.push_back(std::move(res_));
     }
@@ -220,8 +254,25 @@ std::vector<SceneResult> ExperimentRun::run() {
   return results;
 }
 
+// Units (harness/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
+std::string ExperimentRun::unit(size_t si, int frame, size_t mi) const {
+  return experiment_unit(scene_name_of(o_.scenes[si]), frame,
+                         mi == o_.methods.size() ? "primary" : o_.methods[mi].label);
+}
+
+bool ExperimentRun::owns(size_t si, int frame, size_t mi) const {
+  return o_.shard.whole() || owned_.count(unit(si, frame, mi));
+}
+
+bool ExperimentRun::owns_any(size_t si, int frame) const {
+  for (size_t mi = 0; mi <= o_.methods.size(); ++mi)
+    if (owns(si, frame, mi)) return true;
+  return false;
+}
+
 void ExperimentRun::run_scene(size_t si) {
   std::fprintf(stderr, "[%zu/%zu] ", si + 1, o_.scenes.size());
+  si_ = si;
   res_ = SceneResult{};
   setup_.reset();  // the previous scene's tracers go before the next scene is loaded
   setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, res_.tracer_labels);
@@ -243,6 +294,7 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
   ExperimentRow r;
   r.scene = setup_->scene.name;
   r.scene_triangles = setup_->scene.triangle_count();
+  r.scene_fingerprint = setup_->fingerprint;
   r.pass = pass;
   r.method = primary ? "primary" : o_.methods[mi].label;
   r.generator = primary ? "primary" : o_.methods[mi].generator.name;
@@ -272,16 +324,18 @@ bool ExperimentRun::resumed(const ExperimentRow& head, size_t ti) {
   return true;
 }
 
-// A frame whose every row was measured is taken as it is, without tracing its primary rays again.
+// A frame whose every row (of this shard) was measured is taken as it is, without tracing its primary rays again.
 bool ExperimentRun::frame_resumed(int frame) {
   const size_t primary = o_.methods.size();
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
     for (size_t mi = 0; mi <= primary; ++mi)
-      if (!done_.count(resume_key(experiment_schema(), head(mi == primary ? "primary" : "secondary", mi, ti, frame))))
+      if (owns(si_, frame, mi) &&
+          !done_.count(resume_key(experiment_schema(), head(mi == primary ? "primary" : "secondary", mi, ti, frame))))
         return false;
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {
-    resumed(head("primary", primary, ti, frame), ti);
-    for (size_t mi = 0; mi < primary; ++mi) resumed(head("secondary", mi, ti, frame), ti);
+    if (owns(si_, frame, primary)) resumed(head("primary", primary, ti, frame), ti);
+    for (size_t mi = 0; mi < primary; ++mi)
+      if (owns(si_, frame, mi)) resumed(head("secondary", mi, ti, frame), ti);
   }
   return true;
 }
@@ -358,7 +412,7 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
 }
 
 void ExperimentRun::run_frame(int frame) {
-  if (frame_resumed(frame)) return;
+  if (!owns_any(si_, frame) || frame_resumed(frame)) return;
   const FirstHits first = first_hits(setup_->scene, *setup_->gbuffer_tracer, o_.width, o_.height, primary_order_,
                                      o_.seed, static_cast<uint32_t>(frame), true);
   // A frame without a single hit would measure 0 secondary rays: a table of zeros is no result.
@@ -369,7 +423,7 @@ void ExperimentRun::run_frame(int frame) {
                     setup_->scene.source, 0, first.primary.rays.size(), o_.width, o_.height));
   const std::vector<Ray>& rays = first.primary.rays;
   hits_.resize(rays.size());
-  for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {  // primary rays: the coherent bound
+  for (size_t ti = 0; ti < o_.tracers.size() && owns(si_, frame, o_.methods.size()); ++ti) {  // the coherent bound
     ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
     if (resumed(r, ti)) continue;
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), hits_.data()); });
@@ -385,6 +439,7 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
   double gen_s = 0.0;
   GenerationStats gs;
   for (size_t mi = 0; mi < o_.methods.size(); ++mi) {
+    if (!owns(si_, frame, mi)) continue;
     std::vector<std::pair<size_t, ExperimentRow>> todo;  // tracer index, row head
     for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
       if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) todo.emplace_back(ti, std::move(r));

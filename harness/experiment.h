@@ -10,6 +10,7 @@
 #include "core/params.h"
 #include "harness/experiment_row.h"
 #include "harness/provenance.h"
+#include "harness/shard.h"
 
 namespace raycoh {
 
@@ -33,9 +34,11 @@ struct ExperimentOptions {
   std::string permute = "physical";  // physical | indirect: how a reordering is applied (encoders/permute.h)
   std::string out;
   bool force = false;  // --force: replace what --out and <out>.partial hold instead of resuming or refusing
+  Shard shard;         // --shard I/N: only this shard's scene x frame x method units (harness/shard.h)
 };
 
-// Throws raycoh::Error on bad input; rows measured before the error stay in "<out>.partial".
+// Throws raycoh::Error on bad input; rows measured before the error stay in "<out>.partial". A shard's results
+// hold only its own units (a scene none of whose units it owns is neither loaded nor listed).
 std::vector<SceneResult> run_experiment(const ExperimentOptions& options, const Provenance& provenance);
 
 // `auto` replaced by the tracers it stands for.

@@ -56,6 +56,7 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("modeled_e2e_ms", &R::modeled_e2e_ms, Optional<General>{}),
         column("modeled_e2e_mray_s", &R::modeled_e2e_mray_s, Optional<General>{}),
         column("modeled_limiter", &R::modeled_limiter, Text{}),
+        column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
     return s;

@@ -37,6 +37,7 @@ struct ExperimentRow {
   // on the tracer's preset (simt/pipeline_model.h); the port that bounded the trace kernel.
   std::optional<double> modeled_ms, modeled_mray_s, modeled_e2e_ms, modeled_e2e_mray_s;
   std::string modeled_limiter;
+  std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
   Provenance provenance;
 };
 

@@ -1,6 +1,7 @@
 #include "harness/provenance.h"
 
 #include <embree3/rtcore_config.h>
+#include <unistd.h>
 
 #include <ctime>
 #include <fstream>
@@ -48,6 +49,8 @@ Provenance collect_provenance(int argc, char** argv, int threads) {
   p.compiler = std::string("g++ ") + __VERSION__;
 #endif
   p.cpu = cpu_model() + " x" + std::to_string(std::thread::hardware_concurrency());
+  char host[256] = {};
+  p.host = gethostname(host, sizeof host - 1) == 0 ? host : "unknown";
   p.device = "cpu";
   p.embree_version = RTC_VERSION_STRING;
   p.threads = threads;
@@ -75,6 +78,7 @@ const Schema<Provenance>& provenance_schema() {
       column("build_type", &P::build_type, Text{}, Key::Yes),
       column("compiler", &P::compiler, Text{}),
       column("cpu", &P::cpu, Text{}, Key::Yes),
+      column("host", &P::host, Text{}),
       column("device", &P::device, Text{}),
       column("embree_version", &P::embree_version, Text{}),
       column("threads", &P::threads, Integer<int>{}, Key::Yes),

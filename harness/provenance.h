@@ -14,6 +14,7 @@ struct Provenance {
   std::string build_type;
   std::string compiler;
   std::string cpu;     // model name and logical core count
+  std::string host;    // the machine's host name (rows of merged shards say where each was measured)
   std::string device;  // "cpu", or the CUDA device's name on rows a cuda tracer measured (device_of)
   std::string embree_version;
   int threads = 0;        // worker threads in use

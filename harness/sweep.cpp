@@ -82,6 +82,7 @@ int run_sweep(const SweepOptions& o, const Provenance& provenance) {
   }
   e.tracers = expand_auto(e.tracers);
   const std::vector<SceneResult> results = run_experiment(e, provenance);
+  if (!e.shard.whole()) return print_shard_done(e, provenance);
   for (const std::string& tl : results.front().tracer_labels) print_sweep(o, results.front(), tl, labels);
   std::printf("\nWrote %s (%s)\n", e.out.c_str(), provenance.git_revision.c_str());
   return 0;

@@ -131,6 +131,14 @@ std::string scene_header(const std::vector<SceneResult>& results) {
 
 }  // namespace
 
+int print_shard_done(const ExperimentOptions& e, const Provenance& provenance) {
+  std::printf(
+      "Wrote shard %s of the run to %s (%s); the console tables need every shard: join the shards' files "
+      "with raycoh merge\n",
+      e.shard.text().c_str(), e.out.c_str(), provenance.git_revision.c_str());
+  return 0;
+}
+
 int run_table(const TableOptions& options, const Provenance& provenance) {
   ExperimentOptions e = options.experiment;
   if (options.generators.empty()) throw Error("--generators: empty list");
@@ -140,6 +148,7 @@ int run_table(const TableOptions& options, const Provenance& provenance) {
   e.tracers = expand_auto(e.tracers);
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<SceneResult> results = run_experiment(e, provenance);
+  if (!e.shard.whole()) return print_shard_done(e, provenance);
 
   const std::string header = scene_header(results);
   for (const std::string& tl : results.front().tracer_labels) {

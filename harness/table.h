@@ -19,6 +19,9 @@ struct TableOptions {
 };
 int run_table(const TableOptions& options, const Provenance& provenance);
 
+// A shard's run (--shard I/N) prints no tables (they need every row): one line saying what was written. Returns 0.
+int print_shard_done(const ExperimentOptions& e, const Provenance& provenance);
+
 // "12.34 (1.05x)": a value and its ratio to the baseline; shared by the table and sweep printouts.
 std::string ratio_cell(double value, double base);
 

@@ -1,0 +1,174 @@
+// `--shard I/N` and `raycoh merge` end to end: shards together are the single process's rows, a resumed shard
+// redoes and doubles nothing, and merge refuses what does not belong together or is incomplete.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "harness/csv.h"
+#include "harness/merge.h"
+#include "tests/cli_util.h"
+
+namespace raycoh::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Columns whose values differ between runs of the same work: measured times, and where and how a run was started.
+const std::set<std::string> kNotDeterministic = {"gen_ms",     "trace_ms", "trace_ms_min", "mray_s",
+                                                 "key_ms",     "sort_ms",  "permute_ms",   "e2e_ms",
+                                                 "e2e_mray_s", "host",     "started_utc",  "command_line"};
+
+// The file's rows with the non-deterministic columns blanked, sorted (header first).
+std::vector<std::string> deterministic_rows(const fs::path& p) {
+  std::vector<std::string> lines = read_lines(p), header, out;
+  if (lines.empty()) return out;
+  csv_parse_line(lines[0], header);
+  out.push_back(lines[0]);
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::vector<std::string> f;
+    csv_parse_line(lines[i], f);
+    std::string row;
+    for (size_t c = 0; c < f.size() && c < header.size(); ++c)
+      row += (kNotDeterministic.count(header[c]) ? std::string("-") : f[c]) + ",";
+    out.push_back(row);
+  }
+  std::sort(out.begin() + 1, out.end());
+  return out;
+}
+
+const std::string kRun =
+    "table --scenes cornell,voxels:size=8 --generators noopt,ours --encoders none,origin --tracers cpu,simt "
+    "--res 32x24 --frames 2 --repeat 1";
+
+TEST(CliShard, ThreeShardsMergeToTheSingleProcessRows) {
+  const auto dir = temp_dir("cli_shard");
+  const auto whole = dir / "whole.csv", merged = dir / "merged.csv";
+  CommandResult r = run_raycoh(kRun + " --out " + whole.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string shards;
+  size_t shard_rows = 0;
+  for (int i = 0; i < 3; ++i) {
+    const auto out = dir / ("shard" + std::to_string(i) + ".csv");
+    r = run_raycoh(kRun + " --shard " + std::to_string(i) + "/3 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("raycoh merge"), std::string::npos) << r.output;
+    shard_rows += read_lines(out).size() - 1;
+    EXPECT_LT(read_lines(out).size() - 1, read_lines(whole).size() - 1);  // each shard does a part
+    shards += " " + out.string();
+  }
+  EXPECT_EQ(shard_rows, read_lines(whole).size() - 1);
+  r = run_raycoh("merge --out " + merged.string() + shards);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("of 3 shard(s)"), std::string::npos) << r.output;
+  EXPECT_EQ(deterministic_rows(merged), deterministic_rows(whole));
+  // Merging again refuses the existing output; --force replaces it.
+  expect_error("merge --out " + merged.string() + shards, merged.string());
+  EXPECT_EQ(run_raycoh("merge --force --out " + merged.string() + shards).exit_code, 0);
+}
+
+TEST(CliShard, AResumedShardRedoesAndDoublesNothing) {
+  const auto dir = temp_dir("cli_shard_resume");
+  const std::string run = "table --scenes cornell --generators noopt,ours --res 24x16 --frames 3 --repeat 1";
+  std::string shards;
+  std::vector<std::string> first;
+  for (int i = 0; i < 2; ++i) {
+    const auto out = dir / ("s" + std::to_string(i) + ".csv");
+    ASSERT_EQ(run_raycoh(run + " --shard " + std::to_string(i) + "/2 --out " + out.string()).exit_code, 0);
+    shards += " " + out.string();
+    if (i == 0) first = read_lines(out);
+  }
+  ASSERT_GE(first.size(), 4u);
+  // Shard 0 killed after two rows: its .partial holds them; the same command measures only the rest.
+  const auto s0 = dir / "s0.csv";
+  fs::remove(s0);
+  write_file(s0.string() + ".partial", first[0] + "\n" + first[1] + "\n" + first[2] + "\n");
+  const CommandResult r = run_raycoh(run + " --shard 0/2 --out " + s0.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming: 2 rows"), std::string::npos) << r.output;
+  const auto again = read_lines(s0);
+  ASSERT_EQ(again.size(), first.size());
+  EXPECT_EQ(again[1], first[1]);  // kept as measured
+  EXPECT_EQ(again[2], first[2]);
+  const auto merged = dir / "m.csv";
+  const CommandResult m = run_raycoh("merge --out " + merged.string() + shards);
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  const auto whole = dir / "whole.csv";
+  ASSERT_EQ(run_raycoh(run + " --out " + whole.string()).exit_code, 0);
+  EXPECT_EQ(deterministic_rows(merged), deterministic_rows(whole));
+}
+
+TEST(CliShard, MergeRefusesWhatDoesNotBelongTogetherNamingFilesAndField) {
+  const auto dir = temp_dir("cli_merge_refuse");
+  const std::string run = "table --scenes cornell --res 24x16 --frames 2 --repeat 1 --tracers cpu";
+  const auto a = dir / "a.csv", b = dir / "b.csv", out = dir / "out.csv";
+  ASSERT_EQ(run_raycoh(run + " --shard 0/2 --out " + a.string()).exit_code, 0);
+  ASSERT_EQ(run_raycoh(run + " --shard 1/2 --out " + b.string()).exit_code, 0);
+
+  // A missing shard is named; nothing is written.
+  expect_error("merge --out " + out.string() + " " + a.string(), "shard(s) 1/2 missing");
+  EXPECT_FALSE(fs::exists(out));
+  // A shard that did not finish: its file is named with the rows its .partial holds.
+  const auto c = dir / "c.csv";
+  write_file(c.string() + ".partial", read_lines(a)[0] + "\n" + read_lines(a)[1] + "\n");
+  expect_error("merge --out " + out.string() + " " + a.string() + " " + c.string(),
+               c.string() + " (unfinished: " + c.string() + ".partial holds 1 row(s)");
+  // A row gone from a shard's file: the row and the shard that owes it are named.
+  const auto a_lines = read_lines(a);
+  ASSERT_GE(a_lines.size(), 3u);
+  std::string cut;
+  for (size_t i = 0; i + 1 < a_lines.size(); ++i) cut += a_lines[i] + "\n";
+  const auto short_a = dir / "short.csv";
+  write_file(short_a, cut);
+  expect_error("merge --out " + out.string() + " " + short_a.string() + " " + b.string(),
+               "1 row(s) missing (shard 0/2: 1)");
+  // The same rows twice (a copy of a shard's file) are duplicates.
+  const auto copy = dir / "copy.csv";
+  fs::copy_file(a, copy);
+  expect_error("merge --out " + out.string() + " " + a.string() + " " + b.string() + " " + copy.string(),
+               "duplicate row(s)");
+  // Another code revision: both files and the field are named.
+  std::vector<std::string> lines = read_lines(b);
+  std::string edited = lines[0] + "\n";
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::string l = lines[i];
+    const size_t at = l.find(",Release,");
+    ASSERT_NE(at, std::string::npos) << l;
+    const size_t rev = l.rfind(',', at - 1);
+    edited += l.substr(0, rev + 1) + "0000000old" + l.substr(at) + "\n";
+  }
+  const auto other = dir / "other.csv";
+  write_file(other, edited);
+  const CommandResult r = run_raycoh("merge --out " + out.string() + " " + a.string() + " " + other.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const std::string& s : {a.string(), other.string(), std::string("git_revision"), std::string("0000000old")})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+  // Other parameters: the field named (a different resolution), then the rest of the command line.
+  const auto res = dir / "res.csv", frames = dir / "frames.csv";
+  ASSERT_EQ(run_raycoh("table --scenes cornell --res 16x16 --frames 2 --repeat 1 --tracers cpu --shard 1/2 --out " +
+                       res.string())
+                .exit_code,
+            0);
+  expect_error("merge --out " + out.string() + " " + a.string() + " " + res.string(), "disagree on width");
+  ASSERT_EQ(run_raycoh("table --scenes cornell --res 24x16 --frames 2 --repeat 2 --tracers cpu --shard 1/2 --out " +
+                       frames.string())
+                .exit_code,
+            0);
+  expect_error("merge --out " + out.string() + " " + a.string() + " " + frames.string(), "disagree on the parameters");
+  // Unfinished files and a shard count that differs are refused too.
+  write_file(dir / "x.csv.partial", lines[0] + "\n");
+  expect_error("merge --out " + out.string() + " " + a.string() + " " + (dir / "x.csv.partial").string(), "unfinished");
+  EXPECT_FALSE(fs::exists(out));
+  ASSERT_EQ(run_raycoh("merge --out " + out.string() + " " + a.string() + " " + b.string()).exit_code, 0);
+}
+
+TEST(CliShard, CommandWordsUndoTheProvenanceQuoting) {
+  EXPECT_EQ(command_words("build/raycoh table --scenes 'a b' --out x.csv"),
+            (std::vector<std::string>{"table", "--scenes", "a b", "--out", "x.csv"}));
+  EXPECT_EQ(command_words("r --x 'it'\\''s'"), (std::vector<std::string>{"--x", "it's"}));
+}
+
+}  // namespace
+}  // namespace raycoh::test
