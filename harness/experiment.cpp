@@ -55,9 +55,10 @@ void check_scene_names(const std::vector<std::string>& specs) {
   for (const std::string& spec : specs) {
     const auto [it, fresh] = seen.emplace(scene_name_of(spec), spec);
     if (!fresh)
-      throw Error(fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
-                              "separate --out files",
-                              it->second, spec, it->first));
+      throw Error(
+          fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
+                      "separate --out files",
+                      it->second, spec, it->first));
   }
 }
 
@@ -185,8 +186,7 @@ ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
       provenance_(p),
       generators_(checked_generators(o)),
       permute_(parse_permute_mode(o.permute)),
-      csv_(o.out, experiment_schema(),
-           CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
+      csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
   for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
   if (!done_.empty())
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
@@ -314,6 +314,10 @@ ModeledStages ExperimentRun::model_stages(const GpuModelConfig& gpu, size_t mi, 
   ModeledStages m;
   m.gen_ms = modeled_generation_ms(gpu, size_t(o_.width) * size_t(o_.height), batch_.size());
   if (!reordered) return m;
+  if (setup_->encoders[mi]->window() > 0) {  // one on-chip binning kernel: no key, sort or permutation pass
+    m.sort_ms = modeled_window_ms(gpu, batch_.size(), permute_ == PermuteMode::Physical);
+    return m;
+  }
   const int bits = setup_->encoders[mi]->key_bits();
   m.key_ms = modeled_key_ms(gpu, batch_.size(), bits);
   m.sort_ms = modeled_sort_ms(gpu, batch_.size(), bits);
