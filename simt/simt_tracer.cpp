@@ -185,6 +185,8 @@ const ParamTable& simt_params() {
       choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
                    "layout: the shared BVH2, or the compressed 8-wide BVH (Ylitie et al. 2017) and its kernel's step "
                    "costs"),
+      preset_row("node_cycles", ParamType::Float, 1, 100000,
+                 "partition issue cycles of a node step; default: the layout's counted kernel (115 bvh2, 722 cwbvh)"),
   };
   return table;
 }
@@ -226,6 +228,7 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, c
   gpu.gpu.l2_bytes_per_clk = preset_float(params, "l2_bpc", gpu.gpu.l2_bytes_per_clk);
   const bool cw = params.get_choice("bvh") == "cwbvh";
   if (cw) use_cwbvh_kernel(kernel);
+  kernel.node.issue_cycles = preset_float(params, "node_cycles", kernel.node.issue_cycles);
   params.finish();
 
   if (kernel.block_threads % 32 != 0)
