@@ -51,6 +51,9 @@ class Encoder {
   virtual KeyRecipe recipe() const = 0;
   // Facts derived from the scene that a report may show ("levels=4 bits=6/6/5/3 ..."); empty for most.
   virtual std::string details() const { return {}; }
+  // Rays per window for the windowed reordering `window` (its keys keep every ray inside its window); 0 for a
+  // global sort.
+  virtual int window() const { return 0; }
 
   const std::string& name() const { return name_; }
   // The box positions are quantised in (the scene's bounds).

@@ -75,5 +75,7 @@ const ParamTable& twopoint_params();
 std::unique_ptr<Encoder> make_twopoint_encoder(ParamSet& params, const EncoderContext& context);
 const ParamTable& mlhcc_params();
 std::unique_ptr<Encoder> make_mlhcc_encoder(ParamSet& params, const EncoderContext& context);
+const ParamTable& window_params();
+std::unique_ptr<Encoder> make_window_encoder(ParamSet& params, const EncoderContext& context);
 
 }  // namespace raycoh

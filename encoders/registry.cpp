@@ -29,6 +29,10 @@ const std::vector<EncoderInfo>& encoder_infos() {
       {"mlhcc",
        "hierarchy cut code: ranks of origin and end point in nested BVH cuts, per-level widths (Xiang et al. 2023)",
        mlhcc_params, make_mlhcc_encoder},
+      {"window",
+       "windowed reordering: rays binned by a short key (octant, or the top bits of another encoder's code) inside "
+       "windows of W rays, as hardware reordering does",
+       window_params, make_window_encoder},
   };
   return infos;
 }

@@ -12,6 +12,12 @@
 
 namespace raycoh {
 
+// Defined in generators/shared_sample.cpp.
+const ParamTable& sadeghi_params();
+std::unique_ptr<Generator> make_sadeghi_generator(ParamSet& params);
+const ParamTable& microjitter_params();
+std::unique_ptr<Generator> make_microjitter_generator(ParamSet& params);
+
 const std::vector<GeneratorInfo>& generator_infos() {
   static const std::vector<GeneratorInfo> infos = {
       {"noopt", "baseline: every pixel samples its own BSDF lobe (cosine / GGX VNDF / dielectric)", noopt_params,
@@ -22,6 +28,13 @@ const std::vector<GeneratorInfo>& generator_infos() {
        ours_params, make_contiguous_generator},
       {"direct", "ablation: one world-space direction per tile (the paper's Fig. 1; back-facing directions)",
        direct_params, make_direct_generator},
+      {"sadeghi",
+       "prior art: every pixel uses the frame's shared random numbers, optionally from N x N interleaved streams "
+       "(Sadeghi et al. 2009)",
+       sadeghi_params, make_sadeghi_generator},
+      {"microjitter",
+       "prior art: one shared sample per frame, jittered per pixel within a small radius (Dufay et al. 2016)",
+       microjitter_params, make_microjitter_generator},
   };
   return infos;
 }

@@ -369,6 +369,10 @@ ModeledStages ExperimentRun::model_stages(const GpuModelConfig& gpu, size_t mi, 
   ModeledStages m;
   m.gen_ms = modeled_generation_ms(gpu, size_t(o_.width) * size_t(o_.height), batch_.size());
   if (!reordered) return m;
+  if (setup_->encoders[mi]->window() > 0) {  // one on-chip binning kernel: no key, sort or permutation pass
+    m.sort_ms = modeled_window_ms(gpu, batch_.size(), permute_ == PermuteMode::Physical);
+    return m;
+  }
   const int bits = setup_->encoders[mi]->key_bits();
   m.key_ms = modeled_key_ms(gpu, batch_.size(), bits);
   m.sort_ms = modeled_sort_ms(gpu, batch_.size(), bits);

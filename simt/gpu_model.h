@@ -53,6 +53,10 @@ struct KernelSpec {
   uint32_t ray_bytes = 32, hit_bytes = 16;  // one ray read and one hit written per lane
 };
 
+// The step costs of the CWBVH kernel (core/traverse_cwbvh.h) on the same GPU: node, triangle and leaf steps of
+// the `simt` tracer's `bvh=cwbvh` (sources in simt/gpu_presets.cpp).
+void use_cwbvh_kernel(KernelSpec& k);
+
 struct GpuModelConfig {
   std::string preset;  // "rtx3060", "h100"
   CacheModelConfig cache;

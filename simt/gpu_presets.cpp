@@ -119,6 +119,22 @@ GpuModelConfig h100() {
 
 }  // namespace
 
+// The CWBVH kernel's step costs, counted as the BVH2's (scripts/count-cwbvh-step-instructions, SASS of the probe
+// kernels in simt/probe/cwbvh_step_probes.cu, nvcc 13 for sm_86; the same tools give the BVH2's 115 / 124 / 42
+// exactly): node step 716 instructions = 722 cycles, 5 global loads (the 80-byte node as five 16-byte words), 46
+// local accesses (the probe's state and stack spill around the unrolled 8-child loop); triangle step 126 = 126,
+// 10 loads. The Leaf step (entering the triangle loop) has no instructions of its own in closest_hit_cwbvh: it
+// is costed as one triangle's bookkeeping, 4 instructions = 6 cycles and 1 local access (probe_cw_triangle minus
+// probe_cw_test). Registers and block size: the BVH2 kernel's (an assumption: no CWBVH CUDA kernel exists yet).
+// Why the node step is long: our box test decodes each plane to world
+// space with separate multiply and add (--fmad=false) so that its hits equal the BVH2's bit for bit, where the
+// paper transforms the ray into the node's frame and uses one FMA per plane.
+void use_cwbvh_kernel(KernelSpec& k) {
+  k.node = {722, 5, 46};
+  k.triangle = {126, 10, 0};
+  k.leaf = {6, 0, 1};
+}
+
 const char* to_string(TraceKernel k) { return k == TraceKernel::Persistent ? "persistent" : "simple"; }
 
 std::vector<std::string> gpu_preset_names() { return {"rtx3060", "h100"}; }

@@ -42,6 +42,12 @@ double modeled_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits) {
   return modeled_stream_ms(gpu, double(n) * (key_bytes + passes * 2.0 * (key_bytes + kIndexBytes)));
 }
 
+double modeled_window_ms(const GpuModelConfig& gpu, size_t n, bool physical) {
+  if (n < 2) return 0.0;
+  return physical ? modeled_stream_ms(gpu, 2.0 * double(n) * batch_bytes_per_ray())
+                  : modeled_stream_ms(gpu, double(n) * (sizeof(Ray) + kIndexBytes));
+}
+
 double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size_t n) {
   if (n == 0) return 0.0;
   double read_sectors = 0;

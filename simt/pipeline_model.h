@@ -40,5 +40,10 @@ double modeled_key_ms(const GpuModelConfig& gpu, size_t rays, int key_bits);
 double modeled_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits);
 // `order[i]` is the source of output i.
 double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size_t n);
+// The windowed reordering (encoders/window.cpp) as one kernel: each block reads a window of rays, bins them on
+// chip (shared memory) and writes them back in bin order, so the batch is read and written once, contiguously
+// (physical mode), or the rays are read and the window-local order written (indirect mode). Its key, sort and
+// permutation are all in this one figure. An assumption of ours, an upper bound of a hardware unit's cost.
+double modeled_window_ms(const GpuModelConfig& gpu, size_t n, bool physical);
 
 }  // namespace raycoh

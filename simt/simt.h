@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/cwbvh.h"
 #include "core/error.h"
 #include "core/traverse.h"
 #include "core/warp_counters.h"
@@ -22,6 +23,8 @@ constexpr uint32_t kMaxWarpSize = 64;
 // Node array at address 0, triangle array at the next 2 MiB boundary after it: the alignment cudaMalloc gives
 // large allocations. Throws raycoh::Error for sizes outside the ranges above or sector addresses beyond 32 bits.
 SimtConfig simt_config(const BvhView& bvh, uint32_t warp_size, uint32_t line_bytes, uint32_t sector_bytes);
+// The same for a CWBVH (80-byte nodes).
+SimtConfig simt_config(const CwbvhView& bvh, uint32_t warp_size, uint32_t line_bytes, uint32_t sector_bytes);
 
 // One step of a warp, for tests and for comparing with a CUDA counting run step by step.
 struct SimtStep {
@@ -35,8 +38,9 @@ namespace simt_detail {
 
 constexpr uint32_t kNodeBytes = sizeof(BvhNode);
 constexpr uint32_t kTriBytes = sizeof(BvhTriangle);
-// A node or triangle covers at most 3 lines of >= 32 bytes and 4 sectors of >= 16 bytes.
-constexpr uint32_t kMaxUnitsPerLane = 4;
+// A node or triangle (BVH2 64 and 48 bytes, CWBVH 80 bytes) covers at most 4 lines of >= 32 bytes and 5 sectors
+// of >= 16 bytes.
+constexpr uint32_t kMaxUnitsPerLane = 5;
 
 // The fetches of one step: lines and sectors of the active lanes, made distinct by finish().
 struct StepFetches {

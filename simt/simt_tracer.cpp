@@ -24,10 +24,12 @@
 #include <memory>
 
 #include "bvh/bvh_build.h"
+#include "bvh/cwbvh_build.h"
 #include "core/error.h"
 #include "core/flush_denormals.h"
 #include "simt/gpu_model.h"
 #include "simt/simt.h"
+#include "simt/simt_cwbvh.h"
 #include "simt/timed_replay.h"
 #include "tracers/tracer.h"
 
@@ -38,7 +40,9 @@ constexpr uint64_t kAlign = 2ull << 20;
 uint64_t align_up(uint64_t x) { return (x + kAlign - 1) / kAlign * kAlign; }
 }  // namespace
 
-SimtConfig simt_config(const BvhView& bvh, uint32_t warp_size, uint32_t line_bytes, uint32_t sector_bytes) {
+namespace {
+SimtConfig simt_config_for(uint64_t node_bytes, uint64_t tri_count, uint32_t warp_size, uint32_t line_bytes,
+                           uint32_t sector_bytes) {
   auto pow2_in = [](uint32_t x, uint32_t lo, uint32_t hi) { return x >= lo && x <= hi && (x & (x - 1)) == 0; };
   if (warp_size < 1 || warp_size > kMaxWarpSize)
     throw Error(fmt::format("simt: warp size {} is not in [1, {}]", warp_size, kMaxWarpSize));
@@ -51,11 +55,21 @@ SimtConfig simt_config(const BvhView& bvh, uint32_t warp_size, uint32_t line_byt
   c.line_bytes = line_bytes;
   c.sector_bytes = sector_bytes;
   c.node_base = 0;
-  c.tri_base = align_up(uint64_t{bvh.node_count} * sizeof(BvhNode));
-  const uint64_t end = c.tri_base + uint64_t{bvh.tri_count} * sizeof(BvhTriangle);
+  c.tri_base = align_up(node_bytes);
+  const uint64_t end = c.tri_base + tri_count * sizeof(BvhTriangle);
   if (end / sector_bytes > 0xFFFFFFFFull)
     throw Error(fmt::format("simt: the BVH's {} bytes exceed the cache model's 32-bit sector numbers", end));
   return c;
+}
+}  // namespace
+
+SimtConfig simt_config(const BvhView& bvh, uint32_t warp_size, uint32_t line_bytes, uint32_t sector_bytes) {
+  return simt_config_for(uint64_t{bvh.node_count} * sizeof(BvhNode), bvh.tri_count, warp_size, line_bytes,
+                         sector_bytes);
+}
+SimtConfig simt_config(const CwbvhView& bvh, uint32_t warp_size, uint32_t line_bytes, uint32_t sector_bytes) {
+  return simt_config_for(uint64_t{bvh.node_count} * sizeof(CwbvhNode), bvh.tri_count, warp_size, line_bytes,
+                         sector_bytes);
 }
 
 namespace {
@@ -66,8 +80,10 @@ constexpr size_t kWarpsPerChunk = 1024;
 
 class SimtTracer final : public Tracer {
  public:
-  SimtTracer(const Bvh& bvh, const SimtConfig& simt, const GpuModelConfig& gpu, std::string params)
-      : bvh_(bvh.view()), simt_(simt), gpu_(gpu), params_(std::move(params)) {
+  // `cwbvh`: trace that layout instead of `bvh` (null: the BVH2).
+  SimtTracer(const Bvh& bvh, std::unique_ptr<Cwbvh> cwbvh, const SimtConfig& simt, const GpuModelConfig& gpu,
+             std::string params)
+      : bvh_(bvh.view()), cwbvh_(std::move(cwbvh)), simt_(simt), gpu_(gpu), params_(std::move(params)) {
     validate(gpu_);
   }
 
@@ -80,7 +96,7 @@ class SimtTracer final : public Tracer {
     std::vector<WarpTrace> traces(warps);
     std::vector<CoherenceCounters> per_warp(std::min(warps, kWarpsPerChunk));
     // The batch's rays sit after the triangles in the modelled memory, 2 MiB aligned like a cudaMalloc.
-    const uint64_t tri_end = simt_.tri_base + uint64_t{bvh_.tri_count} * sizeof(BvhTriangle);
+    const uint64_t tri_end = simt_.tri_base + uint64_t{bvh_.tri_count} * sizeof(BvhTriangle);  // same triangles
     const uint64_t ray_base = align_up(tri_end);
     if ((ray_base + uint64_t{count} * sizeof(Ray)) / gpu_.cache.sector_bytes > 0xFFFFFFFFull)
       throw Error(fmt::format("simt: {} rays after a BVH of {} bytes exceed the cache model's 32-bit sector numbers",
@@ -97,7 +113,11 @@ class SimtTracer final : public Tracer {
           const size_t first = w * simt_.warp_size;
           const auto lanes = static_cast<uint32_t>(std::min<size_t>(simt_.warp_size, count - first));
           per_warp[w - ready] = CoherenceCounters{};
-          simt_trace_warp(bvh_, rays + first, lanes, simt_, hits + first, per_warp[w - ready], &traces[w]);
+          if (cwbvh_)
+            simt_trace_warp_cwbvh(cwbvh_->view(), rays + first, lanes, simt_, hits + first, per_warp[w - ready],
+                                  &traces[w]);
+          else
+            simt_trace_warp(bvh_, rays + first, lanes, simt_, hits + first, per_warp[w - ready], &traces[w]);
         }
       });
       replaying.wait();
@@ -135,6 +155,7 @@ class SimtTracer final : public Tracer {
 
  private:
   BvhView bvh_;
+  std::unique_ptr<Cwbvh> cwbvh_;
   SimtConfig simt_;
   GpuModelConfig gpu_;
   std::string params_;
@@ -161,6 +182,11 @@ const ParamTable& simt_params() {
       preset_row("l1_tags", ParamType::Int, 1, 32, "distinct lines the L1 tag stage resolves per cycle (wavefront)"),
       preset_row("dram_gbs", ParamType::Float, 1, 100000, "DRAM bandwidth in GB/s"),
       preset_row("l2_bpc", ParamType::Float, 1, 1e6, "L2 bandwidth in bytes per cycle"),
+      choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
+                   "layout: the shared BVH2, or the compressed 8-wide BVH (Ylitie et al. 2017) and its kernel's step "
+                   "costs"),
+      preset_row("node_cycles", ParamType::Float, 1, 100000,
+                 "partition issue cycles of a node step; default: the layout's counted kernel (115 bvh2, 722 cwbvh)"),
   };
   return table;
 }
@@ -184,7 +210,7 @@ float preset_float(ParamSet& p, const std::string& key, double preset_value) {
 
 }  // namespace
 
-std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const Bvh& bvh) {
+std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh) {
   GpuModelConfig gpu = gpu_preset(params.get_choice("preset"));
   KernelSpec& kernel = gpu.kernel;
   kernel.kind = params.get_choice("kernel") == "persistent" ? TraceKernel::Persistent : TraceKernel::Simple;
@@ -200,6 +226,9 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const B
   gpu.gpu.l1_tags_per_clk = preset_int(params, "l1_tags", static_cast<uint64_t>(gpu.gpu.l1_tags_per_clk));
   gpu.gpu.dram_gb_s = preset_float(params, "dram_gbs", gpu.gpu.dram_gb_s);
   gpu.gpu.l2_bytes_per_clk = preset_float(params, "l2_bpc", gpu.gpu.l2_bytes_per_clk);
+  const bool cw = params.get_choice("bvh") == "cwbvh";
+  if (cw) use_cwbvh_kernel(kernel);
+  kernel.node.issue_cycles = preset_float(params, "node_cycles", kernel.node.issue_cycles);
   params.finish();
 
   if (kernel.block_threads % 32 != 0)
@@ -211,9 +240,12 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene&, const B
   cache.l2.bytes = static_cast<uint64_t>(std::llround(double(l2_mb) * double(1 << 20))) / l2_set * l2_set;
   if (cache.l2.bytes == 0)
     throw Error(fmt::format("{}: l2_mb={} is smaller than one set ({} bytes)", params.owner(), l2_mb, l2_set));
+  std::unique_ptr<Cwbvh> cwbvh;
+  if (cw) cwbvh = std::make_unique<Cwbvh>(build_cwbvh(scene, bvh.config));
   const SimtConfig simt =
-      simt_config(bvh.view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes);
-  return std::make_unique<SimtTracer>(bvh, simt, gpu, params.canonical());
+      cwbvh ? simt_config(cwbvh->view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes)
+            : simt_config(bvh.view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes);
+  return std::make_unique<SimtTracer>(bvh, std::move(cwbvh), simt, gpu, params.canonical());
 }
 
 }  // namespace raycoh

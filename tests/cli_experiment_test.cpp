@@ -11,7 +11,7 @@ TEST(CliExperiment, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
   const auto out = dir / "t.csv";
   CommandResult r = run_raycoh("table --scenes cornell --res 32x24 --frames 2 --repeat 1 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("### cpu: secondary rays traced"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("### cpu[bvh=bvh2]: secondary rays traced"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("| noopt | "), std::string::npos) << r.output;
   // 1 header + 2 frames x 2 tracers x (primary + noopt)
   EXPECT_EQ(count_lines(out), 1 + 2 * 2 * 2);

@@ -120,7 +120,8 @@ TEST(Encoders, NonFiniteInputHasDefinedKeys) {
 TEST(Encoders, RegistryAndParameters) {
   std::vector<std::string> names;
   for (const auto& info : encoder_infos()) names.push_back(info.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"none", "origin", "reis", "costa", "aila", "twopoint", "mlhcc"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"none", "origin", "reis", "costa", "aila", "twopoint", "mlhcc", "window"}));
   const Bvh bvh = tiny_bvh();
   const EncoderContext ctx{box_of({-1, 0, -1}, {1, 2, 1}), &bvh};
   EXPECT_EQ(make_encoder(parse_plugin_spec("origin"), ctx)->params(), "bits=32,box=-1/0/-1..1/2/1");

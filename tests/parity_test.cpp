@@ -318,7 +318,8 @@ TEST(TracerRegistry, NamesParametersAndErrors) {
   EXPECT_EQ(tracer_infos()[0].name, "cpu");
   EXPECT_EQ(tracer_infos()[1].name, "embree");
   EXPECT_EQ(tracer_infos()[2].name, "simt");
-  EXPECT_EQ(make_tracer(parse_plugin_spec("cpu"), scene, bvh)->params(), "");
+  EXPECT_EQ(make_tracer(parse_plugin_spec("cpu"), scene, bvh)->params(), "bvh=bvh2");
+  EXPECT_EQ(make_tracer(parse_plugin_spec("cpu:bvh=cwbvh"), scene, bvh)->params(), "bvh=cwbvh");
   EXPECT_EQ(make_tracer(parse_plugin_spec("embree"), scene, bvh)->params(), "mode=single,quality=high");
   EXPECT_EQ(make_tracer(parse_plugin_spec("embree:quality=medium,mode=packet16"), scene, bvh)->params(),
             "mode=packet16,quality=medium");

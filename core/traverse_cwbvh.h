@@ -1,0 +1,194 @@
+// Closest-hit traversal of the compressed 8-wide BVH (core/cwbvh.h), written once for host and device.
+//
+// After Ylitie, Karras & Laine (HPG 2017), in our own formulation:
+//   - The ray keeps a *node group* (an inner node's child_base, imask and the bits of the children it hit, not yet
+//     visited) and a *triangle group* (tri_base and a bit per triangle of the leaves it hit). The stack holds node
+//     groups, 8 bytes each; a node step pushes at most one, so the stack is never deeper than the tree.
+//   - Octant-ordered traversal: the builder puts in slot s the child that rays travelling towards octant s should
+//     visit first (bvh/cwbvh_build.cpp); a ray of octant o (bit k set when dir[k] < 0) keeps the hit of slot s in
+//     bit s ^ o and always takes the lowest bit, so it visits slots in the order o, o ^ 1, ..., o ^ 7: near to far
+//     without sorting, as in the paper.
+//   - Child boxes are decoded to world space (exact: q * 2^e has no rounding) and tested as the BVH2's slab test
+//     tests them, so the quantised boxes, which contain the true ones, cannot lose a hit. The triangle test is
+//     the BVH2's.
+// The loop bodies are exposed as cwbvh_node_step() and cwbvh_triangle_step() so that the SIMT model can step a
+// warp in lock step (simt/simt_cwbvh.h); closest_hit_cwbvh() is the scalar driver. A lane with a triangle group
+// does its triangles before its next node step, in either driver, so both compute the same hits bit for bit.
+// Not modelled from the paper: its compressed stack entries' "triangle group on the stack" case and its
+// rotation of the inner-child bits (both performance details of the same visiting order).
+#pragma once
+
+#include "core/cwbvh.h"
+#include "core/traverse.h"
+
+namespace raycoh {
+
+struct CwbvhState {
+  PreparedRay ray;
+  Hit hit;
+  uint32_t octant;      // bit k set when dir[k] < 0
+  uint32_t node_base;   // node group: child_base
+  uint32_t node_hits;   // node group: bit (slot ^ octant) per hit inner child not yet visited (bits 0..7)
+  uint32_t node_imask;  // node group: the parent's imask
+  uint32_t tri_base;    // triangle group: tri_base
+  uint32_t tri_hits;    // triangle group: bit i for triangle tri_base + i not yet tested (bits 0..23)
+  int sp;
+  uint64_t stack[kTraversalStackSize];  // node groups: base | hits << 32 | imask << 40
+};
+
+RAYCOH_HD RAYCOH_INLINE void cwbvh_begin(CwbvhState& s, const Ray& r) {
+  s.ray = prepare_ray(r);
+  s.hit = Hit{};
+  s.hit.t = r.tmax;
+  s.octant = (r.dir.x < 0.f ? 1u : 0u) | (r.dir.y < 0.f ? 2u : 0u) | (r.dir.z < 0.f ? 4u : 0u);
+  // The root as a group of one: slot 0 of a virtual parent whose only inner child is node 0.
+  s.node_base = 0;
+  s.node_imask = 1;
+  s.node_hits = 1u << (0u ^ s.octant);
+  s.tri_base = 0;
+  s.tri_hits = 0;
+  s.sp = 0;
+  if (!(r.tmax > r.tmin) || !is_finite(r.org) || !is_finite(r.dir) || !(dot(r.dir, r.dir) > 0.f)) s.node_hits = 0;
+}
+
+RAYCOH_HD RAYCOH_INLINE bool cwbvh_has_triangles(const CwbvhState& s) { return s.tri_hits != 0; }
+RAYCOH_HD RAYCOH_INLINE bool cwbvh_wants_node(const CwbvhState& s) {
+  return s.tri_hits == 0 && (s.node_hits != 0 || s.sp > 0);
+}
+RAYCOH_HD RAYCOH_INLINE bool cwbvh_done(const CwbvhState& s) {
+  return s.tri_hits == 0 && s.node_hits == 0 && s.sp == 0;
+}
+
+// The node the next cwbvh_node_step() fetches (pops a group first when the current one is empty). Requires
+// cwbvh_wants_node(s).
+RAYCOH_HD RAYCOH_INLINE uint32_t cwbvh_next_node(CwbvhState& s) {
+  if (s.node_hits == 0) {
+    const uint64_t g = s.stack[--s.sp];
+    s.node_base = static_cast<uint32_t>(g);
+    s.node_hits = static_cast<uint32_t>(g >> 32) & 0xFFu;
+    s.node_imask = static_cast<uint32_t>(g >> 40) & 0xFFu;
+  }
+  const uint32_t slot = lowest_bit(s.node_hits) ^ s.octant;
+  return cwbvh_child_index(s.node_base, s.node_imask, slot);
+}
+
+// A node as the kernel reads it: five 16-byte words (core/cwbvh.h gives the byte layout).
+struct alignas(16) CwbvhNodeWords {
+  uint32_t w[20];
+};
+static_assert(sizeof(CwbvhNodeWords) == sizeof(CwbvhNode), "same bytes");
+
+RAYCOH_HD RAYCOH_INLINE float cwbvh_bits_float(uint32_t bits) {
+#if defined(__CUDA_ARCH__)
+  return __int_as_float(static_cast<int>(bits));
+#else
+  return __builtin_bit_cast(float, bits);
+#endif
+}
+
+// Byte k (0..3) of a word as a float, exactly: 2^23 + q has q in its low mantissa bits, and one byte permute
+// builds 0x4B0000qq on the device.
+RAYCOH_HD RAYCOH_INLINE float cwbvh_byte_float(uint32_t word, int k) {
+#if defined(__CUDA_ARCH__)
+  const uint32_t bits = __byte_perm(word, 0x4B000000u, static_cast<uint32_t>(k) | 0x7440u);
+#else
+  const uint32_t bits = 0x4B000000u | ((word >> (8 * k)) & 0xFFu);
+#endif
+  return cwbvh_bits_float(bits) - 8388608.f;
+}
+
+// One node step: take the nearest unvisited child of the node group, push the rest of the group, fetch the child
+// and test its 8 child boxes; the hit inner children become the node group, the hit leaves the triangle group.
+// Each box test computes exactly what intersect_box() computes on the box cwbvh_child_box() decodes (the same
+// roundings, in the same order), but takes the entry plane of each axis from the sign of the ray's inverse
+// direction instead of a min/max per plane pair, which is the same value.
+template <class Counters>
+RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh, Counters& counters) {
+  const uint32_t index = cwbvh_next_node(s);
+  s.node_hits &= s.node_hits - 1u;
+  if (s.node_hits != 0)
+    s.stack[s.sp++] = uint64_t{s.node_base} | (uint64_t{s.node_hits} << 32) | (uint64_t{s.node_imask} << 40);
+#if defined(__CUDA_ARCH__)
+  const CwbvhNodeWords n = reinterpret_cast<const CwbvhNodeWords*>(bvh.nodes)[index];  // five 16-byte loads
+#else
+  CwbvhNodeWords n;
+  __builtin_memcpy(&n, &bvh.nodes[index], sizeof(n));
+#endif
+  counters.on_node(static_cast<int32_t>(index));
+  const PreparedRay& r = s.ray;
+  const Vec3 p{cwbvh_bits_float(n.w[0]), cwbvh_bits_float(n.w[1]), cwbvh_bits_float(n.w[2])};
+  const float sx = cwbvh_bits_float((n.w[3] & 0xFFu) << 23), sy = cwbvh_bits_float(((n.w[3] >> 8) & 0xFFu) << 23),
+              sz = cwbvh_bits_float(((n.w[3] >> 16) & 0xFFu) << 23);
+  const uint32_t imask = n.w[3] >> 24;
+  // Plane words: qlo_x = w[8..9], qlo_y = w[10..11], qlo_z = w[12..13], qhi_x = w[14..15], qhi_y = w[16..17],
+  // qhi_z = w[18..19]; the entry plane of an axis is qlo unless the ray travels towards -axis.
+  const bool fx = r.inv_dir.x < 0.f, fy = r.inv_dir.y < 0.f, fz = r.inv_dir.z < 0.f;
+  const uint32_t nx0 = fx ? n.w[14] : n.w[8], nx1 = fx ? n.w[15] : n.w[9];
+  const uint32_t fx0 = fx ? n.w[8] : n.w[14], fx1 = fx ? n.w[9] : n.w[15];
+  const uint32_t ny0 = fy ? n.w[16] : n.w[10], ny1 = fy ? n.w[17] : n.w[11];
+  const uint32_t fy0 = fy ? n.w[10] : n.w[16], fy1 = fy ? n.w[11] : n.w[17];
+  const uint32_t nz0 = fz ? n.w[18] : n.w[12], nz1 = fz ? n.w[19] : n.w[13];
+  const uint32_t fz0 = fz ? n.w[12] : n.w[18], fz1 = fz ? n.w[13] : n.w[19];
+  const uint32_t meta0 = n.w[6], meta1 = n.w[7];
+  const float tmax = s.hit.t;
+  uint32_t node_hits = 0, tri_hits = 0;
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+  for (int slot = 0; slot < kCwbvhWidth; ++slot) {
+    const bool h = slot >= 4;
+    const int k = slot & 3;
+    const uint32_t meta = ((h ? meta1 : meta0) >> (8 * k)) & 0xFFu;
+    if (meta == 0) continue;
+    const float tx0 = (p.x + cwbvh_byte_float(h ? nx1 : nx0, k) * sx - r.org.x) * r.inv_dir.x;
+    const float tx1 = (p.x + cwbvh_byte_float(h ? fx1 : fx0, k) * sx - r.org.x) * r.inv_dir.x;
+    const float ty0 = (p.y + cwbvh_byte_float(h ? ny1 : ny0, k) * sy - r.org.y) * r.inv_dir.y;
+    const float ty1 = (p.y + cwbvh_byte_float(h ? fy1 : fy0, k) * sy - r.org.y) * r.inv_dir.y;
+    const float tz0 = (p.z + cwbvh_byte_float(h ? nz1 : nz0, k) * sz - r.org.z) * r.inv_dir.z;
+    const float tz1 = (p.z + cwbvh_byte_float(h ? fz1 : fz0, k) * sz - r.org.z) * r.inv_dir.z;
+    const float tnear = max_f(max_f(tx0, ty0), max_f(tz0, r.tmin));
+    const float tfar = min_f(min_f(tx1, ty1), min_f(tz1, tmax)) * 1.00000024f;  // as intersect_box()
+    if (!(tnear <= tfar)) continue;
+    if ((imask >> slot) & 1u)
+      node_hits |= 1u << (static_cast<uint32_t>(slot) ^ s.octant);
+    else
+      tri_hits |= ((1u << popcount32(meta >> 5)) - 1u) << (meta & 31u);
+  }
+  s.node_base = n.w[4];
+  s.node_imask = imask;
+  s.node_hits = node_hits;
+  s.tri_base = n.w[5];
+  s.tri_hits = tri_hits;
+}
+
+// One triangle of the triangle group.
+template <class Counters>
+RAYCOH_HD RAYCOH_INLINE void cwbvh_triangle_step(CwbvhState& s, const CwbvhView& bvh, Counters& counters) {
+  const uint32_t i = s.tri_base + lowest_bit(s.tri_hits);
+  s.tri_hits &= s.tri_hits - 1u;
+  counters.on_triangle(i);
+  intersect_triangle(s.ray, bvh.tris[i], s.hit);
+}
+
+// Scalar driver: closest hit of one ray.
+template <class Counters>
+RAYCOH_HD RAYCOH_INLINE Hit closest_hit_cwbvh(const CwbvhView& bvh, const Ray& r, Counters& counters) {
+  CwbvhState s;
+  cwbvh_begin(s, r);
+  while (!cwbvh_done(s)) {
+    if (cwbvh_has_triangles(s)) {
+      counters.on_leaf(0);
+      while (cwbvh_has_triangles(s)) cwbvh_triangle_step(s, bvh, counters);
+    } else {
+      cwbvh_node_step(s, bvh, counters);
+    }
+  }
+  return s.hit;
+}
+
+RAYCOH_HD RAYCOH_INLINE Hit closest_hit_cwbvh(const CwbvhView& bvh, const Ray& r) {
+  NoCounters none;
+  return closest_hit_cwbvh(bvh, r, none);
+}
+
+}  // namespace raycoh

@@ -1,0 +1,147 @@
+// The two prior-art generators that share random numbers between pixels (the ancestors of `ours`):
+//
+//   sadeghi      Sadeghi, Chen & Jensen, "Coherent Path Tracing" (JGT 2009): every pixel of the image uses the
+//                same random numbers in a frame, so pixels with the same material and frame sample the same
+//                tangent-space direction. With interleave=N (Keller & Heidrich's interleaved sampling, which the
+//                paper uses against the structured error of one shared sample) pixel (x, y) uses stream
+//                (y mod N) N + (x mod N) of N^2 shared streams. N = 1: one sample for the whole image.
+//   microjitter  Dufay, Lecocq, Pacanowski, Iehl & Poulin, "Cache-Friendly Micro-Jittered Sampling" (SIGGRAPH
+//                2016 talk): one shared sample per frame, jittered per pixel within a small radius: pixel p uses
+//                u_p = frac(u + radius (xi_p - 1/2)) per dimension, with u shared and xi_p the pixel's own
+//                (NoOpt's) random numbers. A toroidal shift of a uniform u is uniform whatever the shift, so u_p
+//                is uniform; radius = 1 decorrelates the pixels completely.
+// Both sample every pixel's own BSDF (core/bsdf.h sample_direction) with those numbers, so each pixel's marginal
+// is exactly its BSDF's (unbiased; tests/shared_sample_test.cpp checks it like `ours`); only the correlation
+// between pixels changes. Batch order and tiles as NoOpt (order=tile, tile=8x8 by default); every ray counts as
+// reused (its random numbers came from a shared stream) except with interleave=N where N^2 >= pixels.
+//
+// Parameters: sadeghi_params() and microjitter_params() below.
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "core/bsdf.h"
+#include "core/rng.h"
+#include "generators/generator.h"
+#include "generators/noopt.h"
+#include "generators/pixel_order.h"
+#include "generators/tiles.h"
+
+namespace raycoh {
+namespace {
+
+// Pixel ids of the shared streams in rng(): far above any image's pixel numbers.
+constexpr uint32_t kSharedStreamBase = 0xF0000000u;
+
+enum class Sharing { Sadeghi, MicroJitter };
+
+class SharedSampleGenerator final : public Generator {
+ public:
+  SharedSampleGenerator(ParamSet& params, Sharing sharing) : sharing_(sharing) {
+    order_ = parse_ray_order(params.get_choice("order"));
+    tile_ = params.get_size("tile");
+    if (sharing_ == Sharing::Sadeghi)
+      interleave_ = params.get_int("interleave");
+    else
+      radius_ = params.get_float("radius");
+    params.finish();
+    params_ = params.canonical();
+  }
+
+  std::string params() const override { return params_; }
+
+  void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
+                GenerationStats& stats) override {
+    const TileGrid grid = order_ == RayOrder::Scanline
+                              ? TileGrid(gbuffer.width, gbuffer.height, gbuffer.width, 1)
+                              : TileGrid(gbuffer.width, gbuffer.height, tile_.first, tile_.second);
+    const std::vector<uint32_t> offsets = tile_hit_offsets(gbuffer, grid);
+    out.width = gbuffer.width;
+    out.height = gbuffer.height;
+    out.frame = gbuffer.frame;
+    out.resize(offsets.back());
+    const uint32_t frame = gbuffer.frame;
+    const bool all_own = sharing_ == Sharing::Sadeghi &&
+                         uint64_t(interleave_) * uint64_t(interleave_) >= uint64_t(gbuffer.width) * gbuffer.height;
+    tbb::enumerable_thread_specific<GenerationStats> partial;
+    tbb::parallel_for(tbb::blocked_range<int>(0, grid.count(), 16), [&](const tbb::blocked_range<int>& range) {
+      GenerationStats& local = partial.local();
+      for (int t = range.begin(); t < range.end(); ++t) {
+        int x0, y0, w, h;
+        grid.rect(t, x0, y0, w, h);
+        uint32_t slot = offsets[t];
+        for (int y = y0; y < y0 + h; ++y)
+          for (int x = x0; x < x0 + w; ++x) {
+            const uint32_t p = static_cast<uint32_t>(y * gbuffer.width + x);
+            const ShadingPoint& sp = gbuffer.points[p];
+            if (!sp.valid()) continue;
+            float u[3];
+            numbers(seed, frame, x, y, p, u);
+            const BsdfParams m = bsdf_params(scene.materials[sp.material]);
+            const DirectionSample s = sample_direction(m, sp.ns, sp.ng, sp.wo, sp.front_face, u[0], u[1], u[2]);
+            tally_ray(emit_ray(out, slot, sp, p, s), local);
+            if (!all_own) ++local.reused_rays;
+            ++slot;
+          }
+      }
+    });
+    stats = GenerationStats{};
+    for (const GenerationStats& s : partial) merge_stats(stats, s);
+  }
+
+ private:
+  // The three numbers (direction u1, u2, lobe choice) of pixel p at (x, y).
+  void numbers(uint32_t seed, uint32_t frame, int x, int y, uint32_t p, float u[3]) const {
+    static constexpr uint32_t kDims[3] = {kDimSecondary0, kDimSecondary1, kDimSecondaryLobe};
+    if (sharing_ == Sharing::Sadeghi) {
+      const auto n = static_cast<uint32_t>(interleave_);
+      const uint32_t stream = (static_cast<uint32_t>(y) % n) * n + static_cast<uint32_t>(x) % n;
+      for (int d = 0; d < 3; ++d) u[d] = rng_float(seed, frame, kSharedStreamBase + stream, kDims[d]);
+      return;
+    }
+    for (int d = 0; d < 3; ++d) {
+      const float shared = rng_float(seed, frame, kSharedStreamBase, kDims[d]);
+      const float jitter = rng_float(seed, frame, p, kDims[d]);
+      const float v = shared + radius_ * (jitter - 0.5f);
+      u[d] = std::fmin(v - std::floor(v), 0x1.fffffep-1f);  // frac, kept below 1 against rounding
+    }
+  }
+
+  Sharing sharing_;
+  RayOrder order_;
+  std::pair<int, int> tile_;
+  int interleave_ = 1;
+  float radius_ = 0.f;
+  std::string params_;
+};
+
+}  // namespace
+
+const ParamTable& sadeghi_params() {
+  static const ParamTable table = {
+      choice_param("order", "tile", ray_order_names(), "batch order: the image's rows, or W x H tiles"),
+      size_param("tile", {8, 8}, 1, 4096, "tile of the tile order"),
+      int_param("interleave", 1, 1, 4096, "N: N x N interleaved shared streams (1: one sample for the image)"),
+  };
+  return table;
+}
+
+const ParamTable& microjitter_params() {
+  static const ParamTable table = {
+      choice_param("order", "tile", ray_order_names(), "batch order: the image's rows, or W x H tiles"),
+      size_param("tile", {8, 8}, 1, 4096, "tile of the tile order"),
+      float_param("radius", 0.05f, 0.f, 1.f, "jitter width in sample space per dimension (1: independent pixels)"),
+  };
+  return table;
+}
+
+std::unique_ptr<Generator> make_sadeghi_generator(ParamSet& params) {
+  return std::make_unique<SharedSampleGenerator>(params, Sharing::Sadeghi);
+}
+
+std::unique_ptr<Generator> make_microjitter_generator(ParamSet& params) {
+  return std::make_unique<SharedSampleGenerator>(params, Sharing::MicroJitter);
+}
+
+}  // namespace raycoh

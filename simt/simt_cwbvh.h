@@ -1,0 +1,106 @@
+// The SIMT warp model of the CWBVH traversal (core/traverse_cwbvh.h), counted with the rules of simt/simt.h so
+// that the timing model (simt/timed_replay.h) times it as it times the BVH2 kernel. Host only.
+//
+// Warp stepping (the loop of Ylitie et al. 2017, each lane's operations in the order of closest_hit_cwbvh()):
+//   repeat while some lane is not done:
+//     node step    the lanes that want a node (no triangles pending, a node group or a stack entry left) fetch one
+//                  80-byte node each: one Node step, its lines and sectors the distinct ones of those lanes;
+//     triangles    if some lane holds triangles and either no lane wants a node or at least kCwbvhTriangleShare of
+//                  the live lanes hold triangles, one Leaf step (the lanes holding triangles; no fetch: the
+//                  triangle group came with the node) and Triangle sub-steps, each testing the next triangle of
+//                  every lane that has one left (48-byte fetches), until none has; otherwise the triangles are
+//                  postponed and lanes holding them idle through the next node step.
+// The postponement is the paper's warp-utilisation heuristic; kCwbvhTriangleShare = 0.2 is our assumption (a
+// fixed choice, not fitted to any result).
+#pragma once
+
+#include "core/traverse_cwbvh.h"
+#include "simt/simt.h"
+
+namespace raycoh {
+
+constexpr double kCwbvhTriangleShare = 0.2;
+
+inline void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_t lanes, const SimtConfig& config,
+                                  Hit* hits, CoherenceCounters& counters, WarpTrace* trace = nullptr,
+                                  RayCounters* ray_counters = nullptr, std::vector<SimtStep>* steps = nullptr) {
+  using namespace simt_detail;
+  RAYCOH_CHECK(lanes <= kMaxWarpSize && config.line_bytes >= 32 && config.sector_bytes >= 16,
+               "simt_trace_warp_cwbvh: more than 64 lanes, or lines/sectors too small for the fetch buffers");
+  if (trace) trace->lanes = lanes;
+  CwbvhState st[kMaxWarpSize];
+  RayCounters rc[kMaxWarpSize];
+  uint64_t live = 0;
+  for (uint32_t l = 0; l < lanes; ++l) {
+    cwbvh_begin(st[l], rays[l]);
+    if (!cwbvh_done(st[l])) live |= uint64_t{1} << l;
+  }
+  auto lanes_where = [&](uint64_t among, auto&& pred) {
+    uint64_t out = 0;
+    for (uint64_t m = among; m; m &= m - 1) {
+      const int l = std::countr_zero(m);
+      if (pred(st[l])) out |= uint64_t{1} << l;
+    }
+    return out;
+  };
+  constexpr uint32_t kNodeBytes = sizeof(CwbvhNode);
+  StepFetches f;
+  while (live) {
+    const uint64_t n = lanes_where(live, [](const CwbvhState& s) { return cwbvh_wants_node(s); });
+    if (n) {
+      f.line_count = f.sector_count = 0;
+      for (uint64_t m = n; m; m &= m - 1) {
+        const int l = std::countr_zero(m);
+        const uint32_t index = cwbvh_next_node(st[l]);
+        f.add(config.node_base + uint64_t{kNodeBytes} * index, kNodeBytes, config);
+        cwbvh_node_step(st[l], bvh, rc[l]);
+      }
+      f.finish();
+      f.emit(trace, SimtStepKind::Node);
+      counters.node_steps += 1;
+      counters.node_lanes += lanes_in(n);
+      counters.node_lines += f.line_count;
+      counters.node_fetches += f.sector_count;
+      if (steps) steps->push_back({SimtStepKind::Node, n, f.line_count, f.sector_count});
+    }
+    uint64_t tri = lanes_where(live, [](const CwbvhState& s) { return cwbvh_has_triangles(s); });
+    const uint64_t wanting = lanes_where(live, [](const CwbvhState& s) { return cwbvh_wants_node(s); });
+    const uint64_t still = lanes_where(live, [](const CwbvhState& s) { return !cwbvh_done(s); });
+    if (tri && (wanting == 0 || lanes_in(tri) >= kCwbvhTriangleShare * lanes_in(still))) {
+      counters.leaf_steps += 1;
+      counters.leaf_lanes += lanes_in(tri);
+      if (steps) steps->push_back({SimtStepKind::Leaf, tri, 0, 0});
+      if (trace) trace->add_step(SimtStepKind::Leaf, nullptr, 0);
+      for (uint64_t m = tri; m; m &= m - 1) rc[std::countr_zero(m)].on_leaf(0);
+      while (tri) {
+        f.line_count = f.sector_count = 0;
+        for (uint64_t m = tri; m; m &= m - 1) {
+          const int l = std::countr_zero(m);
+          const uint32_t i = st[l].tri_base + lowest_bit(st[l].tri_hits);
+          f.add(config.tri_base + uint64_t{sizeof(BvhTriangle)} * i, sizeof(BvhTriangle), config);
+          cwbvh_triangle_step(st[l], bvh, rc[l]);
+        }
+        f.finish();
+        f.emit(trace, SimtStepKind::Triangle);
+        counters.triangle_steps += 1;
+        counters.triangle_lanes += lanes_in(tri);
+        counters.triangle_lines += f.line_count;
+        counters.triangle_fetches += f.sector_count;
+        if (steps) steps->push_back({SimtStepKind::Triangle, tri, f.line_count, f.sector_count});
+        tri = lanes_where(tri, [](const CwbvhState& s) { return cwbvh_has_triangles(s); });
+      }
+    }
+    live = still;
+  }
+  counters.rays += lanes;
+  counters.warps += 1;
+  for (uint32_t l = 0; l < lanes; ++l) {
+    hits[l] = st[l].hit;
+    counters.nodes += rc[l].nodes;
+    counters.leaves += rc[l].leaves;
+    counters.triangles += rc[l].triangles;
+    if (ray_counters) ray_counters[l] = rc[l];
+  }
+}
+
+}  // namespace raycoh
