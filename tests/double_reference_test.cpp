@@ -109,15 +109,16 @@ TEST(DoubleReference, NearerOfStackedPlanesAndFarFromOrigin) {
   EXPECT_EQ(brute_force_closest_hit(s, down(0.75f, 0.25f, 2.f)).prim, 2u);
   EXPECT_EQ(brute_force_closest_hit(s, Ray{{0.75f, 0.25f, -1.f}, 0.f, {0.f, 0.f, 1.f}, 1e30f}).prim, 0u);
 
-  // A quad 1e7 from the origin (floats 1 apart there): a ray through its diagonal hits it at the exact t.
-  std::vector<Vec3> far;
+  // A quad 1e7 from the origin (floats 1 apart there; tested on the raw triangles, since a loaded scene there is
+  // rebased): a ray through its diagonal hits both halves at the exact t, and one just beside it one half.
   const float big = 1e7f;
-  far.insert(far.end(), {{big, big, 0.f}, {big + 8.f, big, 0.f}, {big + 8.f, big + 8.f, 0.f}});
-  far.insert(far.end(), {{big, big, 0.f}, {big + 8.f, big + 8.f, 0.f}, {big, big + 8.f, 0.f}});
-  const Scene fs = triangles_scene(far);
-  const RefHit h = brute_force_closest_hit(fs, down(big + 3.f, big + 3.f, 7.f));
-  ASSERT_TRUE(h.valid());
-  EXPECT_EQ(h.t, 7.0);
+  const Vec3 a{big, big, 0.f}, b{big + 8.f, big, 0.f}, c{big + 8.f, big + 8.f, 0.f}, d{big, big + 8.f, 0.f};
+  const Ray diagonal = down(big + 3.f, big + 3.f, 7.f);
+  EXPECT_EQ(reference_triangle_t(a, b, c, diagonal), 7.0);
+  EXPECT_EQ(reference_triangle_t(a, c, d, diagonal), 7.0);
+  const Ray beside = down(big + 4.f, big + 3.f, 7.f);
+  EXPECT_EQ(reference_triangle_t(a, b, c, beside), 7.0);
+  EXPECT_EQ(reference_triangle_t(a, c, d, beside), __builtin_huge_val());
 }
 
 TEST(DoubleReference, TriangleTestRejectsDegenerateTriangles) {
