@@ -32,5 +32,6 @@ BoundCommand bind_converge(CLI::App& parent);
 BoundCommand bind_compare(CLI::App& parent);
 BoundCommand bind_validate(CLI::App& parent);
 BoundCommand bind_merge(CLI::App& parent);
+BoundCommand bind_stability(CLI::App& parent);
 
 }  // namespace raycoh

@@ -20,6 +20,10 @@ void print_scene_info(const std::string& spec) {
   std::printf("vertices     %zu%s\n", scene.positions.size(), scene.generated_normals ? " (normals generated)" : "");
   std::printf("bounds       [%g %g %g] .. [%g %g %g]\n", scene.bounds.lo.x, scene.bounds.lo.y, scene.bounds.lo.z,
               scene.bounds.hi.x, scene.bounds.hi.y, scene.bounds.hi.z);
+  if (scene.rebase_scale != 1.f || scene.rebase_offset.x != 0.f || scene.rebase_offset.y != 0.f ||
+      scene.rebase_offset.z != 0.f)
+    std::printf("rebased      (source - [%.9g %.9g %.9g]) x %g, exactly (docs/stability.md)\n", scene.rebase_offset.x,
+                scene.rebase_offset.y, scene.rebase_offset.z, scene.rebase_scale);
   std::printf("materials    %zu:", scene.materials.size());
   for (int c = 0; c < kMaterialClassCount; ++c)
     std::printf(" %s %zu", to_string(static_cast<MaterialClass>(c)), f.materials_per_class[c]);

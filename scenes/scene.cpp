@@ -289,10 +289,33 @@ void set_environment(Scene& scene, bool weak_emitters) {
   scene.env.sun_dir = normalize(scene.env.sun_dir);
 }
 
+// Origin rebasing, both steps exact in float. An axis whose box centre c lies further from 0 than 8 times the
+// box's largest extent E is moved by -c: every coordinate v on it is within E / 2 of c, so v / c lies in
+// [15/16, 17/16] and v - c is exact (Sterbenz). Then a box smaller than 1/16 is scaled by the power of two that
+// brings E into [1, 2) (exact barring underflow). The camera moves with the scene (its eye may round).
+void rebase(Scene& scene) {
+  Bounds b;
+  for (uint32_t i : scene.indices) b.grow(scene.positions[i]);
+  const Vec3 c = b.center(), e = b.extent();
+  const float extent = std::max(e.x, std::max(e.y, e.z));
+  if (!(extent > 0.f) || !std::isfinite(extent)) return;
+  Vec3 offset{0.f, 0.f, 0.f};
+  for (int k = 0; k < 3; ++k)
+    if (std::fabs(c[k]) > 8.f * extent) offset[k] = c[k];
+  const float scale = extent < 1.f / 16.f ? std::ldexp(1.f, -std::ilogb(extent)) : 1.f;
+  if (offset.x == 0.f && offset.y == 0.f && offset.z == 0.f && scale == 1.f) return;
+  for (Vec3& p : scene.positions) p = (p - offset) * scale;
+  scene.camera.eye = (scene.camera.eye - offset) * scale;
+  scene.camera.target = (scene.camera.target - offset) * scale;
+  scene.rebase_offset = offset;
+  scene.rebase_scale = scale;
+}
+
 }  // namespace
 
 void finalize_scene(Scene& scene) {
   validate_scene(scene);
+  rebase(scene);
   const std::vector<float> areas = repair_normals_and_measure(scene);
 
   scene.bounds = Bounds{};

@@ -71,6 +71,12 @@ struct Scene {
   // What the loader did that changes the workload or the materials, one line each, for `scenes info`: each glTF
   // extension used (supported / mapped / ignored), dropped primitives by kind, instancing, tinygltf's warnings.
   std::vector<std::string> load_notes;
+  // Where the loaded coordinates came from (finalize_scene, exact): positions = (source - rebase_offset) x
+  // rebase_scale. A scene far from the origin compared with its size is moved next to it, and a scene smaller
+  // than 1/16 is scaled by a power of two to a size in [1, 2): float ray arithmetic then has the precision it
+  // has on a unit scene at the origin (docs/stability.md).
+  Vec3 rebase_offset{0.f, 0.f, 0.f};
+  float rebase_scale = 1.f;
 
   size_t triangle_count() const { return indices.size() / 3; }
 };

@@ -101,7 +101,8 @@ TEST(Procedural, ParametersAreChecked) {
   EXPECT_NE(error_of([] { load_scene("sponge"); }).find("built-ins: cornell, voxels"), std::string::npos);
   EXPECT_NE(error_of([] { make_builtin_scene("sponge"); }).find("cornell, voxels"), std::string::npos);
   EXPECT_NE(error_of([] { builtin_scene_summary("sponge"); }).find("cornell, voxels"), std::string::npos);
-  EXPECT_EQ(builtin_scene_names(), (std::vector<std::string>{"cornell", "voxels"}));
+  EXPECT_EQ(builtin_scene_names(), (std::vector<std::string>{"cornell", "voxels", "far", "scaled", "slivers",
+                                                             "coplanar", "flat", "grazing", "pile"}));
   EXPECT_NE(builtin_scene_summary("voxels").find("size=64 ([4, 1024])"), std::string::npos);
   EXPECT_FALSE(builtin_scene_summary("cornell").empty());
 }
