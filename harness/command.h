@@ -31,5 +31,6 @@ BoundCommand bind_quality(CLI::App& parent);
 BoundCommand bind_converge(CLI::App& parent);
 BoundCommand bind_compare(CLI::App& parent);
 BoundCommand bind_validate(CLI::App& parent);
+BoundCommand bind_report(CLI::App& parent);
 
 }  // namespace raycoh

@@ -55,9 +55,10 @@ void check_scene_names(const std::vector<std::string>& specs) {
   for (const std::string& spec : specs) {
     const auto [it, fresh] = seen.emplace(scene_name_of(spec), spec);
     if (!fresh)
-      throw Error(fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
-                              "separate --out files",
-                              it->second, spec, it->first));
+      throw Error(
+          fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
+                      "separate --out files",
+                      it->second, spec, it->first));
   }
 }
 
@@ -146,6 +147,7 @@ class ExperimentRun {
   std::map<std::string, const ExperimentRow*> done_;  // resume key -> resumed row
   std::set<std::string> used_;                        // keys of done_ this run asked for
   Progress progress_;
+  size_t scene_index_ = 0;  // of the scene being measured, for the progress line
   std::unique_ptr<SceneSetup> setup_;
   SceneResult res_;
   std::vector<uint32_t> primary_order_, order_;
@@ -185,8 +187,7 @@ ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
       provenance_(p),
       generators_(checked_generators(o)),
       permute_(parse_permute_mode(o.permute)),
-      csv_(o.out, experiment_schema(),
-           CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
+      csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
   for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
   if (!done_.empty())
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
@@ -227,10 +228,8 @@ void ExperimentRun::run_scene(size_t si) {
   res_.scene = setup_->scene.name;
   res_.triangles = setup_->scene.triangle_count();
   primary_order_ = make_pixel_order(o_.width, o_.height, RayOrder::Tile, kPrimaryTile, kPrimaryTile);
-  for (int frame = 0; frame < o_.frames; ++frame) {
-    progress_.update(si, o_.scenes.size(), frame, o_.frames, res_.scene);
-    run_frame(frame);
-  }
+  scene_index_ = si;
+  for (int frame = 0; frame < o_.frames; ++frame) run_frame(frame);
   progress_.clear();
 }
 
@@ -377,7 +376,11 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
   std::string batch_of;
   double gen_s = 0.0;
   GenerationStats gs;
-  for (size_t mi = 0; mi < o_.methods.size(); ++mi) {
+  const size_t methods = o_.methods.size();
+  for (size_t mi = 0; mi < methods; ++mi) {
+    progress_.update(scene_index_, o_.scenes.size(), static_cast<int>(size_t(frame) * methods + mi),
+                     static_cast<int>(size_t(o_.frames) * methods),
+                     fmt::format("{} frame {}/{} {}", res_.scene, frame + 1, o_.frames, o_.methods[mi].label));
     std::vector<std::pair<size_t, ExperimentRow>> todo;  // tracer index, row head
     for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
       if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) todo.emplace_back(ti, std::move(r));
