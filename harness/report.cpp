@@ -363,7 +363,7 @@ std::string table_figure(const Experiment& e, const std::string& tl, bool e2e, c
     svg += fmt::format(
         "<rect x=\"{:.0f}\" y=\"{:.0f}\" width=\"12\" height=\"12\" fill=\"{}\" stroke=\"#333\" "
         "stroke-width=\"0.5\"/>\n",
-        ex, ey - 10, lighten("#0072B2", 0.75 * i / std::max<size_t>(encoders.size(), 2)));
+        ex, ey - 10, lighten("#444444", 0.75 * i / std::max<size_t>(encoders.size(), 2)));
     svg += text(ex + 16, ey, encoders[i], "start", 12);
   }
   svg += text(left, height - 6, footer_of(e, tl), "start", 10, " fill=\"#555\"");
