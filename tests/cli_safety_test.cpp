@@ -43,7 +43,8 @@ std::string wait_for_rows(const fs::path& out, int rows) {
 
 TEST(CliSafety, ARerunOfAFinishedTableMeasuresNothingAndOtherParametersAreRefused) {
   const auto out = temp_dir("safety_rerun") / "t.csv";
-  const std::string args = "table --scenes cornell --generators noopt --res 24x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
+  const std::string args =
+      "table --scenes cornell --generators noopt --res 24x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
   ASSERT_EQ(run_raycoh(args).exit_code, 0);
   const std::string finished = slurp(out);
   CommandResult r = run_raycoh(args);
@@ -53,11 +54,13 @@ TEST(CliSafety, ARerunOfAFinishedTableMeasuresNothingAndOtherParametersAreRefuse
   EXPECT_EQ(slurp(out), finished);
 
   // More frames extend the file; other settings are refused, naming the field.
-  r = run_raycoh("table --scenes cornell --generators noopt --res 24x16 --frames 3 --repeat 1 --tracers cpu --out " + out.string());
+  r = run_raycoh("table --scenes cornell --generators noopt --res 24x16 --frames 3 --repeat 1 --tracers cpu --out " +
+                 out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(count_lines(out), 1 + 3 * 2);
   EXPECT_EQ(slurp(out).rfind(finished, 0), 0u) << "the finished rows stay first, as measured";
-  const std::string other = "table --scenes cornell --generators noopt --res 32x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
+  const std::string other =
+      "table --scenes cornell --generators noopt --res 32x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
   r = run_raycoh(other);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("its width is '24', this run's is '32'; pass --force"), std::string::npos) << r.output;
@@ -75,7 +78,9 @@ TEST(CliSafety, ARerunOfAFinishedTableMeasuresNothingAndOtherParametersAreRefuse
 TEST(CliSafety, AFullDiskKeepsEveryWholeRowAndTheRerunCompletesIt) {
   const auto dir = temp_dir("safety_full");
   const auto out = dir / "t.csv";
-  const std::string args = "table --scenes cornell --generators noopt --res 24x16 --frames 30 --repeat 1 --tracers cpu --out " + out.string();
+  const std::string args =
+      "table --scenes cornell --generators noopt --res 24x16 --frames 30 --repeat 1 --tracers cpu --out " +
+      out.string();
   CommandResult r = run_shell("ulimit -f 8; $R " + args);  // 8 KiB: a disk that fills after ~20 rows
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("error: write failed: --out " + out.string() + ": writing " + out.string() +
@@ -108,9 +113,10 @@ TEST(CliSafety, ImagesAndReferencesOnAFullDiskFailWholeAndLeaveNoTempFile) {
     EXPECT_NE(r.output.find("error: write failed: " + img.string()), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(img)) << ext;
   }
-  const CommandResult r = run_shell("ulimit -f 8; $R converge --scene cornell --res 200x150 --time 0.2s --ref-frames 2 "
-                                    "--cache " +
-                                    (dir / "cache").string() + " --out " + (dir / "c.csv").string());
+  const CommandResult r = run_shell(
+      "ulimit -f 8; $R converge --scene cornell --res 200x150 --time 0.2s --ref-frames 2 "
+      "--cache " +
+      (dir / "cache").string() + " --out " + (dir / "c.csv").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(one_line_errors(r.output), 1) << r.output;
   expect_no_leftovers(dir);
@@ -120,7 +126,8 @@ TEST(CliSafety, ASecondRunOnTheSameOutSaysWhoHoldsItAndTheFirstFinishesWhole) {
   const auto dir = temp_dir("safety_lock");
   const auto out = dir / "t.csv";
   const std::string args =
-      "table --scenes voxels --generators noopt --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " + out.string();
+      "table --scenes voxels --generators noopt --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " +
+      out.string();
   // The second run starts once the first has written rows.
   const CommandResult r = run_shell("$R " + args + " >/dev/null 2>&1 & first=$!; " + wait_for_rows(out, 4) + " $R " +
                                     args + "; echo second=$?; wait $first; echo first=$?");
@@ -135,7 +142,8 @@ TEST(CliSafety, CtrlCSaysHowToResumeAndTheRerunResumes) {
   const auto dir = temp_dir("safety_sigint");
   const auto out = dir / "t.csv";
   const std::string args =
-      "table --scenes voxels --generators noopt --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " + out.string();
+      "table --scenes voxels --generators noopt --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " +
+      out.string();
   CommandResult r =
       run_shell("$R " + args + " & pid=$!; " + wait_for_rows(out, 10) + " kill -INT $pid; wait $pid; echo status=$?");
   EXPECT_NE(r.output.find("raycoh: interrupted: rows measured so far are kept in " + out.string() +
@@ -157,7 +165,8 @@ TEST(CliSafety, BadPathsDuplicatesAndTooLargeRunsAreRefusedBeforeAnyWork) {
   write_file(dir / "afile", "x");
   const std::string out = " --out " + (dir / "o.csv").string();
   expect_error("table --res 8x8 --out " + dir.string(), "is a folder");
-  expect_error("quality --res 16x16 --cache " + (dir / "afile").string() + out, "--cache " + (dir / "afile").string() + ": is a file");
+  expect_error("quality --res 16x16 --cache " + (dir / "afile").string() + out,
+               "--cache " + (dir / "afile").string() + ": is a file");
   expect_error("quality --res 16x16 --images " + (dir / "afile").string() + out, "--images");
   expect_error("converge --res 16x16 --cache " + (dir / "afile").string() + out, "is a file, not a folder");
   expect_error("table --scenes cornell,cornell --res 8x8" + out, "'cornell' is listed twice");
