@@ -626,7 +626,7 @@ void add_quality(Page& p, const Csv& c) {
                   html_escape(c.path), html_escape(join_set(info, "; ")), table);
   const std::filesystem::path dir = std::filesystem::path(c.path).parent_path() / "quality-images";
   for (const std::string& s : scenes) {
-    std::string row;
+    std::string row, crops;
     std::vector<std::string> shown = {"reference"};
     for (const std::string& m : methods) shown.push_back(m);
     for (const std::string& m : shown) {
@@ -635,12 +635,29 @@ void add_quality(Page& p, const Csv& c) {
       if (!in) continue;
       std::stringstream bytes;
       bytes << in.rdbuf();
+      const std::string data = bytes.str();
+      if (data.size() < 24 || data.compare(1, 3, "PNG") != 0) continue;  // not a PNG: left out
+      const auto be32 = [&](size_t at) {
+        return (uint32_t(uint8_t(data[at])) << 24) | (uint32_t(uint8_t(data[at + 1])) << 16) |
+               (uint32_t(uint8_t(data[at + 2])) << 8) | uint32_t(uint8_t(data[at + 3]));
+      };
+      const uint32_t w = be32(16), h = be32(20);  // IHDR
       const auto it = psnr.find({s, m});
-      row += fmt::format(
-          "<figure><img alt=\"{0} {1}\" src=\"data:image/png;base64,{2}\"><figcaption>{1}{3}</figcaption></figure>\n",
-          html_escape(s), html_escape(m), base64(bytes.str()), it == psnr.end() ? "" : ", PSNR " + it->second + " dB");
+      const std::string caption = html_escape(m) + (it == psnr.end() ? "" : ", PSNR " + it->second + " dB");
+      const std::string src = "data:image/png;base64," + base64(data);
+      row += fmt::format("<figure><img alt=\"{} {}\" src=\"{}\"><figcaption>{}</figcaption></figure>\n", html_escape(s),
+                         html_escape(m), src, caption);
+      // The centre third of the image, 3x: the same pixels of every method side by side.
+      crops += fmt::format(
+          "<figure><div class=\"crop\" style=\"aspect-ratio:{}/{}\"><img alt=\"{} {} crop\" src=\"{}\"></div>"
+          "<figcaption>{}</figcaption></figure>\n",
+          w, h, html_escape(s), html_escape(m), src, caption);
     }
-    if (!row.empty()) p.html += fmt::format("<h3>{}</h3>\n<div class=\"imgs\">\n{}</div>\n", html_escape(s), row);
+    if (!row.empty())
+      p.html += fmt::format(
+          "<h3>{}</h3>\n<div class=\"imgs\">\n{}</div>\n<p class=\"note\">The centre third, enlarged 3x (nearest "
+          "pixel):</p>\n<div class=\"imgs\">\n{}</div>\n",
+          html_escape(s), row, crops);
   }
 }
 
@@ -688,6 +705,8 @@ h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.6em}
 .figs{display:flex;flex-wrap:wrap;gap:16px;align-items:flex-start}
 .imgs{display:flex;flex-wrap:wrap;gap:8px}
 figure{margin:0}figure img{image-rendering:pixelated;width:240px;border:1px solid #ccc}
+.crop{width:240px;overflow:hidden;position:relative;border:1px solid #ccc}
+.crop img{position:absolute;width:720px;left:-240px;top:-100%;border:0}
 figcaption{font-size:12px;text-align:center}
 table{border-collapse:collapse;font-size:13px}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}
 td:first-child,th:first-child{text-align:left}
