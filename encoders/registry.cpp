@@ -27,7 +27,9 @@ const std::vector<EncoderInfo>& encoder_infos() {
        "axis (Meister et al. 2020)",
        twopoint_params, make_twopoint_encoder},
       {"mlhcc",
-       "hierarchy cut code: ranks of origin and end point in nested BVH cuts, per-level widths (Xiang et al. 2023)",
+       "RECONSTRUCTION of the hierarchy cut code of Xiang et al. 2023 (\"Faster Ray Tracing through Hierarchy Cut "
+       "Code\"; no public code) from its description: ranks of origin and end point in nested BVH cuts, per-level "
+       "widths; the exact rule chosen is documented in encoders/mlhcc.cpp",
        mlhcc_params, make_mlhcc_encoder},
       {"window",
        "windowed reordering: rays binned by a short key (octant, or the top bits of another encoder's code) inside "

@@ -33,5 +33,6 @@ BoundCommand bind_compare(CLI::App& parent);
 BoundCommand bind_validate(CLI::App& parent);
 BoundCommand bind_merge(CLI::App& parent);
 BoundCommand bind_stability(CLI::App& parent);
+BoundCommand bind_report(CLI::App& parent);
 
 }  // namespace raycoh

@@ -169,6 +169,7 @@ class ExperimentRun {
   std::set<std::string> used_;                        // keys of done_ this run asked for
   std::set<std::string> owned_;                       // --shard: the units this shard measures
   Progress progress_;
+  size_t scene_index_ = 0;  // of the scene being measured, for the progress line
   std::unique_ptr<SceneSetup> setup_;
   size_t si_ = 0;  // the scene being measured
   SceneResult res_;
@@ -279,10 +280,8 @@ void ExperimentRun::run_scene(size_t si) {
   res_.scene = setup_->scene.name;
   res_.triangles = setup_->scene.triangle_count();
   primary_order_ = make_pixel_order(o_.width, o_.height, RayOrder::Tile, kPrimaryTile, kPrimaryTile);
-  for (int frame = 0; frame < o_.frames; ++frame) {
-    progress_.update(si, o_.scenes.size(), frame, o_.frames, res_.scene);
-    run_frame(frame);
-  }
+  scene_index_ = si;
+  for (int frame = 0; frame < o_.frames; ++frame) run_frame(frame);
   progress_.clear();
 }
 
@@ -442,8 +441,12 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
   std::string batch_of;
   double gen_s = 0.0;
   GenerationStats gs;
-  for (size_t mi = 0; mi < o_.methods.size(); ++mi) {
+  const size_t methods = o_.methods.size();
+  for (size_t mi = 0; mi < methods; ++mi) {
     if (!owns(si_, frame, mi)) continue;
+    progress_.update(scene_index_, o_.scenes.size(), static_cast<int>(size_t(frame) * methods + mi),
+                     static_cast<int>(size_t(o_.frames) * methods),
+                     fmt::format("{} frame {}/{} {}", res_.scene, frame + 1, o_.frames, o_.methods[mi].label));
     std::vector<std::pair<size_t, ExperimentRow>> todo;  // tracer index, row head
     for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
       if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) todo.emplace_back(ti, std::move(r));

@@ -1,4 +1,6 @@
-// A one-line progress bar on stderr, shown only when stderr is a terminal (quiet in CI logs and pipes).
+// Progress with a time estimate on stderr. On a terminal: a one-line bar redrawn in place. Otherwise (a log file,
+// a pipe, CI): a plain line per step, at most one every RAYCOH_PROGRESS_SECONDS (default 10) seconds, so a run
+// shorter than that prints none.
 #pragma once
 
 #include <chrono>
@@ -16,9 +18,10 @@ class Progress {
   bool enabled() const { return enabled_; }
 
  private:
-  bool enabled_ = false;
+  bool enabled_ = false;  // stderr is a terminal: the bar
   bool shown_ = false;
-  std::chrono::steady_clock::time_point start_;
+  double log_every_s_ = 10;
+  std::chrono::steady_clock::time_point start_, last_line_;
 };
 
 }  // namespace raycoh

@@ -24,8 +24,8 @@ void check_sweep(const SweepOptions& o) {
   if (o.tiles.empty()) throw Error("--tiles: empty list");
   if (o.groups.empty()) throw Error("--groups: empty list");
   for (const auto& [w, h] : o.tiles)
-    if (w < 1 || w > 1024 || h < 1 || h > 1024)
-      throw Error(fmt::format("--tiles {}x{}: width and height must be in [1, 1024]", w, h));
+    if (w < 1 || w > 1024 || h < 1 || h > 1024 || w * h > 65536)
+      throw Error(fmt::format("--tiles {}x{}: width and height must be in [1, 1024], at most 65536 pixels", w, h));
   for (int k : o.groups)
     if (k < 1 || k > 65536) throw Error(fmt::format("--groups {}: must be in [1, 65536]", k));
 }

@@ -6,11 +6,14 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <set>
 
 #include "core/error.h"
+#include "encoders/encoder.h"
 #include "harness/cli.h"
 #include "harness/command.h"
 
@@ -70,9 +73,9 @@ void print_e2e_rows(const std::vector<SceneResult>& results, const std::vector<M
 // GPU timing model's figures, labelled modeled: trace-only MRay/s with the ratio to noopt and the port that
 // bounded the kernel, then end to end with every stage modeled on the same GPU (never a CPU time).
 void print_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
-                    const std::string& header) {
+                    const std::string& name, const std::string& header) {
   const bool model = results.front().by_tracer.at(tl).at("noopt").has_model;
-  std::printf("\n### %s: %sSIMT efficiency, L1 / L2 sector misses per ray\n\n%s\n", tl.c_str(),
+  std::printf("\n### %s: %sSIMT efficiency, L1 / L2 sector misses per ray\n\n%s\n", name.c_str(),
               model ? "MODELED GPU trace, not measured: modeled MRay/s (ratio to noopt), limiter; " : "",
               header.c_str());
   for (const std::string& label : row_labels(methods)) {
@@ -91,17 +94,17 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
   std::printf(
       "\n### %s: MODELED end to end (generation + key + sort + permute + trace, each modeled on the same GPU), "
       "modeled MRay/s (ratio to noopt), overhead share\n\n%s\n",
-      tl.c_str(), header.c_str());
+      name.c_str(), header.c_str());
   print_e2e_rows(results, methods, tl, &Accumulated::modeled_e2e_mray_s, &Accumulated::modeled_overhead_share);
 }
 
 // Timing tracers: trace-only MRay/s, then end to end with the overhead share.
 void print_speeds(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
-                  const std::string& header, const ExperimentOptions& o) {
+                  const std::string& name, const std::string& header, const ExperimentOptions& o) {
   std::printf(
       "\n### %s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
       "%d traces\n\n%s\n",
-      tl.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
+      name.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
   for (const std::string& label : row_labels(methods)) {
     std::string line = row_name(label);
     for (const SceneResult& r : results) {
@@ -113,7 +116,7 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
   std::printf(
       "\n### %s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
       "overhead share\n\n%s\n",
-      tl.c_str(), header.c_str());
+      name.c_str(), header.c_str());
   print_e2e_rows(results, methods, tl, &Accumulated::e2e_mray_s, &Accumulated::overhead_share);
 }
 
@@ -129,6 +132,60 @@ std::string scene_header(const std::vector<SceneResult>& results) {
   return header + "\n" + rule;
 }
 
+// Tracer labels in headings: the name, and a GPU model's preset; the full parameters are printed once, above the
+// tables (print_tracers). Labels two tracers would share stay whole.
+std::map<std::string, std::string> short_labels(const std::vector<std::string>& labels) {
+  std::map<std::string, std::string> names;
+  std::map<std::string, int> uses;
+  for (const std::string& tl : labels) {
+    std::string name = tl.substr(0, tl.find('['));
+    const size_t at = tl.find("preset=");
+    if (at != std::string::npos) name += "[" + tl.substr(at, tl.find_first_of(",]", at) - at) + "]";
+    names[tl] = name;
+    ++uses[name];
+  }
+  for (auto& [tl, name] : names)
+    if (uses[name] > 1) name = tl;
+  return names;
+}
+
+void print_tracers(const SceneResult& first, const std::map<std::string, std::string>& names,
+                   const ExperimentOptions& o) {
+  std::printf("## raycoh table: %dx%d, %d frame(s), seed %u\n\n", o.width, o.height, o.frames, o.seed);
+  for (const std::string& tl : first.tracer_labels) {
+    const Accumulated& a = first.by_tracer.at(tl).at("noopt");
+    const char* what = a.has_model      ? "MODELED GPU figures (the GPU timing model, not measured)"
+                       : a.has_counters ? "coherence counters"
+                                        : "measured on this machine";
+    const std::string& name = names.at(tl);
+    std::printf("- %s: %s%s\n", name.c_str(), what, name == tl ? "" : ("; " + tl).c_str());
+  }
+}
+
+// One closing line: per tracer and scene, the method with the highest end-to-end MRay/s (generation + keys +
+// sort + permute + trace; modeled for a GPU model) and its ratio to noopt.
+void print_winners(const std::vector<SceneResult>& results, const std::vector<Method>& methods,
+                   const std::map<std::string, std::string>& names) {
+  std::string line;
+  for (const std::string& tl : results.front().tracer_labels) {
+    const Accumulated& first = results.front().by_tracer.at(tl).at("noopt");
+    if (first.has_counters && !first.has_model) continue;  // counters only: no time
+    double (Accumulated::*speed)() const =
+        first.has_model ? &Accumulated::modeled_e2e_mray_s : &Accumulated::e2e_mray_s;
+    line += fmt::format("{}{} ({}):", line.empty() ? "" : "; ", names.at(tl), first.has_model ? "modeled" : "measured");
+    for (const SceneResult& r : results) {
+      const auto& m = r.by_tracer.at(tl);
+      const Method* best = &methods.front();
+      for (const Method& method : methods)
+        if ((m.at(method.label).*speed)() > (m.at(best->label).*speed)()) best = &method;
+      line += fmt::format(" {} {} {:.2f}x,", r.scene, best->label,
+                          (m.at(best->label).*speed)() / std::max((m.at("noopt").*speed)(), 1e-30));
+    }
+    line.pop_back();
+  }
+  if (!line.empty()) std::printf("\nFastest end to end (ratio to noopt): %s\n", line.c_str());
+}
+
 }  // namespace
 
 int print_shard_done(const ExperimentOptions& e, const Provenance& provenance) {
@@ -139,11 +196,26 @@ int print_shard_done(const ExperimentOptions& e, const Provenance& provenance) {
   return 0;
 }
 
+std::vector<Method> comparison_methods() {
+  std::vector<PluginSpec> reorderings;
+  for (const EncoderInfo& e : encoder_infos())
+    if (e.name != "none") reorderings.push_back({e.name, ""});
+  std::vector<Method> methods = method_product({{"noopt", ""}, {"ours", ""}, {"contiguous", ""}}, {{"none", ""}});
+  for (const Method& m : method_product({{"noopt", ""}}, reorderings)) methods.push_back(m);
+  return methods;
+}
+
 int run_table(const TableOptions& options, const Provenance& provenance) {
   ExperimentOptions e = options.experiment;
-  if (options.generators.empty()) throw Error("--generators: empty list");
-  if (options.encoders.empty()) throw Error("--encoders: empty list");
-  e.methods = method_product(options.generators, options.encoders);
+  if (options.generators.empty() && options.encoders.empty()) {
+    e.methods = comparison_methods();
+  } else {
+    const std::vector<PluginSpec> generators =
+        options.generators.empty() ? std::vector<PluginSpec>{{"noopt", ""}} : options.generators;
+    const std::vector<PluginSpec> encoders =
+        options.encoders.empty() ? std::vector<PluginSpec>{{"none", ""}} : options.encoders;
+    e.methods = method_product(generators, encoders);
+  }
   ensure_baseline(e.methods);
   e.tracers = expand_auto(e.tracers);
   const auto t0 = std::chrono::steady_clock::now();
@@ -151,13 +223,16 @@ int run_table(const TableOptions& options, const Provenance& provenance) {
   if (!e.shard.whole()) return print_shard_done(e, provenance);
 
   const std::string header = scene_header(results);
+  const std::map<std::string, std::string> names = short_labels(results.front().tracer_labels);
+  print_tracers(results.front(), names, e);
   for (const std::string& tl : results.front().tracer_labels) {
     if (results.front().by_tracer.at(tl).at("noopt").has_counters)
-      print_counters(results, e.methods, tl, header);
+      print_counters(results, e.methods, tl, names.at(tl), header);
     else
-      print_speeds(results, e.methods, tl, header, e);
+      print_speeds(results, e.methods, tl, names.at(tl), header, e);
   }
   print_generation(results, e.methods);
+  print_winners(results, e.methods, names);
   std::printf("\nWrote %s in %.1f s (%s, %d threads; permute %s)\n", e.out.c_str(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
               provenance.git_revision.c_str(), provenance.threads, e.permute.c_str());
@@ -172,21 +247,28 @@ BoundCommand bind_table(CLI::App& parent) {
   };
   auto s = std::make_shared<State>();
   s->scenes = join(s->o.experiment.scenes, ",");
-  s->generators = join_specs(s->o.generators);
-  s->encoders = join_specs(s->o.encoders);
-  CLI::App* cmd = parent.add_subcommand("table", "trace primary and secondary rays; print MRay/s and ratios to NoOpt");
+  CLI::App* cmd = parent.add_subcommand(
+      "table",
+      "trace primary and secondary rays; print MRay/s and ratios to NoOpt. With neither --generators nor "
+      "--encoders: noopt, ours, contiguous, and noopt with every encoder");
   cmd->add_option("--scenes", s->scenes, "comma-separated scenes (built-in names, files or folders)")
       ->capture_default_str();
-  cmd->add_option("--generators", s->generators, "comma-separated generators, e.g. noopt")->capture_default_str();
-  cmd->add_option("--encoders", s->encoders, "comma-separated reordering encoders, applied to every generator")
-      ->capture_default_str();
+  CLI::Option* generators = cmd->add_option("--generators", s->generators,
+                                            "comma-separated generators, e.g. noopt (default noopt when "
+                                            "--encoders is given)");
+  CLI::Option* encoders =
+      cmd->add_option("--encoders", s->encoders,
+                      "comma-separated reordering encoders, applied to every generator (default none when --generators "
+                      "is given)");
   cmd->add_option("--permute", s->o.experiment.permute, "how a reordering is applied: physical or indirect")
       ->capture_default_str();
   bind_experiment(cmd, s->o.experiment, s->text);
-  return {cmd, [s](const Provenance& provenance) {
+  return {cmd, [s, generators, encoders](const Provenance& provenance) {
             s->o.experiment.scenes = split_scenes("--scenes", s->scenes);
-            s->o.generators = split_nonempty("--generators", s->generators);
-            s->o.encoders = split_nonempty("--encoders", s->encoders);
+            if (generators->count() > 0 || encoders->count() > 0) {
+              s->o.generators = split_nonempty("--generators", generators->count() > 0 ? s->generators : "noopt");
+              s->o.encoders = split_nonempty("--encoders", encoders->count() > 0 ? s->encoders : "none");
+            }
             resolve_experiment(s->o.experiment, s->text);
             return run_table(s->o, provenance);
           }};

@@ -9,14 +9,21 @@ namespace raycoh {
 
 struct TableOptions {
   ExperimentOptions experiment;  // its methods are made from generators x encoders
-  std::vector<PluginSpec> generators{{"noopt", ""}};
-  std::vector<PluginSpec> encoders{{"none", ""}};
+  // Empty generators and encoders (neither option given): the comparison, comparison_methods().
+  std::vector<PluginSpec> generators;
+  std::vector<PluginSpec> encoders;
   TableOptions() {
     experiment.scenes = {"cornell", "voxels"};
-    experiment.tracers = {{"cpu", ""}, {"embree", ""}};
+    experiment.tracers = {{"cpu", ""}, {"simt", ""}};
+    experiment.width = 640;  // the default run: under a minute on 2 cores (README)
+    experiment.height = 480;
+    experiment.frames = 2;
     experiment.out = "raycoh-table.csv";
   }
 };
+
+// The default table's methods: noopt, ours and contiguous as generated, and noopt with every reordering encoder.
+std::vector<Method> comparison_methods();
 int run_table(const TableOptions& options, const Provenance& provenance);
 
 // A shard's run (--shard I/N) prints no tables (they need every row): one line saying what was written. Returns 0.

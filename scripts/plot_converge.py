@@ -14,7 +14,7 @@ import csv
 import os
 from collections import defaultdict
 
-from plotlib import fail, number, plt, read_csv, save
+from plotlib import fail, footer, number, plt, read_csv, save
 
 
 def summary_notes(path, clock):
@@ -72,6 +72,7 @@ def main():
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
+    footer(fig, rows)
     save(fig, a.out)
 
 

@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from plotlib import fail, number, plt, read_csv, save
+from plotlib import fail, footer, number, plt, read_csv, save
 
 
 def main():
@@ -75,6 +75,7 @@ def main():
         ax.set_title(caption, fontsize=9)
         ax.legend(fontsize=8)
         fig.tight_layout()
+        footer(fig, rows)
         save(fig, a.out)
 
 

@@ -14,7 +14,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from plotlib import cost_time, fail, is_modeled, number, parse_params, plt, read_csv, save, tracer_label
+from plotlib import cost_time, fail, footer, is_modeled, number, parse_params, plt, read_csv, save, tracer_label
 
 
 def tile_key(tile):
@@ -35,7 +35,7 @@ def main():
 
     rows = read_csv(a.csv, ["scene", "pass", "method", "generator", "generator_params", "tracer", "rays", "trace_ms"])
     sums = defaultdict(lambda: [0.0, 0.0])  # (scene, tracer, tile, k) -> [rays, ms]; tile "noopt" for the baseline
-    panels = []
+    panels, used_rows = [], []
     for r in rows:
         if r["pass"] != "secondary" or (a.tracer and r["tracer"] != a.tracer):
             continue
@@ -51,7 +51,8 @@ def main():
             tile, k = p["tile"], int(p["k"])
         else:
             continue
-        panel = (r["scene"], tracer_label(r) + (" (MODELED GPU time)" if is_modeled(r) else ""))
+        panel = (r["scene"], tracer_label(r) + (" (modeled)" if is_modeled(r) else " (measured)"))
+        used_rows.append(r)
         if panel not in panels:
             panels.append(panel)
         sums[panel + (tile, k)][0] += number(r, "rays")
@@ -79,14 +80,17 @@ def main():
         for i in range(len(tiles)):
             for j in range(len(ks)):
                 if np.isfinite(grid[i, j]):
-                    ax.text(j, i, f"{grid[i, j]:.2f}", ha="center", va="center", color="white", fontsize=8)
+                    bright = im.norm(grid[i, j]) > 0.6  # viridis turns yellow: dark text there
+                    ax.text(j, i, f"{grid[i, j]:.2f}", ha="center", va="center",
+                            color="black" if bright else "white", fontsize=8)
         ax.set_xticks(range(len(ks)), [f"K={k}" for k in ks])
         ax.set_yticks(range(len(tiles)), [f"({t.replace('x', ',')})" for t in tiles])
         ax.set_xlabel("group size K")
         ax.set_ylabel("tile (W,H)")
-        ax.set_title(textwrap.fill(f"{panel[0]}, {panel[1]}", 50), fontsize=8)
+        ax.set_title(textwrap.fill(f"{panel[0]}, {panel[1]}", 40), fontsize=9)
         fig.colorbar(im, ax=ax, label="speedup over noopt" if a.value == "speedup" else "MRay/s")
     fig.tight_layout()
+    footer(fig, used_rows)
     save(fig, a.out)
 
 

@@ -10,12 +10,12 @@ usage: plot_table.py table.csv [more.csv ...] --out speedup.png [--speed trace|e
                      [--primary] [--title TEXT]
 """
 import argparse
-import textwrap
 from collections import defaultdict
 
 import numpy as np
 
-from plotlib import cost_time, fail, is_modeled, number, plt, read_csv, save, tracer_label
+from plotlib import (OKABE_ITO, cost_time, fail, footer, is_modeled, lighten, number, plt, read_csv, save,
+                     tracer_label)
 
 
 def main():
@@ -33,6 +33,7 @@ def main():
     rows = read_csv(a.csv, ["scene", "pass", "method", "tracer", "rays", time_col])
     sums = defaultdict(lambda: [0.0, 0.0])  # (tracer, scene, method) -> [rays, ms]
     scenes, methods, tracers = [], [], []
+    method_parts, used_rows = {}, []  # method -> (generator, encoder); the rows plotted (for the footer)
     for r in rows:
         if a.tracer and r["tracer"] != a.tracer:
             continue
@@ -44,7 +45,10 @@ def main():
             method, t = r["method"], cost_time(r, time_col)
         if not (t > 0):
             continue
-        key = (tracer_label(r) + (" (MODELED GPU time)" if is_modeled(r) else ""), r["scene"], method)
+        key = (tracer_label(r) + (" — MODELED GPU time" if is_modeled(r) else " — measured"), r["scene"], method)
+        method_parts[method] = ("primary", "none") if method == "primary" else (
+            r.get("generator") or method.split("+")[0], r.get("encoder") or "none")
+        used_rows.append(r)
         sums[key][0] += number(r, "rays")
         sums[key][1] += t
         for lst, v in ((tracers, key[0]), (scenes, key[1]), (methods, key[2])):
@@ -55,27 +59,58 @@ def main():
     if "noopt" not in methods:
         fail("no noopt rows: speedups are ratios to the noopt baseline (run raycoh table with noopt)")
 
-    fig, axes = plt.subplots(len(tracers), 1, figsize=(max(6, 1.2 * len(scenes) * max(1, len(methods) / 3)),
-                                                       3.6 * len(tracers)), squeeze=False)
-    width = 0.8 / len(methods)
+    # Methods grouped by generator (one hue each, a gap between groups), encoders as shades of the hue.
+    generators, encoders = [], []
+    for m in methods:
+        g, e = method_parts[m]
+        generators += [g] if g not in generators else []
+        encoders += [e] if e not in encoders else []
+    order = [m for g in generators for e in encoders for m in methods if method_parts[m] == (g, e)]
+    hues, hue_of = iter(OKABE_ITO * 2), {}
+    for g in generators:
+        hue_of[g] = "#000000" if g == "primary" else "#666666" if g == "noopt" else next(hues)
+
+    def colour(m):
+        g, e = method_parts[m]
+        return lighten(hue_of[g], 0.75 * encoders.index(e) / max(len(encoders), 2))
+
+    positions, x, prev = {}, 0.0, None
+    for m in order:
+        g = method_parts[m][0]
+        x += 0.6 if prev is not None and g != prev else 0.0
+        positions[m], prev, x = x, g, x + 1.0
+    span = x + 2.0  # one scene's bars and the gap to the next
+
+    fig, axes = plt.subplots(len(tracers), 1, figsize=(max(7, 0.16 * span * len(scenes) + 2), 3.8 * len(tracers)),
+                             squeeze=False)
     for ax, tracer in zip(axes[:, 0], tracers):
-        x = np.arange(len(scenes))
-        for mi, method in enumerate(methods):
-            values = []
-            for scene in scenes:
-                base, cur = sums.get((tracer, scene, "noopt")), sums.get((tracer, scene, method))
+        for si, scene in enumerate(scenes):
+            base = sums.get((tracer, scene, "noopt"))
+            for m in order:
+                cur = sums.get((tracer, scene, m))
                 ok = base and cur and base[1] > 0 and cur[1] > 0
-                values.append((cur[0] / cur[1]) / (base[0] / base[1]) if ok else np.nan)
-            bars = ax.bar(x + (mi - (len(methods) - 1) / 2) * width, values, width, label=method)
-            for b, v in zip(bars, values):
-                if np.isfinite(v):
-                    ax.annotate(f"{v:.2f}", (b.get_x() + b.get_width() / 2, v), ha="center", va="bottom",
-                                fontsize=7)
-        ax.axhline(1.0, color="black", linewidth=0.8)
-        ax.set_xticks(x, scenes)
-        ax.set_ylabel(f"speedup over noopt ({a.speed})")
-        ax.set_title(textwrap.fill(f"tracer {tracer}", 120), fontsize=9)
-        ax.legend(fontsize=8, ncol=min(4, len(methods)))
+                v = (cur[0] / cur[1]) / (base[0] / base[1]) if ok else np.nan
+                bx = si * span + positions[m]
+                ax.bar(bx, v, 0.9, color=colour(m), edgecolor="#333333", linewidth=0.4)
+                if np.isfinite(v) and len(order) <= 10:
+                    ax.annotate(f"{v:.2f}", (bx, v), ha="center", va="bottom", fontsize=7)
+        ax.axhline(1.0, color="black", linewidth=0.8, linestyle="--")
+        ax.set_ylim(bottom=0)
+        ax.set_xticks([si * span + (span - 2.0) / 2 - 0.5 for si in range(len(scenes))], scenes)
+        ax.set_ylabel(f"speed-up over noopt\n({a.speed}; axis from 0)")
+        ax.set_title(tracer, fontsize=10)
+    from matplotlib.patches import Patch
+    gen_handles = [Patch(color=hue_of[g], label=g) for g in generators]
+    enc_handles = [Patch(facecolor=lighten("#444444", 0.75 * i / max(len(encoders), 2)), edgecolor="#333333",
+                         label=e) for i, e in enumerate(encoders)]
+    top = axes[0, 0]
+    leg = top.legend(handles=gen_handles, title="colour = generator", fontsize=8, title_fontsize=8,
+                     loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    top.add_artist(leg)
+    if len(encoders) > 1:
+        top.legend(handles=enc_handles, title="shade = encoder", fontsize=8, title_fontsize=8, loc="upper left",
+                   bbox_to_anchor=(1.01, 0.45))
+    footer(fig, used_rows)
     if a.title:
         fig.suptitle(a.title)
     fig.tight_layout()

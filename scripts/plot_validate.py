@@ -9,7 +9,7 @@ Usage: plot_validate.py validate.csv --out out.png
 """
 import argparse
 
-from plotlib import fail, number, plt, read_csv, save
+from plotlib import fail, footer, number, plt, read_csv, save
 
 
 def main():
@@ -53,6 +53,7 @@ def main():
     b.set_ylabel("speedup of ours over NoOpt")
     b.set_title("Table 3, Sibenik: paper (solid) vs model (dashed, modeled)")
     b.legend(frameon=False, ncol=2, fontsize=8)
+    footer(fig, rows)
     save(fig, out)
 
 

@@ -61,8 +61,35 @@ def parse_params(text):
 
 
 def tracer_label(row):
-    params = row.get("tracer_params", "")
-    return f"{row['tracer']}[{params}]" if params else row["tracer"]
+    """The tracer as a title can hold it: the name and, for a GPU model, its preset (simt[preset=rtx3060]); an
+    embree mode (embree[mode=single]). The full parameters are in the CSV's tracer_params column."""
+    params = parse_params(row.get("tracer_params", ""))
+    for key in ("preset", "mode"):
+        if key in params:
+            return f"{row['tracer']}[{key}={params[key]}]"
+    return row["tracer"]
+
+
+# Okabe & Ito (2008): colour-blind-safe hues; noopt, the baseline, is grey.
+OKABE_ITO = ["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#D55E00", "#56B4E9", "#F0E442"]
+
+
+def lighten(colour, shade):
+    """The colour mixed with white: shade 0 is the colour, 1 white."""
+    r, g, b = (int(colour[i:i + 2], 16) for i in (1, 3, 5))
+    return "#" + "".join(f"{round(c + (255 - c) * shade):02x}" for c in (r, g, b))
+
+
+def footer(fig, rows):
+    """Resolution, frames, tracers and git revision of the rows, at the bottom of the figure."""
+    res = sorted({f"{r.get('width', '?')}x{r.get('height', '?')}" for r in rows})
+    frames = sorted({r["frames"] for r in rows if r.get("frames")} or
+                    {str(len({r.get("frame") for r in rows if r.get("scene") == s}))
+                     for s in {r.get("scene") for r in rows}})
+    tracers = sorted({tracer_label(r) + (" (modeled)" if is_modeled(r) else "") for r in rows if r.get("tracer")})
+    revs = sorted({r.get("git_revision", "?") for r in rows})
+    fig.text(0.01, -0.01, f"{', '.join(res)}, {'/'.join(frames)} frame(s); tracer {', '.join(tracers)}; "
+             f"revision {', '.join(revs)}", fontsize=7, color="#555555", ha="left", va="top")
 
 
 def save(fig, out):

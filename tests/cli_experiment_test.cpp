@@ -9,7 +9,8 @@ namespace {
 TEST(CliExperiment, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
   const auto dir = temp_dir("cli_table");
   const auto out = dir / "t.csv";
-  CommandResult r = run_raycoh("table --scenes cornell --res 32x24 --frames 2 --repeat 1 --out " + out.string());
+  CommandResult r =
+      run_raycoh("table --scenes cornell --generators noopt --res 32x24 --frames 2 --repeat 1 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("### cpu[bvh=bvh2]: secondary rays traced"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("| noopt | "), std::string::npos) << r.output;
@@ -20,8 +21,8 @@ TEST(CliExperiment, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
   const auto bad = dir / "bad.glb";
   write_file(bad, "glTF this is not a binary gltf");
   const auto out2 = dir / "t2.csv";
-  r = run_raycoh("table --scenes cornell," + bad.string() + " --res 32x24 --frames 1 --repeat 1 --out " +
-                 out2.string());
+  r = run_raycoh("table --scenes cornell," + bad.string() +
+                 " --generators noopt --res 32x24 --frames 1 --repeat 1 --out " + out2.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("bad.glb"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out2));
@@ -31,18 +32,64 @@ TEST(CliExperiment, TableWritesItsCsvAndKeepsRowsWhenALaterSceneFails) {
 
   // Nothing measured: no .partial is left behind and the error is the input's alone.
   const auto out3 = dir / "t3.csv";
-  r = run_raycoh("table --scenes " + bad.string() + ",cornell --res 32x24 --frames 1 --repeat 1 --out " +
-                 out3.string());
+  r = run_raycoh("table --scenes " + bad.string() +
+                 ",cornell --generators noopt --res 32x24 --frames 1 --repeat 1 --out " + out3.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("bad.glb"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("rows measured"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out3.string() + ".partial"));
 }
 
+// The default table is the comparison: noopt, ours, contiguous and noopt with every encoder, measured on the CPU
+// and modeled on the GPU model (preset named once, labelled modeled), with the closing line naming the winners.
+TEST(CliExperiment, TheDefaultTableShowsTheComparison) {
+  const auto out = temp_dir("cli_default") / "t.csv";
+  CommandResult r = run_raycoh("table --res 32x24 --frames 1 --repeat 1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::vector<std::string> methods = {"noopt",       "ours",       "contiguous",     "noopt+origin", "noopt+reis",
+                                            "noopt+costa", "noopt+aila", "noopt+twopoint", "noopt+mlhcc"};
+  for (const std::string& m : methods) EXPECT_NE(r.output.find("| " + m + " |"), std::string::npos) << m;
+  for (const char* s :
+       {"| primary (coherent bound) |", "- simt[preset=rtx3060]: MODELED GPU figures",
+        "### simt[preset=rtx3060]: MODELED end to end", "### cpu: end to end",
+        "Fastest end to end (ratio to noopt): cpu (measured): cornell ", "; simt[preset=rtx3060] (modeled): cornell "})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+  EXPECT_EQ(r.output.find("### simt[preset=rtx3060,kernel"), std::string::npos) << "the full parameters once only";
+  // 2 scenes x 2 tracers (cpu, simt) x (primary + 9 methods), and the header
+  EXPECT_EQ(count_lines(out), 1 + 2 * 2 * (1 + static_cast<int>(methods.size())));
+
+  // Naming either list runs the product of both, the other one defaulting to noopt or none.
+  const auto out2 = temp_dir("cli_default") / "t2.csv";
+  r = run_raycoh("table --scenes cornell --encoders origin --tracers cpu --res 32x24 --frames 1 --repeat 1 --out " +
+                 out2.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(count_lines(out2), 1 + 1 + 2);  // header, primary, noopt (the baseline), noopt+origin
+  EXPECT_EQ(r.output.find("| ours |"), std::string::npos) << r.output;
+}
+
+// Not on a terminal (a log): plain progress lines with the time left, throttled (RAYCOH_PROGRESS_SECONDS).
+TEST(CliExperiment, ARunLogsProgressLinesWhenNotOnATerminal) {
+  const auto out = temp_dir("cli_progress") / "p.csv";
+  const CommandResult r = run_shell(
+      "RAYCOH_PROGRESS_SECONDS=0 $R table --scenes cornell --generators noopt,ours --tracers cpu --res 32x24 "
+      "--frames 2 --repeat 1 --out " +
+      out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("progress:  75% cornell frame 2/2 ours (1/1, step 4/4)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" s left\n"), std::string::npos) << r.output;
+  // The default throttle: a short run prints no progress line.
+  const CommandResult quiet = run_raycoh(
+      "table --scenes cornell --generators noopt --tracers cpu --res 16x16 "
+      "--frames 1 --repeat 1 --force --out " +
+      out.string());
+  EXPECT_EQ(quiet.output.find("progress:"), std::string::npos) << quiet.output;
+}
+
 TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
   const auto dir = temp_dir("cli_resume");
   const auto out = dir / "r.csv";
-  const std::string args = "table --scenes cornell --res 24x16 --frames 2 --repeat 1 --out " + out.string();
+  const std::string args =
+      "table --scenes cornell --generators noopt --res 24x16 --frames 2 --repeat 1 --out " + out.string();
   ASSERT_EQ(run_raycoh(args).exit_code, 0);
   const auto complete = read_lines(out);
   ASSERT_EQ(complete.size(), 1u + 2 * 2 * 2);
@@ -118,7 +165,7 @@ TEST(CliExperiment, ADamagedLineOfAPartialFileIsSkippedNamingLineAndColumn) {
   const auto dir = temp_dir("cli_damaged");
   const auto out = dir / "d.csv";
   const std::string args =
-      "table --scenes cornell --res 24x16 --frames 1 --repeat 1 --tracers cpu --out " + out.string();
+      "table --scenes cornell --generators noopt --res 24x16 --frames 1 --repeat 1 --tracers cpu --out " + out.string();
   ASSERT_EQ(run_raycoh(args).exit_code, 0);
   auto lines = read_lines(out);
   ASSERT_EQ(lines.size(), 3u);

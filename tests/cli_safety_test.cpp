@@ -44,7 +44,7 @@ std::string wait_for_rows(const fs::path& out, int rows) {
 TEST(CliSafety, ARerunOfAFinishedTableMeasuresNothingAndOtherParametersAreRefused) {
   const auto out = temp_dir("safety_rerun") / "t.csv";
   const std::string args =
-      "table --scenes cornell --res 24x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
+      "table --scenes cornell --generators noopt --res 24x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
   ASSERT_EQ(run_raycoh(args).exit_code, 0);
   const std::string finished = slurp(out);
   CommandResult r = run_raycoh(args);
@@ -54,12 +54,13 @@ TEST(CliSafety, ARerunOfAFinishedTableMeasuresNothingAndOtherParametersAreRefuse
   EXPECT_EQ(slurp(out), finished);
 
   // More frames extend the file; other settings are refused, naming the field.
-  r = run_raycoh("table --scenes cornell --res 24x16 --frames 3 --repeat 1 --tracers cpu --out " + out.string());
+  r = run_raycoh("table --scenes cornell --generators noopt --res 24x16 --frames 3 --repeat 1 --tracers cpu --out " +
+                 out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(count_lines(out), 1 + 3 * 2);
   EXPECT_EQ(slurp(out).rfind(finished, 0), 0u) << "the finished rows stay first, as measured";
   const std::string other =
-      "table --scenes cornell --res 32x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
+      "table --scenes cornell --generators noopt --res 32x16 --frames 2 --repeat 1 --tracers cpu --out " + out.string();
   r = run_raycoh(other);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("its width is '24', this run's is '32'; pass --force"), std::string::npos) << r.output;
@@ -78,7 +79,8 @@ TEST(CliSafety, AFullDiskKeepsEveryWholeRowAndTheRerunCompletesIt) {
   const auto dir = temp_dir("safety_full");
   const auto out = dir / "t.csv";
   const std::string args =
-      "table --scenes cornell --res 24x16 --frames 30 --repeat 1 --tracers cpu --out " + out.string();
+      "table --scenes cornell --generators noopt --res 24x16 --frames 30 --repeat 1 --tracers cpu --out " +
+      out.string();
   CommandResult r = run_shell("ulimit -f 8; $R " + args);  // 8 KiB: a disk that fills after ~20 rows
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("error: write failed: --out " + out.string() + ": writing " + out.string() +
@@ -124,7 +126,8 @@ TEST(CliSafety, ASecondRunOnTheSameOutSaysWhoHoldsItAndTheFirstFinishesWhole) {
   const auto dir = temp_dir("safety_lock");
   const auto out = dir / "t.csv";
   const std::string args =
-      "table --scenes voxels --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " + out.string();
+      "table --scenes voxels --generators noopt --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " +
+      out.string();
   // The second run starts once the first has written rows.
   const CommandResult r = run_shell("$R " + args + " >/dev/null 2>&1 & first=$!; " + wait_for_rows(out, 4) + " $R " +
                                     args + "; echo second=$?; wait $first; echo first=$?");
@@ -139,7 +142,8 @@ TEST(CliSafety, CtrlCSaysHowToResumeAndTheRerunResumes) {
   const auto dir = temp_dir("safety_sigint");
   const auto out = dir / "t.csv";
   const std::string args =
-      "table --scenes voxels --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " + out.string();
+      "table --scenes voxels --generators noopt --res 160x120 --frames 200 --repeat 3 --tracers cpu --out " +
+      out.string();
   CommandResult r =
       // env --default-signal: a background job of sh ignores SIGINT; the terminal's foreground job does not.
       run_shell("env --default-signal=INT $R " + args + " & pid=$!; " + wait_for_rows(out, 10) +
@@ -163,7 +167,8 @@ TEST(CliSafety, ASigintIgnoredFromTheStartStaysIgnored) {
   const auto dir = temp_dir("safety_sigign");
   const auto out = dir / "t.csv";
   const std::string args =
-      "table --scenes voxels --res 160x120 --frames 40 --repeat 3 --tracers cpu --out " + out.string();
+      "table --scenes voxels --generators noopt --res 160x120 --frames 40 --repeat 3 --tracers cpu --out " +
+      out.string();
   const CommandResult r = run_shell("(trap '' INT; exec $R " + args + ") >/dev/null 2>&1 & pid=$!; " +
                                     wait_for_rows(out, 2) + " kill -INT $pid; wait $pid; echo status=$?");
   EXPECT_NE(r.output.find("status=0"), std::string::npos) << r.output;

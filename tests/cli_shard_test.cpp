@@ -102,7 +102,7 @@ TEST(CliShard, AResumedShardRedoesAndDoublesNothing) {
 
 TEST(CliShard, MergeRefusesWhatDoesNotBelongTogetherNamingFilesAndField) {
   const auto dir = temp_dir("cli_merge_refuse");
-  const std::string run = "table --scenes cornell --res 24x16 --frames 2 --repeat 1 --tracers cpu";
+  const std::string run = "table --scenes cornell --generators noopt --res 24x16 --frames 2 --repeat 1 --tracers cpu";
   const auto a = dir / "a.csv", b = dir / "b.csv", out = dir / "out.csv";
   ASSERT_EQ(run_raycoh(run + " --shard 0/2 --out " + a.string()).exit_code, 0);
   ASSERT_EQ(run_raycoh(run + " --shard 1/2 --out " + b.string()).exit_code, 0);
@@ -147,12 +147,14 @@ TEST(CliShard, MergeRefusesWhatDoesNotBelongTogetherNamingFilesAndField) {
     EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
   // Other parameters: the field named (a different resolution), then the rest of the command line.
   const auto res = dir / "res.csv", frames = dir / "frames.csv";
-  ASSERT_EQ(run_raycoh("table --scenes cornell --res 16x16 --frames 2 --repeat 1 --tracers cpu --shard 1/2 --out " +
+  ASSERT_EQ(run_raycoh("table --scenes cornell --generators noopt --res 16x16 --frames 2 --repeat 1 --tracers cpu "
+                       "--shard 1/2 --out " +
                        res.string())
                 .exit_code,
             0);
   expect_error("merge --out " + out.string() + " " + a.string() + " " + res.string(), "disagree on width");
-  ASSERT_EQ(run_raycoh("table --scenes cornell --res 24x16 --frames 2 --repeat 2 --tracers cpu --shard 1/2 --out " +
+  ASSERT_EQ(run_raycoh("table --scenes cornell --generators noopt --res 24x16 --frames 2 --repeat 2 --tracers cpu "
+                       "--shard 1/2 --out " +
                        frames.string())
                 .exit_code,
             0);
