@@ -25,8 +25,8 @@
 #include "harness/progress.h"
 #include "harness/record_csv.h"
 #include "harness/render_common.h"
-#include "shading/reference.h"
 #include "shading/metrics.h"
+#include "shading/reference.h"
 
 namespace raycoh {
 
@@ -183,10 +183,8 @@ class ConvergeRun {
 ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
     : o_(o),
       provenance_(p),
-      csv_(o.out, converge_schema(),
-           CsvWriter::Options::once(o.common.force, same_command(p))),
-      summary_(summary_path_of(o), summary_schema(),
-               CsvWriter::Options::once(o.common.force, same_command(p))) {
+      csv_(o.out, converge_schema(), CsvWriter::Options::once(o.common.force, same_command(p))),
+      summary_(summary_path_of(o), summary_schema(), CsvWriter::Options::once(o.common.force, same_command(p))) {
   if (csv_.already_complete() != summary_.already_complete())
     throw Error(fmt::format("--out {}: {} is finished but {} is not; pass --force to measure again", o.out,
                             csv_.already_complete() ? o.out : summary_path_of(o),
@@ -345,9 +343,10 @@ int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   check_converge(o);
   ConvergeRun run(o, provenance);
   if (run.complete()) {
-    std::printf("%s and %s already hold the result of this same command (same code revision): nothing to do; pass "
-                "--force to measure again\n",
-                o.out.c_str(), summary_path_of(o).c_str());
+    std::printf(
+        "%s and %s already hold the result of this same command (same code revision): nothing to do; pass "
+        "--force to measure again\n",
+        o.out.c_str(), summary_path_of(o).c_str());
     return 0;
   }
   run.render();

@@ -28,8 +28,8 @@
 #include "harness/quality_row.h"
 #include "harness/record_csv.h"
 #include "harness/render_common.h"
-#include "shading/reference.h"
 #include "shading/metrics.h"
+#include "shading/reference.h"
 
 namespace raycoh {
 
@@ -194,8 +194,7 @@ class QualityRun {
         generators_(make_generators("--generators", o.generators)),
         ref_kind_(o.reference.empty() ? "cache" : "file"),
         image_dir_(o.image_dir.empty() ? stem_path(o.out) + "-images" : o.image_dir),
-        csv_(o.out, quality_schema(),
-             CsvWriter::Options::resumable(o.common.force, quality_rule(o, p))) {}
+        csv_(o.out, quality_schema(), CsvWriter::Options::resumable(o.common.force, quality_rule(o, p))) {}
   int run();
 
  private:

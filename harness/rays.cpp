@@ -2,23 +2,22 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
-
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <tuple>
 
 #include "bvh/bvh_build.h"
 #include "core/durable_file.h"
 #include "core/error.h"
-#include "harness/memory_check.h"
 #include "encoders/encoder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "harness/cli.h"
 #include "harness/command.h"
+#include "harness/memory_check.h"
 #include "harness/record_csv.h"
 #include "tracers/tracer.h"
 

@@ -225,12 +225,12 @@ void check(const ValidateOptions& o) {
 
 int run_validate(const ValidateOptions& o, const Provenance& provenance) {
   check(o);
-  RecordCsv<ValidateRow> csv(o.out, validate_schema(),
-                             CsvWriter::Options::once(o.force, same_command(provenance)));
+  RecordCsv<ValidateRow> csv(o.out, validate_schema(), CsvWriter::Options::once(o.force, same_command(provenance)));
   if (csv.already_complete()) {
-    std::printf("%s already holds the result of this same command (same code revision): nothing to do; pass --force "
-                "to model it again\n",
-                o.out.c_str());
+    std::printf(
+        "%s already holds the result of this same command (same code revision): nothing to do; pass --force "
+        "to model it again\n",
+        o.out.c_str());
     return 0;
   }
   ExperimentOptions e = experiment_of(o);

@@ -184,12 +184,10 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
 
   fs::remove(sidecar_path, ec);  // an old sidecar must never describe the new image, even for a moment
   write_image(ref.image, image_path.string());
-  nlohmann::json side = {{"key", nlohmann::json::parse(key)},
-                         {"digest", fmt::format("{:016x}", digest.h)},
-                         {"render_seconds", ref.render_s},
-                         {"non_finite_samples", ref.non_finite},
-                         {"image", image_path.filename().string()},
-                         {"image_fnv1a", fmt::format("{:016x}", file_hash(image_path))}};
+  nlohmann::json side = {
+      {"key", nlohmann::json::parse(key)},       {"digest", fmt::format("{:016x}", digest.h)},
+      {"render_seconds", ref.render_s},          {"non_finite_samples", ref.non_finite},
+      {"image", image_path.filename().string()}, {"image_fnv1a", fmt::format("{:016x}", file_hash(image_path))}};
   side["checksum"] = sidecar_checksum(side);
   write_file_atomically(sidecar_path.string(), side.dump(2) + "\n");
   return ref;

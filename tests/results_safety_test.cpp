@@ -63,7 +63,7 @@ TEST(ResultsSafety, EveryDamagedLineIsSkippedNamedAndKeptAside) {
   // CRLF endings, then: a good row, an empty line, a NUL byte, unbalanced quotes, a short row, a value the check
   // rejects, a good row, a torn last line.
   const std::string text = std::string("name,value,git_revision\r\na,1,rev\r\n\r\nb,2") + std::string(1, '\0') +
-         "x,rev\r\n\"c,3,rev\r\nd,4\r\ne,bad,rev\r\nf,6,rev\r\ng,7";
+                           "x,rev\r\n\"c,3,rev\r\nd,4\r\ne,bad,rev\r\nf,6,rev\r\ng,7";
   write_file(path + ".partial", text);
   auto o = CsvWriter::Options::resumable(false, {});
   o.check_values = [](const std::vector<std::string>& f) {
@@ -193,7 +193,7 @@ TEST(ResultsSafety, ARefusedWriteKeepsEveryWholeRowAndNamesTheFile) {
   EXPECT_NE(e.find("writing " + path + ".partial failed: File too large"), std::string::npos) << e;
   ASSERT_GT(written, 2u);
   const std::string kept = slurp(path + ".partial");
-  EXPECT_EQ(kept.back(), '\n');                                          // no torn row
+  EXPECT_EQ(kept.back(), '\n');                                                             // no torn row
   EXPECT_EQ(static_cast<size_t>(std::count(kept.begin(), kept.end(), '\n')), 1 + written);  // header + rows
   EXPECT_FALSE(fs::exists(path));
   CsvWriter resumed(path, kColumns, CsvWriter::Options::resumable(false, {}));
