@@ -32,5 +32,7 @@ BoundCommand bind_converge(CLI::App& parent);
 BoundCommand bind_compare(CLI::App& parent);
 BoundCommand bind_validate(CLI::App& parent);
 BoundCommand bind_merge(CLI::App& parent);
+BoundCommand bind_reference(CLI::App& parent);
+BoundCommand bind_reference_combine(CLI::App& parent);
 
 }  // namespace raycoh
