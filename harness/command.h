@@ -34,5 +34,7 @@ BoundCommand bind_validate(CLI::App& parent);
 BoundCommand bind_merge(CLI::App& parent);
 BoundCommand bind_stability(CLI::App& parent);
 BoundCommand bind_report(CLI::App& parent);
+BoundCommand bind_reference(CLI::App& parent);
+BoundCommand bind_reference_combine(CLI::App& parent);
 
 }  // namespace raycoh

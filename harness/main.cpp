@@ -18,9 +18,10 @@ namespace {
 using namespace raycoh;
 
 // In the order `raycoh --help` lists them.
-const BindCommand kCommands[] = {bind_list,     bind_scenes_info, bind_table,    bind_sweep,    bind_merge,
-                                 bind_validate, bind_render,      bind_quality,  bind_converge, bind_compare,
-                                 bind_rays,     bind_report,      bind_stability};
+const BindCommand kCommands[] = {
+    bind_list,      bind_scenes_info,       bind_table,   bind_sweep,    bind_merge,   bind_validate, bind_render,
+    bind_reference, bind_reference_combine, bind_quality, bind_converge, bind_compare, bind_rays,     bind_report,
+    bind_stability};
 
 std::string one_line(std::string text) {
   std::replace(text.begin(), text.end(), '\n', ' ');

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "core/durable_file.h"
 #include "core/error.h"
@@ -51,6 +52,18 @@ void Accumulator::merge(const Accumulator& other) {
     samples_[p] += other.samples_[p];
     non_finite_[p] += other.non_finite_[p];
   }
+}
+
+Accumulator Accumulator::from_parts(int width, int height, std::vector<double> sums, std::vector<uint32_t> samples,
+                                    std::vector<uint32_t> non_finite) {
+  Accumulator acc(width, height);
+  RAYCOH_CHECK(sums.size() == acc.sum_.size() && samples.size() == acc.samples_.size() &&
+                   non_finite.size() == acc.non_finite_.size(),
+               fmt::format("accumulator parts of the wrong size for {}x{}", width, height));
+  acc.sum_ = std::move(sums);
+  acc.samples_ = std::move(samples);
+  acc.non_finite_ = std::move(non_finite);
+  return acc;
 }
 
 Image Accumulator::mean() const {

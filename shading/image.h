@@ -70,6 +70,13 @@ class Accumulator {
   uint32_t samples(size_t p) const { return samples_[p]; }
   // Pixels with at least one non-finite sample.
   uint64_t pixels_with_non_finite() const;
+  // The raw parts (reference frame shards store them): 3 sums per pixel, finite and non-finite sample counts.
+  const std::vector<double>& sums() const { return sum_; }
+  const std::vector<uint32_t>& sample_counts() const { return samples_; }
+  const std::vector<uint32_t>& non_finite_counts() const { return non_finite_; }
+  // The accumulator with these parts (sizes checked).
+  static Accumulator from_parts(int width, int height, std::vector<double> sums, std::vector<uint32_t> samples,
+                                std::vector<uint32_t> non_finite);
 
  private:
   int width_ = 0, height_ = 0;

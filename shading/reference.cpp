@@ -1,16 +1,22 @@
 // The reference cache (key, files and reuse rule in reference.h).
 #include "shading/reference.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "core/durable_file.h"
 #include "core/error.h"
@@ -113,6 +119,7 @@ std::string reference_key(const ReferenceRequest& r) {
       {"width", r.settings.width},
       {"height", r.settings.height},
       {"frames", r.frames},
+      {"frame_block", r.frame_block},
       {"seed", r.settings.seed},
       {"max_depth", r.settings.max_depth},
       {"rr_depth", r.settings.rr_depth},
@@ -123,40 +130,186 @@ std::string reference_key(const ReferenceRequest& r) {
   return key.dump();
 }
 
-Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceRequest& r) {
-  r.settings.validate();
-  if (r.frames < 1 || r.frames > (1 << 20))
-    throw Error(fmt::format("--ref-frames {}: must be in [1, {}]", r.frames, 1 << 20));
-  const std::string key = reference_key(r);
+namespace {
+
+// The cache entry of a key: folder, file stem "<scene>-<digest>", image and sidecar paths.
+struct Entry {
+  fs::path dir, image, sidecar;
+  std::string stem;
+  uint64_t digest = 0;
+};
+
+Entry entry_of(const std::string& stem_prefix, const std::string& key, const std::string& cache_dir) {
   Fnv1a digest;
   digest.add(key);
-  const fs::path dir = r.cache_dir.empty() ? fs::path(default_cache_dir()) : fs::path(r.cache_dir);
-  const std::string stem = fmt::format("{}-{:016x}", safe_name(scene.name), digest.h);
-  const fs::path image_path = dir / (stem + float_image_extension());
-  const fs::path sidecar_path = dir / (stem + ".json");
+  Entry e;
+  e.digest = digest.h;
+  e.dir = cache_dir.empty() ? fs::path(default_cache_dir()) : fs::path(cache_dir);
+  e.stem = fmt::format("{}-{:016x}", stem_prefix, digest.h);
+  e.image = e.dir / (e.stem + float_image_extension());
+  e.sidecar = e.dir / (e.stem + ".json");
+  return e;
+}
 
-  Reference ref;
-  ref.path = image_path.string();
+void create_cache_dir(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw Error(fmt::format("reference cache {}: cannot create the folder: {}", dir.string(), ec.message()));
+}
+
+void check_request(const ReferenceRequest& r) {
+  r.settings.validate();
+  if (r.frames < 1 || r.frames > (1 << 20))
+    throw Error(fmt::format("--ref-frames {}: must be in [1, {}]", r.frames, 1 << 20));
+  if (r.frame_block < 1 || r.frame_block > (1 << 20))
+    throw Error(fmt::format("frame block {}: must be in [1, {}]", r.frame_block, 1 << 20));
+}
+
+// Renders frames [range.first, range.end) block by block (blocks of r.frame_block counted from frame 0), each
+// into a fresh accumulator handed to on_block in frame order.
+template <class OnBlock>
+double render_blocks(const Scene& scene, const Bvh& bvh, const ReferenceRequest& r, FrameRange range,
+                     OnBlock&& on_block) {
+  auto tracer = make_tracer(r.tracer, scene, bvh);
+  auto generator = make_generator({"noopt", ""});
+  PathTracer pt(scene, *tracer, *generator, r.settings);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int b = range.first; b < range.end; b += r.frame_block) {
+    Accumulator block(r.settings.width, r.settings.height);
+    const int end = std::min(range.end, b + r.frame_block);
+    for (int f = b; f < end; ++f) {
+      pt.render_frame(static_cast<uint32_t>(f), block);
+      if (r.progress) r.progress(f - range.first + 1, range.end - range.first);
+    }
+    on_block(block);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Writes the image, then the sidecar (the old sidecar removed first). Call with the entry's lock held.
+void store_entry(const Entry& e, const std::string& key, const Reference& ref) {
+  std::error_code ec;
+  fs::remove(e.sidecar, ec);  // an old sidecar must never describe the new image, even for a moment
+  write_image(ref.image, e.image.string());
+  nlohmann::json side = {
+      {"key", nlohmann::json::parse(key)},    {"digest", fmt::format("{:016x}", e.digest)},
+      {"render_seconds", ref.render_s},       {"non_finite_samples", ref.non_finite},
+      {"image", e.image.filename().string()}, {"image_fnv1a", fmt::format("{:016x}", file_hash(e.image))}};
+  side["checksum"] = sidecar_checksum(side);
+  write_file_atomically(e.sidecar.string(), side.dump(2) + "\n");
+}
+
+template <class T>
+std::string_view bytes_of(const std::vector<T>& v) {
+  return {reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)};
+}
+
+constexpr int kPartFormat = 1;
+
+// One part file: its header, then its blocks read one at a time.
+struct PartReader {
+  std::string file;
+  std::ifstream in;
+  nlohmann::json head;
+  int width = 0, height = 0, blocks = 0;
+  int shard = 0, shards = 0, first = 0, end = 0, frames = 0, block = 0;
+  std::string stem;
+
+  explicit PartReader(const std::string& path) : file(path), in(path, std::ios::binary) {
+    if (!in) throw Error(fmt::format("{}: cannot read the reference part", file));
+    std::string line;
+    std::getline(in, line);
+    head = nlohmann::json::parse(line, nullptr, false);
+    const std::string damaged =
+        fmt::format("{}: not a raycoh reference part (format {}), or its header is damaged", file, kPartFormat);
+    try {
+      if (head.is_discarded() || !head.is_object() || head.at("raycoh_reference_part").get<int>() != kPartFormat ||
+          !head.at("key").is_object())
+        throw Error(damaged);
+      width = head.at("width").get<int>();
+      height = head.at("height").get<int>();
+      shard = head.at("shard").get<int>();
+      shards = head.at("shards").get<int>();
+      first = head.at("first_frame").get<int>();
+      end = head.at("end_frame").get<int>();
+      stem = head.at("stem").get<std::string>();
+      frames = head.at("key").at("frames").get<int>();
+      block = head.at("key").at("frame_block").get<int>();
+      if (width < 1 || height < 1 || block < 1 || end <= first || shards < 1) throw Error(damaged);
+      blocks = (end - first + block - 1) / block;
+    } catch (const nlohmann::json::exception&) {
+      throw Error(damaged);
+    }
+  }
+
+  // Reads every block, in order, into on_block; checks the closing checksum.
+  template <class OnBlock>
+  void read_blocks(OnBlock&& on_block) {
+    const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+    Fnv1a h;
+    for (int b = 0; b < blocks; ++b) {
+      std::vector<double> sums(3 * n);
+      std::vector<uint32_t> samples(n), non_finite(n);
+      auto read = [&](auto& v) {
+        in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(v[0])));
+        if (!in)
+          throw Error(fmt::format("{}: the reference part is cut short (block {} of {}); render that shard again", file,
+                                  b, blocks));
+        h.add(v.data(), v.size() * sizeof(v[0]));
+      };
+      read(sums);
+      read(samples);
+      read(non_finite);
+      on_block(Accumulator::from_parts(width, height, std::move(sums), std::move(samples), std::move(non_finite)));
+    }
+    std::string line;
+    std::getline(in, line);
+    if (line != fmt::format("end {:016x}", h.h))
+      throw Error(
+          fmt::format("{}: the reference part's checksum does not match (damaged or cut short); render "
+                      "that shard again",
+                      file));
+  }
+};
+
+// The first field in which two keys differ, as "field (a vs b)".
+std::string key_difference(const nlohmann::json& a, const nlohmann::json& b) {
+  for (const auto& [field, value] : a.items())
+    if (!b.contains(field) || b[field] != value)
+      return fmt::format("{} ({} vs {})", field, value.dump(), b.contains(field) ? b[field].dump() : "missing");
+  for (const auto& [field, value] : b.items())
+    if (!a.contains(field)) return fmt::format("{} (missing vs {})", field, value.dump());
+  return "";
+}
+
+}  // namespace
+
+Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceRequest& r) {
+  check_request(r);
+  const std::string key = reference_key(r);
+  const Entry e = entry_of(safe_name(scene.name), key, r.cache_dir);
+
+  Reference ref;
+  ref.path = e.image.string();
+  create_cache_dir(e.dir);
   // One run renders an entry; another run asking for the same one waits, then reads it.
-  const OutputLock lock((dir / stem).string(), "reference cache entry " + stem, OutputLock::Wait::Yes);
-  if (fs::is_regular_file(sidecar_path, ec) && fs::is_regular_file(image_path, ec)) {
-    std::ifstream in(sidecar_path);
+  const OutputLock lock((e.dir / e.stem).string(), "reference cache entry " + e.stem, OutputLock::Wait::Yes);
+  std::error_code ec;
+  if (fs::is_regular_file(e.sidecar, ec) && fs::is_regular_file(e.image, ec)) {
+    std::ifstream in(e.sidecar);
     const nlohmann::json side = nlohmann::json::parse(in, nullptr, false);
     const bool ours = !side.is_discarded() && side.is_object() && side.contains("key") && side["key"].is_object() &&
                       side["key"].dump() == key;
     const bool intact = ours && side.value("checksum", std::string()) == sidecar_checksum(side) &&
-                        side.value("image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(image_path));
+                        side.value("image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(e.image));
     if (ours && !intact)
       std::fprintf(stderr,
                    "reference cache: %s or its sidecar does not match the recorded checksum (edited or damaged); "
                    "rendering it again\n",
-                   image_path.string().c_str());
+                   e.image.string().c_str());
     if (intact) {
       try {
-        Image img = read_image(image_path.string());
+        Image img = read_image(e.image.string());
         if (img.width == r.settings.width && img.height == r.settings.height) {
           ref.image = std::move(img);
           ref.from_cache = true;
@@ -169,27 +322,139 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
     }
   }
 
-  auto tracer = make_tracer(r.tracer, scene, bvh);
-  auto generator = make_generator({"noopt", ""});
-  PathTracer pt(scene, *tracer, *generator, r.settings);
-  Accumulator acc(r.settings.width, r.settings.height);
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int f = 0; f < r.frames; ++f) {
-    pt.render_frame(static_cast<uint32_t>(f), acc);
-    if (r.progress) r.progress(f + 1, r.frames);
-  }
-  ref.render_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ref.image = acc.mean();
-  ref.non_finite = acc.non_finite_samples();
+  Accumulator total(r.settings.width, r.settings.height);
+  ref.render_s = render_blocks(scene, bvh, r, {0, r.frames}, [&](const Accumulator& block) { total.merge(block); });
+  ref.image = total.mean();
+  ref.non_finite = total.non_finite_samples();
+  store_entry(e, key, ref);
+  return ref;
+}
 
-  fs::remove(sidecar_path, ec);  // an old sidecar must never describe the new image, even for a moment
-  write_image(ref.image, image_path.string());
-  nlohmann::json side = {
-      {"key", nlohmann::json::parse(key)},       {"digest", fmt::format("{:016x}", digest.h)},
-      {"render_seconds", ref.render_s},          {"non_finite_samples", ref.non_finite},
-      {"image", image_path.filename().string()}, {"image_fnv1a", fmt::format("{:016x}", file_hash(image_path))}};
-  side["checksum"] = sidecar_checksum(side);
-  write_file_atomically(sidecar_path.string(), side.dump(2) + "\n");
+FrameRange reference_shard_frames(int frames, int frame_block, int index, int count) {
+  if (count == 1) return {0, frames};
+  if (frames % count == 0 && (frames / count) % frame_block == 0)
+    return {index * (frames / count), (index + 1) * (frames / count)};
+  std::vector<int> valid{1};
+  if (frames % frame_block == 0)
+    for (int n = 2; n <= frames / frame_block; ++n)
+      if ((frames / frame_block) % n == 0) valid.push_back(n);
+  std::string list;
+  for (int n : valid) list += (list.empty() ? "" : ", ") + std::to_string(n);
+  throw Error(
+      fmt::format("--shard {}/{} with {} frames: a reference shard must be whole blocks of {} frames, all "
+                  "shards the same size; valid shard counts: {}",
+                  index, count, frames, frame_block, list));
+}
+
+double render_reference_part(const Scene& scene, const Bvh& bvh, const ReferenceRequest& r, int index, int count,
+                             const std::string& path) {
+  check_request(r);
+  const FrameRange range = reference_shard_frames(r.frames, r.frame_block, index, count);
+  const std::string key = reference_key(r);
+  const nlohmann::json head = {{"raycoh_reference_part", kPartFormat},
+                               {"key", nlohmann::json::parse(key)},
+                               {"stem", safe_name(scene.name)},
+                               {"shard", index},
+                               {"shards", count},
+                               {"first_frame", range.first},
+                               {"end_frame", range.end},
+                               {"width", r.settings.width},
+                               {"height", r.settings.height}};
+  const std::string tmp = temp_path_beside(path);
+  const int slot = register_interrupt_cleanup(tmp);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    unregister_interrupt_cleanup(slot);
+    throw WriteError(fmt::format("{}: cannot create {}: {}", path, tmp, std::strerror(errno)));
+  }
+  double seconds = 0;
+  try {
+    Fnv1a h;
+    write_all(fd, head.dump() + "\n", path);
+    seconds = render_blocks(scene, bvh, r, range, [&](const Accumulator& block) {
+      for (std::string_view bytes :
+           {bytes_of(block.sums()), bytes_of(block.sample_counts()), bytes_of(block.non_finite_counts())}) {
+        write_all(fd, bytes, path);
+        h.add(bytes.data(), bytes.size());
+      }
+    });
+    write_all(fd, fmt::format("end {:016x}\n", h.h), path);
+    sync_file(fd, path);
+  } catch (...) {
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    unregister_interrupt_cleanup(slot);
+    throw;
+  }
+  if (::close(fd) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    unregister_interrupt_cleanup(slot);
+    throw WriteError(fmt::format("{}: closing failed: {}", path, std::strerror(err)));
+  }
+  unregister_interrupt_cleanup(slot);
+  commit_temp_file(tmp, path);
+  return seconds;
+}
+
+bool reference_part_done(const std::string& path, const ReferenceRequest& r, int index, int count) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  try {
+    const PartReader rd(path);
+    return rd.head["key"].dump() == reference_key(r) && rd.shard == index && rd.shards == count;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+Reference combine_reference_parts(const std::vector<std::string>& parts, const std::string& cache_dir) {
+  if (parts.empty()) throw Error("reference-combine: no part files given");
+  std::vector<std::unique_ptr<PartReader>> readers;
+  for (const std::string& p : parts) readers.push_back(std::make_unique<PartReader>(p));
+  const PartReader& a = *readers[0];
+  const int count = a.shards;
+  std::vector<PartReader*> by_index(static_cast<size_t>(std::max(count, 0)), nullptr);
+  for (auto& rd : readers) {
+    const std::string diff = key_difference(a.head["key"], rd->head["key"]);
+    if (!diff.empty())
+      throw Error(fmt::format("{} and {} are parts of different references: key field {}", a.file, rd->file, diff));
+    if (rd->shards != count || rd->stem != a.stem)
+      throw Error(fmt::format("{} and {} disagree on the shard count or scene ({} vs {} shards)", a.file, rd->file,
+                              count, rd->shards));
+    const int index = rd->shard;
+    if (index < 0 || index >= count)
+      throw Error(fmt::format("{}: shard {} of {} is out of range", rd->file, index, count));
+    const FrameRange want = reference_shard_frames(a.frames, a.block, index, count);
+    if (rd->first != want.first || rd->end != want.end)
+      throw Error(
+          fmt::format("{}: shard {}/{} should hold frames {}..{}", rd->file, index, count, want.first, want.end - 1));
+    if (by_index[index])
+      throw Error(fmt::format("{} and {} are both shard {}/{}", by_index[index]->file, rd->file, index, count));
+    by_index[index] = rd.get();
+  }
+  std::string missing;
+  int n_missing = 0;
+  for (int i = 0; i < count; ++i)
+    if (!by_index[i]) {
+      missing += (missing.empty() ? "" : ", ") + fmt::format("{}/{}", i, count);
+      ++n_missing;
+    }
+  if (n_missing > 0)
+    throw Error(fmt::format("{} of {} reference shard(s) missing: {} (render them, then combine again)", n_missing,
+                            count, missing));
+
+  const std::string key = a.head["key"].dump();
+  const Entry e = entry_of(safe_name(a.stem), key, cache_dir);
+  Accumulator total(a.width, a.height);
+  for (PartReader* rd : by_index) rd->read_blocks([&](const Accumulator& block) { total.merge(block); });
+  Reference ref;
+  ref.path = e.image.string();
+  ref.image = total.mean();
+  ref.non_finite = total.non_finite_samples();
+  create_cache_dir(e.dir);
+  const OutputLock lock((e.dir / e.stem).string(), "reference cache entry " + e.stem, OutputLock::Wait::Yes);
+  store_entry(e, key, ref);
   return ref;
 }
 

@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <set>
 
 #include "harness/csv.h"
 #include "harness/merge.h"
+#include "shading/image.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {
@@ -170,6 +172,48 @@ TEST(CliShard, CommandWordsUndoTheProvenanceQuoting) {
   EXPECT_EQ(command_words("build/raycoh table --scenes 'a b' --out x.csv"),
             (std::vector<std::string>{"table", "--scenes", "a b", "--out", "x.csv"}));
   EXPECT_EQ(command_words("r --x 'it'\\''s'"), (std::vector<std::string>{"--x", "it's"}));
+}
+
+// `raycoh reference --shard I/N` parts, joined by `reference-combine`, are the cache entry `raycoh reference` (and
+// so quality's --ref-frames) writes, bit for bit; a resubmitted part is not rendered again; misaligned shards
+// are refused.
+TEST(CliShard, ReferenceFrameShardsCombineToTheSingleProcessEntry) {
+  const auto dir = temp_dir("cli_ref_shard");
+  const std::string ref = "reference --scene cornell --res 8x6 --seed 3 --frames 512";
+  CommandResult r = run_raycoh(ref + " --cache " + (dir / "single").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string parts;
+  for (int i = 0; i < 8; ++i) {
+    const auto part = dir / ("part" + std::to_string(i));
+    r = run_raycoh(ref + " --shard " + std::to_string(i) + "/8 --out " + part.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    parts += " " + part.string();
+  }
+  r = run_raycoh(ref + " --shard 5/8 --out " + (dir / "part5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("already rendered"), std::string::npos) << r.output;
+  r = run_raycoh("reference-combine --cache " + (dir / "combined").string() + parts);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+
+  std::vector<fs::path> single, combined;
+  for (const auto& e : fs::directory_iterator(dir / "single"))
+    if (e.path().extension() != ".json") single.push_back(e.path());
+  ASSERT_EQ(single.size(), 1u);
+  const fs::path twin = dir / "combined" / single[0].filename();
+  ASSERT_TRUE(fs::exists(twin)) << r.output;
+  // The same pixels, bit for bit (an EXR header also holds its write time, so not the same bytes).
+  const Image a = read_image(single[0].string()), b = read_image(twin.string());
+  ASSERT_EQ(a.rgb.size(), 3u * 8 * 6);
+  ASSERT_EQ(b.rgb.size(), a.rgb.size());
+  EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+  r = run_raycoh(ref + " --cache " + (dir / "combined").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(cache)"), std::string::npos) << r.output;
+
+  expect_error(ref + " --shard 0/3 --out " + (dir / "bad").string(), "valid shard counts: 1, 2, 4, 8");
+  expect_error(ref + " --shard 0/8", "--shard and --out go together");
+  expect_error("reference-combine --cache " + (dir / "c2").string() + " " + (dir / "part0").string(),
+               "7 of 8 reference shard(s) missing");
 }
 
 }  // namespace

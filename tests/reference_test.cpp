@@ -95,5 +95,95 @@ TEST(ReferenceCache, SceneFileFingerprintFollowsItsContent) {
   test::write_file(dir / "a.obj", "v 0 0 1\n");
   EXPECT_NE(scene_fingerprint((dir / "a.obj").string()), f1);
 }
+
+// Eight frame shards of whole blocks, combined, are the single process's reference bit for bit, and the same
+// cache entry (get_reference then reads it from the cache).
+TEST(ReferenceShards, EightFrameShardsAddUpToTheSingleProcessBitForBit) {
+  const Scene s = load_scene("cornell");
+  const Bvh bvh = build_bvh(s);
+  const fs::path dir = test::temp_dir("refshards");
+  ReferenceRequest req;
+  req.scene_spec = "cornell";
+  req.settings = small(12, 8, 7);
+  req.frames = 64;
+  req.frame_block = 4;
+  req.revision = "test-shards";
+  req.cache_dir = (dir / "single").string();
+  const Reference single = get_reference(s, bvh, req);
+  ASSERT_FALSE(single.from_cache);
+
+  ReferenceRequest sharded = req;
+  sharded.cache_dir = (dir / "combined").string();
+  std::vector<std::string> parts;
+  for (int i = 7; i >= 0; --i) {  // any order
+    parts.push_back((dir / ("part" + std::to_string(i))).string());
+    render_reference_part(s, bvh, sharded, i, 8, parts.back());
+    EXPECT_TRUE(reference_part_done(parts.back(), sharded, i, 8));
+    EXPECT_FALSE(reference_part_done(parts.back(), sharded, (i + 1) % 8, 8));
+  }
+  const Reference combined = combine_reference_parts(parts, sharded.cache_dir);
+  EXPECT_EQ(fs::path(combined.path).filename(), fs::path(single.path).filename());
+  ASSERT_EQ(combined.image.rgb.size(), single.image.rgb.size());
+  EXPECT_EQ(std::memcmp(combined.image.rgb.data(), single.image.rgb.data(), single.image.rgb.size() * sizeof(float)),
+            0);
+  // The files hold the same pixels (an EXR header also holds its write time, so not the same bytes).
+  const Image file_a = read_image(single.path), file_b = read_image(combined.path);
+  ASSERT_EQ(file_a.rgb.size(), file_b.rgb.size());
+  EXPECT_EQ(std::memcmp(file_a.rgb.data(), file_b.rgb.data(), file_a.rgb.size() * sizeof(float)), 0);
+  const Reference reread = get_reference(s, bvh, sharded);
+  EXPECT_TRUE(reread.from_cache);
+
+  // Two shards of the same blocks give the same bits too.
+  ReferenceRequest two = req;
+  two.cache_dir = (dir / "two").string();
+  render_reference_part(s, bvh, two, 0, 2, (dir / "two0").string());
+  render_reference_part(s, bvh, two, 1, 2, (dir / "two1").string());
+  const Reference pair = combine_reference_parts({(dir / "two1").string(), (dir / "two0").string()}, two.cache_dir);
+  EXPECT_EQ(std::memcmp(pair.image.rgb.data(), single.image.rgb.data(), single.image.rgb.size() * sizeof(float)), 0);
+
+  // What does not add up is refused, naming the file.
+  std::vector<std::string> seven(parts.begin(), parts.end() - 1);
+  EXPECT_NE(test::error_of([&] {
+              combine_reference_parts(seven, sharded.cache_dir);
+            }).find("1 of 8 reference shard(s) missing: 0/8"),
+            std::string::npos);
+  std::vector<std::string> twice = parts;
+  twice.push_back(parts[0]);
+  EXPECT_NE(test::error_of([&] { combine_reference_parts(twice, sharded.cache_dir); }).find("are both shard 7/8"),
+            std::string::npos);
+  EXPECT_NE(test::error_of([&] {
+              combine_reference_parts({parts[0], (dir / "two0").string()}, two.cache_dir);
+            }).find("disagree on the shard count"),
+            std::string::npos);
+  ReferenceRequest other = req;
+  other.settings.seed = 8;
+  render_reference_part(s, bvh, other, 0, 8, (dir / "other").string());
+  std::vector<std::string> mixed(parts.begin(), parts.end() - 1);
+  mixed.push_back((dir / "other").string());
+  EXPECT_NE(test::error_of([&] { combine_reference_parts(mixed, sharded.cache_dir); }).find("key field seed (7 vs 8)"),
+            std::string::npos);
+  // A part cut short.
+  const std::string cut = (dir / "cut").string();
+  fs::copy_file(parts[0], cut);
+  fs::resize_file(cut, fs::file_size(cut) - 100);
+  std::vector<std::string> with_cut(parts.begin() + 1, parts.end());
+  with_cut.push_back(cut);
+  EXPECT_NE(test::error_of([&] { combine_reference_parts(with_cut, sharded.cache_dir); }).find(cut), std::string::npos);
+}
+
+TEST(ReferenceShards, MisalignedShardsAreRefusedNamingTheValidCounts) {
+  EXPECT_EQ(reference_shard_frames(4096, 64, 3, 8).first, 1536);
+  EXPECT_EQ(reference_shard_frames(4096, 64, 3, 8).end, 2048);
+  EXPECT_EQ(reference_shard_frames(100, 64, 0, 1).end, 100);
+  const std::string e = test::error_of([] { reference_shard_frames(512, 64, 0, 3); });
+  EXPECT_NE(e.find("--shard 0/3"), std::string::npos) << e;
+  EXPECT_NE(e.find("whole blocks of 64 frames"), std::string::npos) << e;
+  EXPECT_NE(e.find("valid shard counts: 1, 2, 4, 8"), std::string::npos) << e;
+  EXPECT_NE(test::error_of([] { reference_shard_frames(100, 64, 1, 2); }).find("valid shard counts: 1"),
+            std::string::npos);
+  EXPECT_NE(test::error_of([] { reference_shard_frames(128, 64, 0, 4); }).find("valid shard counts: 1, 2"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace raycoh
