@@ -11,10 +11,13 @@
 // fields (l1_*, l2_*, dram_bytes, modeled) are not produced on the GPU and stay 0: they come from `simt`.
 //
 // Parameters: cuda_params() below. The persistent kernel's warps fetch 32 consecutive rays at a time from a
-// global atomic counter (Aila & Laine 2009); the simple one runs one thread per ray.
+// global atomic counter (Aila & Laine 2009); the simple one runs one thread per ray. `bvh=cwbvh` traces the
+// compressed 8-wide BVH instead (core/traverse_cwbvh.h, built here from the scene by bvh/cwbvh_build.h, not timed,
+// as the cpu and simt tracers do): same kernels, hits equal `cpu:bvh=cwbvh`'s; it has no counting kernel.
 //
 // Sources: Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while
-// traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles.
+// traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles;
+// Ylitie, Karras & Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs" (HPG 2017).
 #include "cuda/cuda_tracer.h"
 
 #include <fmt/format.h>
@@ -24,6 +27,7 @@
 #include <vector>
 
 #include "bvh/bvh_build.h"
+#include "bvh/cwbvh_build.h"
 #include "core/error.h"
 #include "cuda/cuda_device.h"
 #include "cuda/trace_kernels.h"
@@ -35,9 +39,9 @@ namespace {
 
 class CudaTracer final : public Tracer {
  public:
-  CudaTracer(const Bvh& bvh, const cuda::TraceLaunch& launch, bool counting, const SimtConfig& layout,
-             std::string params)
-      : device_(bvh.view()), launch_(launch), counting_(counting), layout_(layout), params_(std::move(params)) {
+  CudaTracer(std::unique_ptr<cuda::DeviceTracer> device, const cuda::TraceLaunch& launch, bool counting,
+             const SimtConfig& layout, std::string params)
+      : device_(std::move(device)), launch_(launch), counting_(counting), layout_(layout), params_(std::move(params)) {
     counters_.warp_size = 32;
     counters_.line_bytes = layout_.line_bytes;
     counters_.sector_bytes = layout_.sector_bytes;
@@ -49,15 +53,15 @@ class CudaTracer final : public Tracer {
   }
   std::string params() const override { return params_; }
   const CoherenceCounters* last_counters() const override { return counting_ ? &counters_ : nullptr; }
-  double last_device_ms() const override { return device_.last_kernel_ms(); }
+  double last_device_ms() const override { return device_->last_kernel_ms(); }
 
  private:
   void run(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
     if (!counting_) {
-      device_.trace(rays, order, count, hits, launch_);
+      device_->trace(rays, order, count, hits, launch_);
       return;
     }
-    device_.trace_counting(rays, order, count, hits, layout_, launch_.block, warps_);
+    device_->trace_counting(rays, order, count, hits, layout_, launch_.block, warps_);
     CoherenceCounters total;
     total.warp_size = 32;
     total.line_bytes = layout_.line_bytes;
@@ -71,7 +75,7 @@ class CudaTracer final : public Tracer {
     counters_ = total;
   }
 
-  cuda::DeviceTracer device_;
+  std::unique_ptr<cuda::DeviceTracer> device_;
   cuda::TraceLaunch launch_;
   bool counting_;
   SimtConfig layout_;
@@ -88,11 +92,13 @@ const ParamTable& cuda_params() {
       int_param("block", 128, 32, 1024, "threads per block, a multiple of 32"),
       choice_param("counters", "off", {"off", "on"}, "on: the counting kernel (its time is not a traversal time)"),
       choice_param("line", "64", {"64", "128"}, "bytes per line of the counted transactions (simt's line)"),
+      choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
+                   "layout: the BVH2, or the compressed 8-wide BVH (Ylitie et al. 2017; no counting kernel)"),
   };
   return table;
 }
 
-std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene&, const Bvh& bvh) {
+std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh) {
   cuda::TraceLaunch launch;
   launch.kernel =
       params.get_choice("kernel") == "persistent" ? cuda::TraceKernel::Persistent : cuda::TraceKernel::Simple;
@@ -102,14 +108,21 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene&, const B
         fmt::format("{}: block={} is not a multiple of 32 (a block holds whole warps)", params.owner(), launch.block));
   const bool counting = params.get_choice("counters") == "on";
   const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line")));
+  const bool cwbvh = params.get_choice("bvh") == "cwbvh";
   params.finish();
+  if (cwbvh && counting)
+    throw Error(fmt::format("{}: counters=on has no CWBVH kernel (bvh=cwbvh); count CWBVH steps with the simt tracer",
+                            params.owner()));
   if (cuda::device_count() == 0)
     throw Error(
         fmt::format("{}: no CUDA device (this machine has no usable GPU); use the cpu or simt tracer", params.owner()));
   // The addresses the simt tracer counts with, so that lines and sectors are the same units (32-byte sectors as
   // in both cache presets).
   const SimtConfig layout = simt_config(bvh.view(), 32, line, 32);
-  return std::make_unique<CudaTracer>(bvh, launch, counting, layout, params.canonical());
+  // The CWBVH's host copy is dropped once uploaded.
+  auto device = cwbvh ? std::make_unique<cuda::DeviceTracer>(build_cwbvh(scene, bvh.config).view())
+                      : std::make_unique<cuda::DeviceTracer>(bvh.view());
+  return std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, params.canonical());
 }
 
 }  // namespace raycoh

@@ -22,6 +22,7 @@
 
 #include "core/error.h"
 #include "core/traverse.h"
+#include "core/traverse_cwbvh.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/trace_kernels.h"
 
@@ -49,16 +50,20 @@ __device__ __forceinline__ void store_hit(Hit* hits, size_t i, const Hit& h) {
   reinterpret_cast<float4*>(hits)[i] = make_float4(h.t, __uint_as_float(h.prim), h.u, h.v);
 }
 
-template <bool Indirect>
-__global__ void simple_kernel(BvhView bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
+// The closest hit of one ray in either layout: the shared traversals, unchanged.
+__device__ __forceinline__ Hit trace_ray(const BvhView& bvh, const Ray& r) { return closest_hit(bvh, r); }
+__device__ __forceinline__ Hit trace_ray(const CwbvhView& bvh, const Ray& r) { return closest_hit_cwbvh(bvh, r); }
+
+template <bool Indirect, class View>
+__global__ void simple_kernel(View bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
   const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
   if (i >= count) return;
-  store_hit(hits, i, closest_hit(bvh, load_ray(rays, Indirect ? order[i] : i)));
+  store_hit(hits, i, trace_ray(bvh, load_ray(rays, Indirect ? order[i] : i)));
 }
 
 // blockDim.x is a multiple of 32, so every warp is full and reaches the __shfl_sync with all 32 lanes.
-template <bool Indirect>
-__global__ void persistent_kernel(BvhView bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits,
+template <bool Indirect, class View>
+__global__ void persistent_kernel(View bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits,
                                   unsigned long long* next_ray) {
   const unsigned lane = threadIdx.x & (kWarp - 1);
   for (;;) {
@@ -67,7 +72,7 @@ __global__ void persistent_kernel(BvhView bvh, const Ray* rays, const uint32_t* 
     base = __shfl_sync(kFullMask, base, 0);
     if (base >= count) return;
     const size_t i = static_cast<size_t>(base) + lane;
-    if (i < count) store_hit(hits, i, closest_hit(bvh, load_ray(rays, Indirect ? order[i] : i)));
+    if (i < count) store_hit(hits, i, trace_ray(bvh, load_ray(rays, Indirect ? order[i] : i)));
   }
 }
 
@@ -185,8 +190,10 @@ unsigned grid_for(size_t threads, int block) {
 
 struct DeviceTracer::Impl {
   DeviceBuffer<BvhNode> nodes;
+  DeviceBuffer<CwbvhNode> cwbvh_nodes;  // the CWBVH layout's nodes (`nodes` then stays empty)
   DeviceBuffer<BvhTriangle> tris;
   uint32_t node_count = 0, tri_count = 0;
+  bool cwbvh = false;
   DeviceBuffer<Ray> rays;
   DeviceBuffer<uint32_t> order;
   DeviceBuffer<Hit> hits;
@@ -196,17 +203,69 @@ struct DeviceTracer::Impl {
   float last_ms = -1.f;
   int sms = 0;
 
+  void init(const BvhTriangle* host_tris, uint32_t triangles, uint32_t node_total) {
+    tris.upload(host_tris, triangles);
+    node_count = node_total;
+    tri_count = triangles;
+    int device = 0;
+    RAYCOH_CUDA_CHECK(cudaGetDevice(&device));
+    RAYCOH_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
+  }
   BvhView view() const { return BvhView{nodes.get(), tris.get(), node_count, tri_count}; }
+  CwbvhView cwbvh_view() const { return CwbvhView{cwbvh_nodes.get(), tris.get(), node_count, tri_count}; }
+
+  // Resident blocks per SM of this layout's persistent kernel.
+  int persistent_blocks_per_sm(int block) const {
+    int per_sm = 0;
+    if (cwbvh)
+      RAYCOH_CUDA_CHECK(
+          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, CwbvhView>, block, 0));
+    else
+      RAYCOH_CUDA_CHECK(
+          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, BvhView>, block, 0));
+    return per_sm;
+  }
+
+  // Launches the chosen kernel between the timer's events; persistent_blocks: the resident blocks of the GPU.
+  template <class View>
+  void launch(const View& bvh, const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
+              const TraceLaunch& launch, int persistent_blocks) {
+    if (launch.kernel == TraceKernel::Persistent) {
+      // Resident blocks only, and no more warps than the batch has: every warp fetches at least once.
+      const unsigned blocks =
+          std::min<unsigned>(static_cast<unsigned>(persistent_blocks), std::max(1u, grid_for(count, launch.block)));
+      RAYCOH_CUDA_CHECK(cudaMemset(next_ray.get(), 0, sizeof(unsigned long long)));
+      timer.start();
+      if (d_order)
+        persistent_kernel<true><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits, next_ray.get());
+      else
+        persistent_kernel<false><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits, next_ray.get());
+      RAYCOH_CUDA_CHECK_LAUNCH();
+      timer.stop();
+    } else {
+      const unsigned blocks = grid_for(count, launch.block);
+      timer.start();
+      if (blocks > 0) {
+        if (d_order)
+          simple_kernel<true><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits);
+        else
+          simple_kernel<false><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits);
+        RAYCOH_CUDA_CHECK_LAUNCH();
+      }
+      timer.stop();
+    }
+  }
 };
 
 DeviceTracer::DeviceTracer(const BvhView& bvh) : impl_(std::make_unique<Impl>()) {
   impl_->nodes.upload(bvh.nodes, bvh.node_count);
-  impl_->tris.upload(bvh.tris, bvh.tri_count);
-  impl_->node_count = bvh.node_count;
-  impl_->tri_count = bvh.tri_count;
-  int device = 0;
-  RAYCOH_CUDA_CHECK(cudaGetDevice(&device));
-  RAYCOH_CUDA_CHECK(cudaDeviceGetAttribute(&impl_->sms, cudaDevAttrMultiProcessorCount, device));
+  impl_->init(bvh.tris, bvh.tri_count, bvh.node_count);
+}
+
+DeviceTracer::DeviceTracer(const CwbvhView& bvh) : impl_(std::make_unique<Impl>()) {
+  impl_->cwbvh = true;
+  impl_->cwbvh_nodes.upload(bvh.nodes, bvh.node_count);
+  impl_->init(bvh.tris, bvh.tri_count, bvh.node_count);
 }
 
 DeviceTracer::~DeviceTracer() = default;
@@ -215,40 +274,18 @@ float DeviceTracer::last_kernel_ms() const { return impl_->last_ms; }
 
 int DeviceTracer::persistent_blocks(int block) const {
   check_block(block);
-  int per_sm = 0;
-  RAYCOH_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false>, block, 0));
-  return std::max(1, per_sm) * std::max(1, impl_->sms);
+  return std::max(1, impl_->persistent_blocks_per_sm(block)) * std::max(1, impl_->sms);
 }
 
 float DeviceTracer::trace_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
                                  const TraceLaunch& launch) {
   check_block(launch.block);
   Impl& m = *impl_;
-  const BvhView bvh = m.view();
-  if (launch.kernel == TraceKernel::Persistent) {
-    // Resident blocks only, and no more warps than the batch has: every warp fetches at least once.
-    const unsigned blocks = std::min<unsigned>(static_cast<unsigned>(persistent_blocks(launch.block)),
-                                               std::max(1u, grid_for(count, launch.block)));
-    RAYCOH_CUDA_CHECK(cudaMemset(m.next_ray.get(), 0, sizeof(unsigned long long)));
-    m.timer.start();
-    if (d_order)
-      persistent_kernel<true><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits, m.next_ray.get());
-    else
-      persistent_kernel<false><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits, m.next_ray.get());
-    RAYCOH_CUDA_CHECK_LAUNCH();
-    m.timer.stop();
-  } else {
-    const unsigned blocks = grid_for(count, launch.block);
-    m.timer.start();
-    if (blocks > 0) {
-      if (d_order)
-        simple_kernel<true><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits);
-      else
-        simple_kernel<false><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits);
-      RAYCOH_CUDA_CHECK_LAUNCH();
-    }
-    m.timer.stop();
-  }
+  const int blocks = launch.kernel == TraceKernel::Persistent ? persistent_blocks(launch.block) : 0;
+  if (m.cwbvh)
+    m.launch(m.cwbvh_view(), d_rays, d_order, count, d_hits, launch, blocks);
+  else
+    m.launch(m.view(), d_rays, d_order, count, d_hits, launch, blocks);
   m.last_ms = m.timer.elapsed_ms();  // synchronises: kernel faults surface here
   return m.last_ms;
 }
@@ -266,6 +303,7 @@ void DeviceTracer::trace_counting(const Ray* rays, const uint32_t* order, size_t
                                   const SimtConfig& layout, int block, std::vector<WarpStepCounters>& warps) {
   check_block(block);
   Impl& m = *impl_;
+  if (m.cwbvh) throw Error("cuda: the counting kernel traces the BVH2 only; there is none for CWBVH");
   const size_t warp_count = (count + kWarp - 1) / kWarp;
   m.rays.upload(rays, count);
   if (order) m.order.upload(order, count);

@@ -13,6 +13,10 @@
 //               of simt/simt.h, with __ballot_sync / __reduce_*_sync / __shfl_sync, and writing each warp's step
 //               and per-ray counters. Not timed; it must reproduce the `simt` tracer's counters exactly.
 // Indirect tracing: with an order array, lane i traces rays[order[i]] (the order is uploaded with the rays).
+//
+// CWBVH (Ylitie, Karras & Laine, HPG 2017; core/cwbvh.h): a DeviceTracer made from a CwbvhView runs the same
+// persistent and simple kernels with core/traverse_cwbvh.h's closest_hit_cwbvh unchanged in place of closest_hit,
+// so its hits equal the `cpu:bvh=cwbvh` tracer's bit for bit. It has no counting kernel (trace_counting throws).
 #pragma once
 
 #include <cstddef>
@@ -21,6 +25,7 @@
 #include <vector>
 
 #include "core/bvh.h"
+#include "core/cwbvh.h"
 #include "core/ray.h"
 #include "core/warp_counters.h"
 
@@ -38,6 +43,7 @@ struct TraceLaunch {
 class DeviceTracer {
  public:
   explicit DeviceTracer(const BvhView& bvh);
+  explicit DeviceTracer(const CwbvhView& bvh);  // the compressed 8-wide layout (no counting kernel)
   ~DeviceTracer();
   DeviceTracer(const DeviceTracer&) = delete;
   DeviceTracer& operator=(const DeviceTracer&) = delete;

@@ -2,8 +2,9 @@
 // size, direct and indirect, equal the `cpu` tracer's bit for bit; the counting kernel's per-warp counters equal
 // simt/simt.h's simt_trace_warp warp by warp, and the tracer's totals equal the `simt` tracer's, on cornell,
 // voxels and sibenik (primary and NoOpt secondary batches, a shuffled indirect order, lines of 64 and 128 bytes,
-// batches that end in a partial warp and hold rejected rays). The registry tests run without a GPU too; the
-// others skip cleanly (GTEST_SKIP) when cuda::device_count() == 0. Label `gpu`.
+// batches that end in a partial warp and hold rejected rays). `cuda:bvh=cwbvh` equals `cpu:bvh=cwbvh` bit for bit
+// and the BVH2 in t. The registry tests run without a GPU too; the others skip cleanly (GTEST_SKIP) when
+// cuda::device_count() == 0. Label `gpu`.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -172,7 +173,7 @@ TEST(GpuTracerRegistry, ListedInCudaBuildsWithItsParameters) {
   const auto& infos = tracer_infos();
   const auto it = std::find_if(infos.begin(), infos.end(), [](const TracerInfo& i) { return i.name == "cuda"; });
   ASSERT_NE(it, infos.end());
-  EXPECT_EQ(default_params(it->table()), "kernel=persistent,block=128,counters=off,line=64");
+  EXPECT_EQ(default_params(it->table()), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2");
   EXPECT_EQ(it->table()[2].choices, (std::vector<std::string>{"off", "on"}));
 }
 
@@ -191,12 +192,15 @@ TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
   EXPECT_NE(message("block=2048").find("block"), std::string::npos);
   EXPECT_NE(message("kernel=fast").find("persistent"), std::string::npos);
   EXPECT_NE(message("warp=16").find("warp"), std::string::npos);
+  EXPECT_NE(message("bvh=bvh4").find("cwbvh"), std::string::npos);
+  EXPECT_NE(message("bvh=cwbvh,counters=on").find("counters=on has no CWBVH kernel"), std::string::npos)
+      << message("bvh=cwbvh,counters=on");
   if (cuda::device_count() == 0) {
     EXPECT_NE(message("").find("tracer 'cuda': no CUDA device"), std::string::npos) << message("");
   } else {
     EXPECT_EQ(message(""), "");
     auto t = make_tracer({"cuda", ""}, scene, bvh);
-    EXPECT_EQ(t->params(), "kernel=persistent,block=128,counters=off,line=64");
+    EXPECT_EQ(t->params(), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2");
     EXPECT_EQ(t->last_counters(), nullptr);
     EXPECT_LT(t->last_device_ms(), 0.0);  // nothing traced yet
     auto c = make_tracer({"cuda", "counters=on,line=128"}, scene, bvh);
@@ -234,6 +238,48 @@ TEST(GpuTracer, HitsEqualTheCpuTracerForEveryKernelBlockAndOrder) {
           0u);
       EXPECT_TRUE(trace_with(*gpu, std::vector<Ray>{}).empty());
     }
+  }
+}
+
+// The CWBVH kernels (core/traverse_cwbvh.h on the device): hits equal `cpu:bvh=cwbvh` bit for bit for every
+// kernel, direct and indirect; against the BVH2 on the GPU the same t for every ray (bit for bit) and the same
+// Hit wherever the prim is the same (another prim only at exactly the same t: a tie on a shared edge).
+TEST(GpuTracer, CwbvhHitsEqualTheCpuCwbvhAndTheBvh2) {
+  SKIP_WITHOUT_GPU();
+  for (const std::string& spec : scene_specs()) {
+    SCOPED_TRACE(spec);
+    const auto f = make_frame(spec);
+    auto cpu = make_tracer({"cpu", "bvh=cwbvh"}, f->scene, f->bvh);
+    auto bvh2 = make_tracer({"cuda", ""}, f->scene, f->bvh);
+    const std::vector<Ray> secondary = stiff_batch(f->secondary);
+    const std::vector<uint32_t> order = shuffled_order(secondary.size());
+    const std::vector<Hit> cpu_primary = trace_with(*cpu, f->primary.rays);
+    const std::vector<Hit> cpu_secondary = trace_with(*cpu, secondary);
+    const std::vector<Hit> cpu_indirect = trace_with(*cpu, secondary, &order);
+    for (const char* params : {"bvh=cwbvh", "bvh=cwbvh,block=32", "bvh=cwbvh,kernel=simple,block=64"}) {
+      SCOPED_TRACE(params);
+      auto gpu = make_tracer({"cuda", params}, f->scene, f->bvh);
+      EXPECT_EQ(gpu->last_counters(), nullptr);
+      EXPECT_EQ(differing_hits(trace_with(*gpu, f->primary.rays), cpu_primary), 0u);
+      EXPECT_GT(gpu->last_device_ms(), 0.0);
+      EXPECT_EQ(differing_hits(trace_with(*gpu, secondary), cpu_secondary), 0u);
+      EXPECT_EQ(differing_hits(trace_with(*gpu, secondary, &order), cpu_indirect), 0u);
+      EXPECT_TRUE(trace_with(*gpu, std::vector<Ray>{}).empty());
+    }
+    const std::vector<Hit> b = trace_with(*bvh2, secondary);
+    size_t t_differ = 0, ties = 0, hit_differ = 0;
+    for (size_t i = 0; i < b.size(); ++i) {
+      const Hit& c = cpu_secondary[i];
+      if (std::memcmp(&c.t, &b[i].t, sizeof(float)) != 0)
+        ++t_differ;
+      else if (c.prim != b[i].prim)
+        ++ties;
+      else if (std::memcmp(&c, &b[i], sizeof(Hit)) != 0)
+        ++hit_differ;
+    }
+    EXPECT_EQ(t_differ, 0u);
+    EXPECT_EQ(hit_differ, 0u);
+    EXPECT_LE(ties, b.size() / 100) << ties << " ties of " << b.size();
   }
 }
 
