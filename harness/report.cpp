@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "harness/command.h"
 #include "harness/csv.h"
+#include "shading/image.h"
 
 namespace raycoh {
 
@@ -80,7 +81,7 @@ Csv read_csv(const std::string& path) {
   return csv;
 }
 
-enum class Kind { Table, Sweep, Converge, ConvergeSummary, Quality, Validate };
+enum class Kind { Table, Sweep, Converge, ConvergeSummary, Quality, Validate, Stability };
 
 Kind kind_of(const Csv& c) {
   if (c.has("pass") && c.has("method") && c.has("mray_s")) {
@@ -96,9 +97,10 @@ Kind kind_of(const Csv& c) {
   if (c.has("rel_mse") && c.has("wall_s") && c.has("frame")) return Kind::Converge;
   if (c.has("psnr") && c.has("reference_kind")) return Kind::Quality;
   if (c.has("paper_ratio") && c.has("modeled_ratio")) return Kind::Validate;
+  if (c.has("case") && c.has("rate") && c.has("threshold") && c.has("status")) return Kind::Stability;
   throw Error(fmt::format(
-      "report: {}: not a raycoh result CSV; valid: the CSVs of table, sweep, converge (curve or -summary), quality "
-      "and validate (results/README.md)",
+      "report: {}: not a raycoh result CSV; valid: the CSVs of table, sweep, converge (curve or -summary), quality, "
+      "validate and stability (results/README.md)",
       c.path));
 }
 
@@ -589,6 +591,32 @@ void add_converge_summary(Page& p, const Csv& c) {
       html_escape(c.path), rows);
 }
 
+// The error map of one image against the reference, both as shown (the 8-bit PNGs the quality command writes):
+// per pixel the mean absolute difference of the three channels, times kErrorGain, on a black-red-yellow-white
+// ramp (black: equal; white: a difference of 1/kErrorGain of the display range or more). Empty when the images
+// cannot be decoded or differ in size.
+constexpr float kErrorGain = 4.f;
+std::string error_map_png(const std::string& image, const std::string& reference) {
+  Rgba8Image a, b;
+  std::string why;
+  if (!decode_rgba8(reinterpret_cast<const unsigned char*>(image.data()), image.size(), a, why) ||
+      !decode_rgba8(reinterpret_cast<const unsigned char*>(reference.data()), reference.size(), b, why) ||
+      a.width != b.width || a.height != b.height)
+    return "";
+  Image map(a.width, a.height);
+  // The display value v is stored as the linear value the PNG encoder's sRGB curve turns back into v.
+  const auto linear = [](float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); };
+  for (size_t p = 0; p < map.pixels(); ++p) {
+    float d = 0.f;
+    for (int c = 0; c < 3; ++c) d += std::abs(float(a.rgba[4 * p + c]) - float(b.rgba[4 * p + c])) / 255.f;
+    const float e = std::clamp(kErrorGain * d / 3.f, 0.f, 1.f) * 3.f;  // 0..1 red, 1..2 yellow, 2..3 white
+    map.rgb[3 * p] = linear(std::min(e, 1.f));
+    map.rgb[3 * p + 1] = linear(std::clamp(e - 1.f, 0.f, 1.f));
+    map.rgb[3 * p + 2] = linear(std::clamp(e - 2.f, 0.f, 1.f));
+  }
+  return png_bytes(map, ToneMap{ToneMapKind::Clamp, 1.f, false});
+}
+
 // PSNR per scene and method (the paper's Table 2), and the images side by side when `<csv dir>/quality-images/
 // <scene>-<method>.png` exist (scripts/montage.py's inputs).
 void add_quality(Page& p, const Csv& c) {
@@ -626,7 +654,7 @@ void add_quality(Page& p, const Csv& c) {
                   html_escape(c.path), html_escape(join_set(info, "; ")), table);
   const std::filesystem::path dir = std::filesystem::path(c.path).parent_path() / "quality-images";
   for (const std::string& s : scenes) {
-    std::string row, crops;
+    std::string row, crops, errors, reference;
     std::vector<std::string> shown = {"reference"};
     for (const std::string& m : methods) shown.push_back(m);
     for (const std::string& m : shown) {
@@ -652,7 +680,21 @@ void add_quality(Page& p, const Csv& c) {
           "<figure><div class=\"crop\" style=\"aspect-ratio:{}/{}\"><img alt=\"{} {} crop\" src=\"{}\"></div>"
           "<figcaption>{}</figcaption></figure>\n",
           w, h, html_escape(s), html_escape(m), src, caption);
+      if (m == "reference") {
+        reference = data;
+      } else if (const std::string map = reference.empty() ? "" : error_map_png(data, reference); !map.empty()) {
+        errors += fmt::format(
+            "<figure><img alt=\"{} {} error map\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption>"
+            "</figure>\n",
+            html_escape(s), html_escape(m), base64(map), html_escape(m));
+      }
     }
+    if (!errors.empty())
+      crops += fmt::format(
+          "</div>\n<p class=\"note\">Error maps: |image − reference| as displayed, mean of the three channels, "
+          "×{:g} (black: equal; red, yellow, white: larger; white is a difference of {:.0f}% of the display range "
+          "or more). Blocks, seams and fireflies show here before they show in a PSNR:</p>\n<div class=\"imgs\">\n{}",
+          kErrorGain, 100.f / kErrorGain, errors);
     if (!row.empty())
       p.html += fmt::format(
           "<h3>{}</h3>\n<div class=\"imgs\">\n{}</div>\n<p class=\"note\">The centre third, enlarged 3x (nearest "
@@ -686,6 +728,50 @@ void add_validate(Page& p, const Csv& c) {
       html_escape(c.path), rows);
 }
 
+// `raycoh stability`: per scene, the largest rate of each case over its batches, the threshold it is held to (a
+// dash: reported only) and whether every gated case passed.
+void add_stability(Page& p, const Csv& c) {
+  std::vector<std::string> scenes, cases;
+  std::map<std::pair<std::string, std::string>, double> worst;
+  std::map<std::string, std::string> threshold;
+  std::map<std::string, bool> failed;
+  for (const auto& r : c.rows) {
+    const std::string scene = c.get(r, "scene"), what = c.get(r, "case");
+    add_unique(scenes, scene);
+    add_unique(cases, what);
+    double& w = worst.try_emplace({scene, what}, 0.0).first->second;
+    w = std::max(w, c.num(r, "rate"));
+    threshold[what] = c.get(r, "threshold").empty() ? "—" : c.get(r, "threshold");
+    failed[scene] = failed[scene] || c.get(r, "status") == "FAIL";
+  }
+  std::string head = "| scene | status |", rule = "|---|---|", hrow = "<tr><th>scene</th><th>status</th>";
+  for (const std::string& k : cases) {
+    head += " " + k + " (" + threshold[k] + ") |", rule += "---:|";
+    hrow += "<th>" + html_escape(k) + "<br>(" + html_escape(threshold[k]) + ")</th>";
+  }
+  std::string md = head + "\n" + rule + "\n", rows;
+  for (const std::string& sc : scenes) {
+    const std::string status = failed[sc] ? "FAIL" : "ok";
+    md += "| " + sc + " | " + status + " |";
+    rows += "<tr><td>" + html_escape(sc) + "</td><td>" + status + "</td>";
+    for (const std::string& k : cases) {
+      const auto it = worst.find({sc, k});
+      const std::string v = it == worst.end() ? "—" : fmt::format("{:.2g}", it->second);
+      md += " " + v + " |";
+      rows += "<td>" + v + "</td>";
+    }
+    md += "\n";
+    rows += "</tr>\n";
+  }
+  p.md += fmt::format("## Numerical stability: {}\n\nLargest rate over the batches; threshold in brackets.\n\n{}\n",
+                      c.path, md);
+  p.html += fmt::format(
+      "<h2>Numerical stability: {}</h2>\n<p>Largest rate of each case over the scene's ray batches, against a "
+      "double-precision reference (docs/stability.md); the threshold a case is held to in brackets (— : reported "
+      "only).</p>\n<div class=\"wide\"><table>{}</tr>\n{}</table></div>\n",
+      html_escape(c.path), hrow, rows);
+}
+
 std::string provenance_of(const Csv& c, const char* kind) {
   std::set<std::string> revs, cpus, started, commands;
   for (const auto& r : c.rows) {
@@ -710,7 +796,7 @@ figure{margin:0}figure img{image-rendering:pixelated;width:240px;border:1px soli
 figcaption{font-size:12px;text-align:center}
 table{border-collapse:collapse;font-size:13px}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}
 td:first-child,th:first-child{text-align:left}
-.win{font-weight:bold}.note{color:#555;font-size:13px}footer{margin-top:2em;font-size:12px;color:#555}
+.wide{overflow-x:auto}.win{font-weight:bold}.note{color:#555;font-size:13px}footer{margin-top:2em;font-size:12px;color:#555}
 </style>)";
 
 }  // namespace
@@ -730,9 +816,11 @@ int run_report(const std::vector<std::string>& inputs, const std::string& out, c
   p.md =
       "# raycoh report\n\nSpeeds are ratios to noopt (higher is faster). `simt` figures are MODELED on the GPU "
       "model (docs/simt-model.md), never measured; every other tracer's are measured on the CPU named below.\n\n";
-  static const char* names[] = {"table", "sweep", "converge curve", "converge summary", "quality", "validate"};
+  static const char* names[] = {"table",   "sweep",    "converge curve", "converge summary",
+                                "quality", "validate", "stability"};
   // Tables first, then sweeps, quality, convergence and the model's validation, whatever the argument order.
-  for (Kind k : {Kind::Table, Kind::Sweep, Kind::Quality, Kind::Converge, Kind::ConvergeSummary, Kind::Validate})
+  for (Kind k : {Kind::Table, Kind::Sweep, Kind::Quality, Kind::Converge, Kind::ConvergeSummary, Kind::Validate,
+                 Kind::Stability})
     for (const auto& [c, kind] : csvs) {
       if (kind != k) continue;
       if (k == Kind::Table) add_table(p, c);
@@ -741,6 +829,7 @@ int run_report(const std::vector<std::string>& inputs, const std::string& out, c
       if (k == Kind::Converge) add_converge(p, c);
       if (k == Kind::ConvergeSummary) add_converge_summary(p, c);
       if (k == Kind::Validate) add_validate(p, c);
+      if (k == Kind::Stability) add_stability(p, c);
       p.provenance.push_back(provenance_of(c, names[static_cast<int>(k)]));
     }
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>raycoh report</title>\n";

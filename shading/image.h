@@ -127,6 +127,9 @@ Image read_pfm(const std::string& path);
 // by write_file_atomically (core/durable_file.h): whole or not at all, synced, no temp file left behind. Throws
 // raycoh::Error for a path it cannot write (extension, build) and WriteError when the write fails.
 void write_image(const Image& image, const std::string& path, const ToneMap& tm = {});
+// The bytes of a PNG file of the image (tone-mapped with tm, 8-bit); throws raycoh::Error in a build without image
+// I/O. For pages that embed an image (raycoh report).
+std::string png_bytes(const Image& image, const ToneMap& tm);
 // .pfm and .exr (RGB or RGBA; alpha is dropped, a single channel is replicated).
 Image read_image(const std::string& path);
 // Throws raycoh::Error naming `what` (e.g. "--out") unless write_image can write `path` in this build (a known

@@ -162,6 +162,14 @@ void write_image(const Image& image, const std::string& path, [[maybe_unused]] c
   }
 }
 
+std::string png_bytes([[maybe_unused]] const Image& image, [[maybe_unused]] const ToneMap& tm) {
+#if RAYCOH_IMAGE_IO
+  return encode_oiio(image, "image.png", true, tm);
+#else
+  throw Error("PNG output needs image I/O (this build has RAYCOH_IMAGE_IO=OFF)");
+#endif
+}
+
 Image read_image(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) throw Error(path + ": no such image file");
   const std::string ext = extension_of(path);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "shading/image.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {
@@ -46,13 +47,33 @@ fs::path render_committed(const std::string& name) {
 TEST(CliReport, RendersThePageAndSummaryFromTheCommittedResults) {
   const fs::path dir = render_committed("cli_report");
   const std::string html = slurp(dir / "report.html"), md = slurp(dir / "report.md");
-  for (const char* s :
-       {"<!DOCTYPE html>", "<h2>Table 1 layout:", "table_sibenik_kitchen.csv",
-        "<h2>Table 3 layout:", "sweep_sibenik.csv", "Error against time", "rel_mse against CPU wall-clock s",
-        "data:image/png;base64,", "colour = generator:", "shade = encoder", "simt[preset=rtx3060]: trace only, modeled",
-        "MODELED GPU (not measured)", "axis from 0", "Fastest end to end", "Equal-time and equal-error",
-        "The GPU model beside the paper", "<h2>Provenance</h2>", "revision 1fdf2e5fcaab", "reconstruction"})
+  for (const char* s : {"<!DOCTYPE html>",
+                        "<h2>Table 1 layout:",
+                        "table_sibenik_kitchen.csv",
+                        "<h2>Table 3 layout:",
+                        "sweep_sibenik.csv",
+                        "Error against time",
+                        "rel_mse against CPU wall-clock s",
+                        "data:image/png;base64,",
+                        "colour = generator:",
+                        "shade = encoder",
+                        "simt[preset=rtx3060]: trace only, modeled",
+                        "MODELED GPU (not measured)",
+                        "axis from 0",
+                        "Fastest end to end",
+                        "Equal-time and equal-error",
+                        "The GPU model beside the paper",
+                        "<h2>Numerical stability:",
+                        "<h2>Provenance</h2>",
+                        "revision 1fdf2e5fcaab",
+                        "reconstruction"})
     EXPECT_NE(html.find(s), std::string::npos) << s;
+  if (image_io_available()) {  // error maps need the PNGs decoded
+    EXPECT_NE(html.find("Error maps: |image − reference|"), std::string::npos);
+    for (const char* s : {"alt=\"cornell ours error map\"", "alt=\"sibenik noopt error map\""})
+      EXPECT_NE(html.find(s), std::string::npos) << s;
+    EXPECT_EQ(html.find("alt=\"cornell reference error map\""), std::string::npos);
+  }
   EXPECT_EQ(html.find("<script"), std::string::npos) << "self-contained, no scripts";
   EXPECT_EQ(html.find("src=\"http"), std::string::npos) << "no external resources";
   std::string figures;  // the page without its embedded images (base64 text holds any letters)
