@@ -127,6 +127,10 @@ void commit_temp_file(const std::string& tmp, const std::string& path) {
 }
 
 void write_file_atomically(const std::string& path, std::string_view bytes) {
+  write_file_atomically(path, [&](int fd) { write_all(fd, bytes, path); });
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(int fd)>& write) {
   const std::string tmp = temp_path_beside(path);
   const int slot = register_interrupt_cleanup(tmp);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -135,7 +139,7 @@ void write_file_atomically(const std::string& path, std::string_view bytes) {
     throw WriteError(fmt::format("{}: cannot create {}: {}", path, tmp, reason(errno)));
   }
   try {
-    write_all(fd, bytes, path);
+    write(fd);
     sync_file(fd, path);
   } catch (...) {
     ::close(fd);

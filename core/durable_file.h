@@ -5,6 +5,7 @@
 // finished file is fsynced, renamed into place and its folder fsynced before a command says "Wrote".
 #pragma once
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -31,6 +32,9 @@ std::string temp_path_beside(const std::string& path);
 // call checked, renamed over `path`, then the folder fsynced. On failure the temp file is removed and WriteError
 // names `path` and the reason; an existing `path` is left as it was.
 void write_file_atomically(const std::string& path, std::string_view bytes);
+// The same for a file written in pieces: `write` gets the temp file's descriptor and writes it with write_all; the
+// file is synced and moved into place only when `write` returns. A throw removes the temp file and propagates.
+void write_file_atomically(const std::string& path, const std::function<void(int fd)>& write);
 
 // Moves a finished temp file over `path` (rename, then folder fsync); removes `tmp` and throws WriteError on
 // failure.

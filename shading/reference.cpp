@@ -1,17 +1,14 @@
 // The reference cache (key, files and reuse rule in reference.h).
 #include "shading/reference.h"
 
-#include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -360,15 +357,8 @@ double render_reference_part(const Scene& scene, const Bvh& bvh, const Reference
                                {"end_frame", range.end},
                                {"width", r.settings.width},
                                {"height", r.settings.height}};
-  const std::string tmp = temp_path_beside(path);
-  const int slot = register_interrupt_cleanup(tmp);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    unregister_interrupt_cleanup(slot);
-    throw WriteError(fmt::format("{}: cannot create {}: {}", path, tmp, std::strerror(errno)));
-  }
   double seconds = 0;
-  try {
+  write_file_atomically(path, [&](int fd) {
     Fnv1a h;
     write_all(fd, head.dump() + "\n", path);
     seconds = render_blocks(scene, bvh, r, range, [&](const Accumulator& block) {
@@ -379,21 +369,7 @@ double render_reference_part(const Scene& scene, const Bvh& bvh, const Reference
       }
     });
     write_all(fd, fmt::format("end {:016x}\n", h.h), path);
-    sync_file(fd, path);
-  } catch (...) {
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    unregister_interrupt_cleanup(slot);
-    throw;
-  }
-  if (::close(fd) != 0) {
-    const int err = errno;
-    ::unlink(tmp.c_str());
-    unregister_interrupt_cleanup(slot);
-    throw WriteError(fmt::format("{}: closing failed: {}", path, std::strerror(err)));
-  }
-  unregister_interrupt_cleanup(slot);
-  commit_temp_file(tmp, path);
+  });
   return seconds;
 }
 
