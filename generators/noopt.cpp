@@ -7,15 +7,9 @@
 // section 1), so no speedup is inflated by a scanline baseline.
 #include "generators/noopt.h"
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include "core/bsdf.h"
 #include "core/own_lobe.h"
-#include "core/rng.h"
-#include "generators/generator.h"
-#include "generators/pixel_order.h"
-#include "generators/tiles.h"
+#include "generators/emit_per_pixel.h"
 
 namespace raycoh {
 
@@ -38,36 +32,10 @@ NoOptGenerator::NoOptGenerator(ParamSet& params) {
 
 void NoOptGenerator::generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                               GenerationStats& stats) {
-  // Scanline order is the tile order with one-row tiles; either way tiles are filled in parallel.
-  const TileGrid grid = order_ == RayOrder::Scanline
-                            ? TileGrid(gbuffer.width, gbuffer.height, gbuffer.width, 1)
-                            : TileGrid(gbuffer.width, gbuffer.height, tile_.first, tile_.second);
-  const std::vector<uint32_t> offsets = tile_hit_offsets(gbuffer, grid);
-  out.width = gbuffer.width;
-  out.height = gbuffer.height;
-  out.frame = gbuffer.frame;
-  out.resize(offsets.back());
-  const uint32_t frame = gbuffer.frame;
-  tbb::enumerable_thread_specific<GenerationStats> partial;
-  tbb::parallel_for(tbb::blocked_range<int>(0, grid.count(), 16), [&](const tbb::blocked_range<int>& range) {
-    GenerationStats& local = partial.local();
-    for (int t = range.begin(); t < range.end(); ++t) {
-      int x0, y0, w, h;
-      grid.rect(t, x0, y0, w, h);
-      uint32_t slot = offsets[t];
-      for (int y = y0; y < y0 + h; ++y)
-        for (int x = x0; x < x0 + w; ++x) {
-          const uint32_t p = static_cast<uint32_t>(y * gbuffer.width + x);
-          const ShadingPoint& sp = gbuffer.points[p];
-          if (!sp.valid()) continue;
-          const DirectionSample s = sample_own_lobe(bsdf_params(scene.materials[sp.material]), sp, seed, frame, p);
-          tally_ray(emit_ray(out, slot, sp, p, s), local);
-          ++slot;
-        }
-    }
-  });
-  stats = GenerationStats{};
-  for (const GenerationStats& s : partial) merge_stats(stats, s);
+  emit_per_valid_pixel(gbuffer, order_, tile_, out, stats,
+                       [&](int, int, uint32_t p, const ShadingPoint& sp, GenerationStats&) {
+                         return sample_own_lobe(bsdf_params(scene.materials[sp.material]), sp, seed, gbuffer.frame, p);
+                       });
 }
 
 }  // namespace raycoh

@@ -16,17 +16,11 @@
 // reused (its random numbers came from a shared stream) except with interleave=N where N^2 >= pixels.
 //
 // Parameters: sadeghi_params() and microjitter_params() below.
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include <cmath>
 
 #include "core/bsdf.h"
 #include "core/rng.h"
-#include "generators/generator.h"
-#include "generators/noopt.h"
-#include "generators/pixel_order.h"
-#include "generators/tiles.h"
+#include "generators/emit_per_pixel.h"
 
 namespace raycoh {
 namespace {
@@ -53,41 +47,16 @@ class SharedSampleGenerator final : public Generator {
 
   void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                 GenerationStats& stats) override {
-    const TileGrid grid = order_ == RayOrder::Scanline
-                              ? TileGrid(gbuffer.width, gbuffer.height, gbuffer.width, 1)
-                              : TileGrid(gbuffer.width, gbuffer.height, tile_.first, tile_.second);
-    const std::vector<uint32_t> offsets = tile_hit_offsets(gbuffer, grid);
-    out.width = gbuffer.width;
-    out.height = gbuffer.height;
-    out.frame = gbuffer.frame;
-    out.resize(offsets.back());
-    const uint32_t frame = gbuffer.frame;
     const bool all_own = sharing_ == Sharing::Sadeghi &&
                          uint64_t(interleave_) * uint64_t(interleave_) >= uint64_t(gbuffer.width) * gbuffer.height;
-    tbb::enumerable_thread_specific<GenerationStats> partial;
-    tbb::parallel_for(tbb::blocked_range<int>(0, grid.count(), 16), [&](const tbb::blocked_range<int>& range) {
-      GenerationStats& local = partial.local();
-      for (int t = range.begin(); t < range.end(); ++t) {
-        int x0, y0, w, h;
-        grid.rect(t, x0, y0, w, h);
-        uint32_t slot = offsets[t];
-        for (int y = y0; y < y0 + h; ++y)
-          for (int x = x0; x < x0 + w; ++x) {
-            const uint32_t p = static_cast<uint32_t>(y * gbuffer.width + x);
-            const ShadingPoint& sp = gbuffer.points[p];
-            if (!sp.valid()) continue;
-            float u[3];
-            numbers(seed, frame, x, y, p, u);
-            const BsdfParams m = bsdf_params(scene.materials[sp.material]);
-            const DirectionSample s = sample_direction(m, sp.ns, sp.ng, sp.wo, sp.front_face, u[0], u[1], u[2]);
-            tally_ray(emit_ray(out, slot, sp, p, s), local);
-            if (!all_own) ++local.reused_rays;
-            ++slot;
-          }
-      }
-    });
-    stats = GenerationStats{};
-    for (const GenerationStats& s : partial) merge_stats(stats, s);
+    emit_per_valid_pixel(gbuffer, order_, tile_, out, stats,
+                         [&](int x, int y, uint32_t p, const ShadingPoint& sp, GenerationStats& local) {
+                           float u[3];
+                           numbers(seed, gbuffer.frame, x, y, p, u);
+                           const BsdfParams m = bsdf_params(scene.materials[sp.material]);
+                           if (!all_own) ++local.reused_rays;
+                           return sample_direction(m, sp.ns, sp.ng, sp.wo, sp.front_face, u[0], u[1], u[2]);
+                         });
   }
 
  private:
