@@ -67,6 +67,52 @@ struct StepFetches {
 
 inline uint32_t lanes_in(uint64_t mask) { return static_cast<uint32_t>(std::popcount(mask)); }
 
+// The lanes of `among` whose state satisfies pred.
+template <class State, class Pred>
+uint64_t lanes_where(const State* st, uint64_t among, Pred&& pred) {
+  uint64_t out = 0;
+  for (uint64_t m = among; m; m &= m - 1) {
+    const int l = std::countr_zero(m);
+    if (pred(st[l])) out |= uint64_t{1} << l;
+  }
+  return out;
+}
+
+// Counts one Node or Triangle step of the lanes in `mask` whose fetches f are finished.
+inline void count_fetch_step(SimtStepKind kind, uint64_t mask, const StepFetches& f, CoherenceCounters& c,
+                             WarpTrace* trace, std::vector<SimtStep>* steps) {
+  f.emit(trace, kind);
+  const bool node = kind == SimtStepKind::Node;
+  (node ? c.node_steps : c.triangle_steps) += 1;
+  (node ? c.node_lanes : c.triangle_lanes) += lanes_in(mask);
+  (node ? c.node_lines : c.triangle_lines) += f.line_count;
+  (node ? c.node_fetches : c.triangle_fetches) += f.sector_count;
+  if (steps) steps->push_back({kind, mask, f.line_count, f.sector_count});
+}
+
+// Counts one Leaf step (no fetch of its own) of the lanes in `mask`.
+inline void count_leaf_step(uint64_t mask, CoherenceCounters& c, WarpTrace* trace, std::vector<SimtStep>* steps) {
+  c.leaf_steps += 1;
+  c.leaf_lanes += lanes_in(mask);
+  if (steps) steps->push_back({SimtStepKind::Leaf, mask, 0, 0});
+  if (trace) trace->add_step(SimtStepKind::Leaf, nullptr, 0);
+}
+
+// The end of a warp: hits, the warp's ray and per-ray counters, and optionally each lane's RayCounters.
+template <class State>
+void finish_warp(const State* st, const RayCounters* rc, uint32_t lanes, Hit* hits, CoherenceCounters& counters,
+                 RayCounters* ray_counters) {
+  counters.rays += lanes;
+  counters.warps += 1;
+  for (uint32_t l = 0; l < lanes; ++l) {
+    hits[l] = st[l].hit;
+    counters.nodes += rc[l].nodes;
+    counters.leaves += rc[l].leaves;
+    counters.triangles += rc[l].triangles;
+    if (ray_counters) ray_counters[l] = rc[l];
+  }
+}
+
 }  // namespace simt_detail
 
 // Traces the `lanes` rays of one warp (rays[0 .. lanes), lanes in [1, warp_size]) in lock step under the rules
@@ -87,14 +133,7 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
     traversal_begin(st[l], rays[l]);
     if (!traversal_done(st[l])) live |= uint64_t{1} << l;
   }
-  auto lanes_where = [&](uint64_t among, auto&& pred) {
-    uint64_t out = 0;
-    for (uint64_t m = among; m; m &= m - 1) {
-      const int l = std::countr_zero(m);
-      if (pred(st[l])) out |= uint64_t{1} << l;
-    }
-    return out;
-  };
+  auto lanes_where = [&](uint64_t among, auto&& pred) { return simt_detail::lanes_where(st, among, pred); };
   StepFetches f;
   while (live) {
     // Node loop.
@@ -107,12 +146,7 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
         node_step(st[l], bvh, rc[l]);
       }
       f.finish();
-      f.emit(trace, SimtStepKind::Node);
-      counters.node_steps += 1;
-      counters.node_lanes += lanes_in(n);
-      counters.node_lines += f.line_count;
-      counters.node_fetches += f.sector_count;
-      if (steps) steps->push_back({SimtStepKind::Node, n, f.line_count, f.sector_count});
+      count_fetch_step(SimtStepKind::Node, n, f, counters, trace, steps);
       if (lanes_where(n, [](const TraversalState& s) { return traversal_has_leaf(s); }) == n) break;
       n = lanes_where(n, [](const TraversalState& s) { return traversal_wants_node(s); });
     }
@@ -126,10 +160,7 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
         count[l] = leaf_count(st[l].leaf_ref);
         max_count = std::max(max_count, count[l]);
       }
-      counters.leaf_steps += 1;
-      counters.leaf_lanes += lanes_in(leaf);
-      if (steps) steps->push_back({SimtStepKind::Leaf, leaf, 0, 0});
-      if (trace) trace->add_step(SimtStepKind::Leaf, nullptr, 0);
+      count_leaf_step(leaf, counters, trace, steps);
       for (uint32_t j = 0; j < max_count; ++j) {
         f.line_count = f.sector_count = 0;
         uint64_t sub = 0;
@@ -140,12 +171,7 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
           f.add(config.tri_base + uint64_t{kTriBytes} * (first[l] + j), kTriBytes, config);
         }
         f.finish();
-        f.emit(trace, SimtStepKind::Triangle);
-        counters.triangle_steps += 1;
-        counters.triangle_lanes += lanes_in(sub);
-        counters.triangle_lines += f.line_count;
-        counters.triangle_fetches += f.sector_count;
-        if (steps) steps->push_back({SimtStepKind::Triangle, sub, f.line_count, f.sector_count});
+        count_fetch_step(SimtStepKind::Triangle, sub, f, counters, trace, steps);
       }
       // The lanes' triangle tests are independent, so running each lane's whole leaf_step in turn computes
       // exactly what the lock-step sub-steps compute.
@@ -157,15 +183,7 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
     }
     live = lanes_where(live, [](const TraversalState& s) { return !traversal_done(s); });
   }
-  counters.rays += lanes;
-  counters.warps += 1;
-  for (uint32_t l = 0; l < lanes; ++l) {
-    hits[l] = st[l].hit;
-    counters.nodes += rc[l].nodes;
-    counters.leaves += rc[l].leaves;
-    counters.triangles += rc[l].triangles;
-    if (ray_counters) ray_counters[l] = rc[l];
-  }
+  finish_warp(st, rc, lanes, hits, counters, ray_counters);
 }
 
 }  // namespace raycoh

@@ -35,14 +35,7 @@ inline void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_
     cwbvh_begin(st[l], rays[l]);
     if (!cwbvh_done(st[l])) live |= uint64_t{1} << l;
   }
-  auto lanes_where = [&](uint64_t among, auto&& pred) {
-    uint64_t out = 0;
-    for (uint64_t m = among; m; m &= m - 1) {
-      const int l = std::countr_zero(m);
-      if (pred(st[l])) out |= uint64_t{1} << l;
-    }
-    return out;
-  };
+  auto lanes_where = [&](uint64_t among, auto&& pred) { return simt_detail::lanes_where(st, among, pred); };
   constexpr uint32_t kNodeBytes = sizeof(CwbvhNode);
   StepFetches f;
   while (live) {
@@ -56,21 +49,13 @@ inline void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_
         cwbvh_node_step(st[l], bvh, rc[l]);
       }
       f.finish();
-      f.emit(trace, SimtStepKind::Node);
-      counters.node_steps += 1;
-      counters.node_lanes += lanes_in(n);
-      counters.node_lines += f.line_count;
-      counters.node_fetches += f.sector_count;
-      if (steps) steps->push_back({SimtStepKind::Node, n, f.line_count, f.sector_count});
+      count_fetch_step(SimtStepKind::Node, n, f, counters, trace, steps);
     }
     uint64_t tri = lanes_where(live, [](const CwbvhState& s) { return cwbvh_has_triangles(s); });
     const uint64_t wanting = lanes_where(live, [](const CwbvhState& s) { return cwbvh_wants_node(s); });
     const uint64_t still = lanes_where(live, [](const CwbvhState& s) { return !cwbvh_done(s); });
     if (tri && (wanting == 0 || lanes_in(tri) >= kCwbvhTriangleShare * lanes_in(still))) {
-      counters.leaf_steps += 1;
-      counters.leaf_lanes += lanes_in(tri);
-      if (steps) steps->push_back({SimtStepKind::Leaf, tri, 0, 0});
-      if (trace) trace->add_step(SimtStepKind::Leaf, nullptr, 0);
+      count_leaf_step(tri, counters, trace, steps);
       for (uint64_t m = tri; m; m &= m - 1) rc[std::countr_zero(m)].on_leaf(0);
       while (tri) {
         f.line_count = f.sector_count = 0;
@@ -81,26 +66,13 @@ inline void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_
           cwbvh_triangle_step(st[l], bvh, rc[l]);
         }
         f.finish();
-        f.emit(trace, SimtStepKind::Triangle);
-        counters.triangle_steps += 1;
-        counters.triangle_lanes += lanes_in(tri);
-        counters.triangle_lines += f.line_count;
-        counters.triangle_fetches += f.sector_count;
-        if (steps) steps->push_back({SimtStepKind::Triangle, tri, f.line_count, f.sector_count});
+        count_fetch_step(SimtStepKind::Triangle, tri, f, counters, trace, steps);
         tri = lanes_where(tri, [](const CwbvhState& s) { return cwbvh_has_triangles(s); });
       }
     }
     live = still;
   }
-  counters.rays += lanes;
-  counters.warps += 1;
-  for (uint32_t l = 0; l < lanes; ++l) {
-    hits[l] = st[l].hit;
-    counters.nodes += rc[l].nodes;
-    counters.leaves += rc[l].leaves;
-    counters.triangles += rc[l].triangles;
-    if (ray_counters) ray_counters[l] = rc[l];
-  }
+  finish_warp(st, rc, lanes, hits, counters, ray_counters);
 }
 
 }  // namespace raycoh
