@@ -121,9 +121,12 @@ BoundCommand bind_reference_combine(CLI::App& parent) {
   cmd->add_option("--cache", s->cache_dir, "reference cache folder (default $RAYCOH_CACHE, else results/cache)");
   return {cmd, [s](const Provenance&) {
             const Reference ref = combine_reference_parts(s->parts, s->cache_dir);
-            std::printf("combined %zu part(s) -> %s (rendered in %.1f s in all on %s)\n", s->parts.size(),
-                        ref.path.c_str(), ref.render_s,
-                        ref.render_hosts.empty() ? "hosts not recorded" : join(ref.render_hosts, ", ").c_str());
+            if (ref.render_hosts.empty())
+              std::printf("combined %zu part(s) -> %s (parts written before format 2 record no render time)\n",
+                          s->parts.size(), ref.path.c_str());
+            else
+              std::printf("combined %zu part(s) -> %s (rendered in %.1f s in all, on %s)\n", s->parts.size(),
+                          ref.path.c_str(), ref.render_s, join(ref.render_hosts, ", ").c_str());
             if (ref.non_finite > 0)
               std::printf("warning: %llu NaN/Inf frame samples were left out (counted, not added)\n",
                           static_cast<unsigned long long>(ref.non_finite));
