@@ -770,7 +770,8 @@ int run_merge(const MergeOptions& o, const Provenance& provenance) {
 BoundCommand bind_merge(CLI::App& parent) {
   auto o = std::make_shared<MergeOptions>();
   CLI::App* cmd = parent.add_subcommand(
-      "merge", "join the CSV files of a sharded table or sweep (--shard I/N) into the file one process would write");
+      "merge",
+      "join the CSV files of a sharded table, sweep, quality or converge (--shard I/N) into what one process writes");
   cmd->add_option("--out", o->out, "merged CSV file to write")->required();
   cmd->add_option("inputs", o->inputs, "the shards' CSV files (each shard's finished --out)")->required();
   cmd->add_flag("--force", o->force, "replace an existing --out");
