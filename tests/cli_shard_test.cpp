@@ -195,7 +195,8 @@ std::vector<std::string> columns_of(const fs::path& p, const std::vector<std::st
 // quality --shard: three shards started at once race for the two scenes' references; the cache's entry lock lets
 // one shard render each while the others wait and read it. The merged file is the single process's rows.
 const std::string kQuality =
-    "quality --scenes cornell,voxels:size=8 --generators noopt,ours,tile --res 32x24 --ref-frames 8 --bias-renders 2";
+    "quality --scenes cornell,voxels:size=8 --generators noopt,ours,contiguous --res 32x24 --ref-frames 8 "
+    "--bias-renders 2";
 
 TEST(CliShard, QualityShardsRacingForTheReferencesMergeToTheSingleProcessRows) {
   const auto dir = temp_dir("cli_quality_shard");
@@ -245,7 +246,7 @@ TEST(CliShard, ConvergeShardsMergeToTheSingleProcessCurves) {
   const auto dir = temp_dir("cli_converge_shard");
   const std::string d = dir.string();
   const std::string run =
-      "converge --scene cornell --generators noopt,tile --res 32x24 --ref-frames 8 --time 1000s --max-frames 3 "
+      "converge --scene cornell --generators noopt,contiguous --res 32x24 --ref-frames 8 --time 1000s --max-frames 3 "
       "--cache " +
       d + "/cache";
   ASSERT_EQ(run_raycoh(run + " --out " + d + "/whole.csv").exit_code, 0);
