@@ -9,6 +9,9 @@
 //                           (> 1: the generator reaches it sooner).
 // Curves are read by interpolating linearly in (log time, log error) between frames (error_at_time,
 // time_to_error in curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
+// --shard I/N: the shard renders its own generators (units scene x generator, harness/shard.h) and the baseline
+// beside them, so that every ratio compares two curves timed in one process on one machine; the baseline's rows
+// are written only by the shard that owns it. `raycoh merge` joins both files of every shard.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -22,6 +25,7 @@
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
+#include "harness/merge.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
 #include "harness/render_common.h"
@@ -36,7 +40,7 @@ namespace {
 
 // One generator's running mean after one more frame.
 struct ConvergeRow {
-  std::string scene, scene_spec, method, generator, generator_params, tracer, tracer_params;
+  std::string scene, scene_spec, scene_fingerprint, method, generator, generator_params, tracer, tracer_params;
   int width = 0, height = 0;
   uint32_t seed = 0;
   std::optional<int> ref_frames;  // absent for an explicit --reference file
@@ -58,6 +62,7 @@ const Schema<ConvergeRow>& converge_schema() {
     Schema<R> s = {
         column("scene", &R::scene, Text{}),
         column("scene_spec", &R::scene_spec, Text{}),
+        column("scene_fingerprint", &R::scene_fingerprint, Text{}),
         column("method", &R::method, Text{}),
         column("generator", &R::generator, Text{}),
         column("generator_params", &R::generator_params, Text{}),
@@ -165,6 +170,9 @@ class ConvergeRun {
  private:
   bool render_round();
   ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m) const;
+  // --shard: the generators whose rows this shard writes; it renders the baseline (0) too, for its ratios.
+  bool owns(size_t gi) const { return owned_[gi]; }
+  bool renders(size_t gi) const { return gi == 0 || owns(gi); }
   SummaryRow compare(const Run& run, const std::string& clock) const;
 
   const ConvergeOptions& o_;
@@ -178,6 +186,8 @@ class ConvergeRun {
   ReferenceImage ref_;
   ToneMap tm_;  // resolved on the reference, the same for every generator
   std::vector<Run> runs_;
+  std::vector<bool> owned_;
+  std::string fingerprint_;
 };
 
 ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
@@ -191,16 +201,24 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
                             csv_.already_complete() ? summary_path_of(o) : o.out));
   if (complete()) return;
   generators_ = make_generators("--generators", o.generators);
+  std::vector<std::string> units;
+  for (const PluginSpec& g : o.generators) units.push_back(render_unit(o.scene, g.text()));
+  owned_ = owned_units(units, o.shard);
+  if (std::find(owned_.begin(), owned_.end(), true) == owned_.end()) return;  // a shard with no unit: empty files
   ls_ = load(o.scene, o.common.tracer);
+  fingerprint_ = scene_fingerprint(o.scene);
   ref_ = obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference);
   tm_ = resolved(o.common.tone_map, ref_.image);
   provenance_.device = device_of(o.common.tracer);
   for (size_t gi = 0; gi < generators_.size(); ++gi) {
     Run run;
     run.label = o.generators[gi].text();
-    run.pt =
-        std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi], settings_of(o.common, o.common.seed));
-    run.acc = Accumulator(o.common.width, o.common.height);
+    run.active = renders(gi);
+    if (run.active) {
+      run.pt = std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi],
+                                            settings_of(o.common, o.common.seed));
+      run.acc = Accumulator(o.common.width, o.common.height);
+    }
     runs_.push_back(std::move(run));
   }
 }
@@ -210,6 +228,7 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   ConvergeRow r;
   r.scene = ls_->scene.name;
   r.scene_spec = o_.scene;
+  r.scene_fingerprint = fingerprint_;
   r.method = run.label;
   r.generator = o_.generators[gi].name;
   r.generator_params = generators_[gi]->params();
@@ -252,7 +271,7 @@ bool ConvergeRun::render_round() {
     const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_);
     run.by_wall.push_back({run.total.wall_s, m.rel_mse});
     run.by_trace.push_back({run.total.trace_s, m.rel_mse});
-    csv_.write(row_of(gi, f, m));
+    if (owns(gi)) csv_.write(row_of(gi, f, m));
     run.active = run.total.wall_s < o_.time_s && run.frames < o_.max_frames;
     any = any || run.active;
   }
@@ -261,8 +280,13 @@ bool ConvergeRun::render_round() {
 
 void ConvergeRun::render() {
   Progress bar;
-  const double budget = o_.time_s * static_cast<double>(runs_.size());
+  double budget = 0;
+  for (const Run& r : runs_) budget += r.active ? o_.time_s : 0;
   try {
+    if (budget == 0) {  // a shard with no unit
+      csv_.finish();
+      return;
+    }
     for (bool any = true; any;) {
       any = render_round();
       // Progress in hundredths of the whole time budget (the bar counts them as its steps).
@@ -311,6 +335,12 @@ SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const 
 void ConvergeRun::summarize() {
   const std::string summary_path = summary_path_of(o_);
   RecordCsv<SummaryRow>& summary = summary_;
+  if (runs_.empty()) {
+    summary.finish();
+    std::printf("Wrote shard %s of the run to %s and %s: it owns no generator (more shards than generators)\n",
+                o_.shard.text().c_str(), o_.out.c_str(), summary_path.c_str());
+    return;
+  }
   std::printf(
       "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
       "baseline %s\n\n",
@@ -318,12 +348,14 @@ void ConvergeRun::summarize() {
       kRelMseEpsilon, runs_[0].label.c_str());
   std::printf("| generator | frames | final relMSE | final PSNR |\n|---|---:|---:|---:|\n");
   for (const Run& r : runs_)
-    std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
-                psnr(r.acc.mean(), ref_.image, tm_));
+    if (r.frames > 0)
+      std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
+                  psnr(r.acc.mean(), ref_.image, tm_));
   std::printf(
       "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
       "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (size_t gi = 1; gi < runs_.size(); ++gi) {
+    if (!owns(gi)) continue;
     for (const char* clock : {"wall", "trace"}) {
       const SummaryRow r = compare(runs_[gi], clock);
       summary.write(r);
@@ -335,9 +367,17 @@ void ConvergeRun::summarize() {
   summary.finish();
   std::printf("\nWrote %s and %s (%s, %d threads)\n", o_.out.c_str(), summary_path.c_str(),
               provenance_.git_revision.c_str(), provenance_.threads);
+  if (!o_.shard.whole())
+    std::printf(
+        "This is shard %s of the run (the baseline was rendered beside its generators for the ratios); "
+        "join the shards' files with raycoh merge\n",
+        o_.shard.text().c_str());
 }
 
 }  // namespace
+
+CsvLayout converge_layout() { return csv_layout(converge_schema()); }
+CsvLayout converge_summary_layout() { return csv_layout(summary_schema()); }
 
 int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   check_converge(o);
@@ -358,7 +398,7 @@ BoundCommand bind_converge(CLI::App& parent) {
   struct State {
     ConvergeOptions o;
     RenderText text;
-    std::string generators, time;  // defaults from ConvergeOptions
+    std::string generators, time, shard = "0/1";  // defaults from ConvergeOptions
   };
   auto s = std::make_shared<State>();
   s->generators = join_specs(s->o.generators);
@@ -374,9 +414,14 @@ BoundCommand bind_converge(CLI::App& parent) {
   cmd->add_option("--cache", s->o.cache_dir, "reference cache folder");
   cmd->add_option("--reference", s->o.reference, "use this .exr/.pfm as the reference");
   cmd->add_option("--out", s->o.out, "CSV file to write")->capture_default_str();
+  cmd->add_option("--shard", s->shard,
+                  "I/N: render only shard I (0-based) of N of the generators (and the baseline beside them); join "
+                  "with raycoh merge")
+      ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
   return {cmd, [s](const Provenance& provenance) {
             resolve_render_common(s->o.common, s->text);
+            s->o.shard = parse_shard("--shard", s->shard);
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.time_s = parse_duration("--time", s->time);
             return run_converge(s->o, provenance);

@@ -1,28 +1,50 @@
-// `raycoh merge --out OUT IN...`: joins the CSV files of a sharded `table` or `sweep` run (--shard I/N, each
-// shard's finished --out) into the one file a single process would have written.
+// `raycoh merge --out OUT IN...`: joins the CSV files of a sharded `table`, `sweep`, `quality` or `converge` run
+// (--shard I/N, each shard's finished --out; for converge also each one's <stem>-summary.csv, joined into
+// <OUT stem>-summary.csv) into the files a single process would have written. The kind is read from the header.
 //
 // Refused, one line naming the files and the field (exit 2), before anything is written:
 // - files that disagree where the shards of one run must agree: git_revision, build_type, compiler,
-//   embree_version, width, height, seed, a scene's scene_fingerprint or tracer_params, and the command line
-//   without --shard, --out and --force (every other option: scenes, methods, tracers, frames, repeat, threads);
+//   embree_version, the run's settings columns (width, height, seed; quality and converge also frames, reference
+//   frames, depths, tone map, ...), per scene its scene_fingerprint and tracer_params (quality and converge also
+//   the reference's file name, which holds the digest of its cache key), and the command line without --shard,
+//   --out, --images, --cache and --force (every other option: scenes, methods, tracers, frames, repeat, threads);
 // - files of different shard counts; inputs that do not exist (listed together, each with the rows its
 //   <file>.partial holds when the shard is unfinished: run its command again, it resumes) and .partial inputs;
-// - an incomplete or doubled result: shards none of the files holds, rows missing from the product scene x frame x
-//   row kind (with the shard that owes each), and rows whose key (the resume key less the provenance columns)
-//   is in two places. The shard owing a missing row is found by dealing the units the rows show (harness/shard.h).
+// - an incomplete or doubled result: shards none of the files holds, missing rows (with the shard that owes each)
+//   and rows whose key is in two places. table/sweep: the product scene x frame x row kind the rows show, the key
+//   the resume key less the provenance columns, the owing shard from the deal of the units the rows show.
+//   quality/converge: the scene x generator units of the command line the rows record (--scenes/--scene,
+//   --generators, or their defaults), dealt as the shards dealt them; quality one row per unit, converge the
+//   frames 1 .. n of every unit and, in the summary, every clock for each unit but the baseline.
 //   Nothing is written then: never a short file that looks whole.
-// Rows keep every field as the shard wrote it (timings as measured, host and cpu per row). Rows are ordered by
-// scene, frame, then the order the shards wrote them in, which is the single process's order wherever the
-// shards show it. OUT is written whole or not at all (core/durable_file.h); an existing OUT is refused unless
-// --force.
+// Rows keep every field as the shard wrote it (timings as measured, host and cpu per row). table/sweep rows are
+// ordered by scene, frame, then the order the shards wrote them in, which is the single process's order wherever
+// the shards show it; quality and converge rows in one process's order (scene, generator; converge: frame, then
+// generator). OUT is written whole or not at all (core/durable_file.h); an existing OUT is refused unless --force.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "harness/provenance.h"
+#include "harness/schema.h"
 
 namespace raycoh {
+
+// What merge needs of one kind of CSV: its columns and a check of one row's fields (throws
+// std::invalid_argument naming the column).
+struct CsvLayout {
+  std::vector<std::string> columns;
+  std::function<void(const std::vector<std::string>&)> check_row;
+};
+template <class Row>
+CsvLayout csv_layout(const Schema<Row>& schema) {
+  return {column_names(schema), [&schema](const std::vector<std::string>& fields) { read_row(schema, fields); }};
+}
+// converge's per-frame and summary CSVs (their schemas live in converge.cpp).
+CsvLayout converge_layout();
+CsvLayout converge_summary_layout();
 
 struct MergeOptions {
   std::vector<std::string> inputs;

@@ -11,6 +11,9 @@
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
 // Images of every render 0, the reference and the crops go to --images. Resume: rows already in <out>.partial
 // from an interrupted run with the same settings, scene, method and git revision are kept, not rendered again.
+// --shard I/N: only the shard's scene x generator units (harness/shard.h); a scene none of them is of is not
+// loaded, the reference comes from the cache (its entry lock lets one shard render it while the others wait), its
+// image is written by the shard of the scene's first generator, and `raycoh merge` joins the shards' files.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -194,7 +197,12 @@ class QualityRun {
         generators_(make_generators("--generators", o.generators)),
         ref_kind_(o.reference.empty() ? "cache" : "file"),
         image_dir_(o.image_dir.empty() ? stem_path(o.out) + "-images" : o.image_dir),
-        csv_(o.out, quality_schema(), CsvWriter::Options::resumable(o.common.force, quality_rule(o, p))) {}
+        csv_(o.out, quality_schema(), CsvWriter::Options::resumable(o.common.force, quality_rule(o, p))) {
+    std::vector<std::string> units;
+    for (const std::string& spec : o.scenes)
+      for (const PluginSpec& g : o.generators) units.push_back(render_unit(spec, g.text()));
+    owned_ = owned_units(units, o.shard);
+  }
   int run();
 
  private:
@@ -202,6 +210,7 @@ class QualityRun {
   const QualityRow* finished(const std::string& spec, size_t gi) const;
   void run_scene(size_t si);
   void run_generator(const LoadedScene& ls, const ReferenceImage& ref, const ToneMap& tm, size_t si, size_t gi);
+  bool owns(size_t si, size_t gi) const { return owned_[si * o_.generators.size() + gi]; }
 
   const QualityOptions& o_;
   const Provenance& provenance_;
@@ -209,6 +218,8 @@ class QualityRun {
   std::string ref_kind_, image_dir_;
   RecordCsv<QualityRow> csv_;
   std::vector<QualityRow> rows_;  // scene x generator order, for the console
+  std::vector<bool> owned_;       // --shard: the scene x generator units this shard renders
+  std::string fingerprint_;       // of the scene being rendered
 };
 
 // The settings of a row, its resume key among them.
@@ -249,6 +260,7 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
   QualityRow row = head(o_.scenes[si], gi);
   row.scene = ls.scene.name;
   row.scene_triangles = ls.scene.triangle_count();
+  row.scene_fingerprint = fingerprint_;
   row.generator = o_.generators[gi].name;
   row.generator_params = generators_[gi]->params();
   row.tracer = o_.common.tracer.name;
@@ -267,12 +279,18 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
 
 void QualityRun::run_scene(size_t si) {
   const std::string& spec = o_.scenes[si];
-  bool all_done = true;
-  for (size_t gi = 0; gi < o_.generators.size(); ++gi) all_done = all_done && finished(spec, gi) != nullptr;
+  bool all_done = true, any = false;
+  for (size_t gi = 0; gi < o_.generators.size(); ++gi)
+    if (owns(si, gi)) {
+      any = true;
+      all_done = all_done && finished(spec, gi) != nullptr;
+    }
+  if (!any) return;  // a shard that owns none of the scene's units does not load it
   if (all_done) {
     std::fprintf(stderr, "[%zu/%zu] %s: finished in the interrupted run, skipped\n", si + 1, o_.scenes.size(),
                  spec.c_str());
-    for (size_t gi = 0; gi < o_.generators.size(); ++gi) rows_.push_back(*finished(spec, gi));
+    for (size_t gi = 0; gi < o_.generators.size(); ++gi)
+      if (owns(si, gi)) rows_.push_back(*finished(spec, gi));
     return;
   }
   std::fprintf(stderr, "[%zu/%zu] ", si + 1, o_.scenes.size());
@@ -280,8 +298,10 @@ void QualityRun::run_scene(size_t si) {
   const ReferenceImage ref = obtain_reference(*ls, spec, o_.common, o_.ref_frames, o_.cache_dir, o_.reference);
   // One display mapping per scene, from the reference, for every generator's metrics and images.
   const ToneMap tm = resolved(o_.common.tone_map, ref.image);
-  ImageSink{image_dir_, safe_name(ls->scene.name) + "-reference", o_.crops}.write(ref.image, tm);
+  fingerprint_ = scene_fingerprint(spec);
+  if (owns(si, 0)) ImageSink{image_dir_, safe_name(ls->scene.name) + "-reference", o_.crops}.write(ref.image, tm);
   for (size_t gi = 0; gi < o_.generators.size(); ++gi) {
+    if (!owns(si, gi)) continue;
     if (const QualityRow* row = finished(spec, gi))
       rows_.push_back(*row);
     else
@@ -291,8 +311,8 @@ void QualityRun::run_scene(size_t si) {
 
 int QualityRun::run() {
   size_t reusable = 0;
-  for (const std::string& spec : o_.scenes)
-    for (size_t gi = 0; gi < o_.generators.size(); ++gi) reusable += finished(spec, gi) != nullptr;
+  for (size_t si = 0; si < o_.scenes.size(); ++si)
+    for (size_t gi = 0; gi < o_.generators.size(); ++gi) reusable += owns(si, gi) && finished(o_.scenes[si], gi);
   if (reusable > 0)
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", reusable, csv_.partial_path().c_str());
   const auto t_start = Clock::now();
@@ -302,6 +322,13 @@ int QualityRun::run() {
     csv_.rethrow_keeping_rows(e);
   }
   csv_.finish();
+  if (!o_.shard.whole()) {
+    std::printf(
+        "Wrote shard %s of the run to %s (%zu rows, %s); the console tables need every shard: join the "
+        "shards' files with raycoh merge\n",
+        o_.shard.text().c_str(), o_.out.c_str(), rows_.size(), provenance_.git_revision.c_str());
+    return 0;
+  }
   print_quality(o_, rows_);
   std::printf("\nWrote %s and images in %s/ in %.1f s (%s, %d threads)\n", o_.out.c_str(), image_dir_.c_str(),
               std::chrono::duration<double>(Clock::now() - t_start).count(), provenance_.git_revision.c_str(),
@@ -320,7 +347,7 @@ BoundCommand bind_quality(CLI::App& parent) {
   struct State {
     QualityOptions o;
     RenderText text;
-    std::string scenes, generators;
+    std::string scenes, generators, shard = "0/1";
   };
   auto s = std::make_shared<State>();
   s->scenes = join(s->o.scenes, ",");
@@ -336,9 +363,13 @@ BoundCommand bind_quality(CLI::App& parent) {
   cmd->add_option("--out", s->o.out, "CSV file to write")->capture_default_str();
   cmd->add_option("--images", s->o.image_dir, "folder for renders and crops (default <out stem>-images)");
   cmd->add_option("--crop", s->text.crops, "x,y,w,h hotspot region written per render (repeatable)");
+  cmd->add_option("--shard", s->shard,
+                  "I/N: render only shard I (0-based) of N of the scene x generator units; join with raycoh merge")
+      ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
   return {cmd, [s](const Provenance& provenance) {
             resolve_render_common(s->o.common, s->text);
+            s->o.shard = parse_shard("--shard", s->shard);
             s->o.scenes = split_scenes("--scenes", s->scenes);
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.crops = parse_crops(s->text.crops);

@@ -13,6 +13,7 @@
 
 #include "core/params.h"
 #include "harness/provenance.h"
+#include "harness/shard.h"
 #include "shading/image.h"
 
 namespace raycoh {
@@ -54,6 +55,7 @@ struct QualityOptions {
   std::string out = "raycoh-quality.csv";
   std::string image_dir;  // --images: where renders and crops go ("" = <out stem>-images)
   std::vector<Crop> crops;
+  Shard shard;  // --shard I/N: only this shard's scene x generator units (harness/shard.h); join with raycoh merge
 };
 int run_quality(const QualityOptions& options, const Provenance& provenance);
 
@@ -68,6 +70,9 @@ struct ConvergeOptions {
   std::string cache_dir;
   std::string reference;
   std::string out = "raycoh-converge.csv";  // per-frame rows; ratios go to <out stem>-summary.csv
+  // --shard I/N: only this shard's generators (units scene x generator); each shard also renders the baseline
+  // beside them for its ratios (its rows are written by the baseline's shard only). Join with raycoh merge.
+  Shard shard;
 };
 int run_converge(const ConvergeOptions& options, const Provenance& provenance);
 

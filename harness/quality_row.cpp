@@ -11,6 +11,7 @@ const Schema<QualityRow>& quality_schema() {
         column("scene", &R::scene, Text{}),
         column("scene_spec", &R::scene_spec, Text{}, Key::Yes),
         column("scene_triangles", &R::scene_triangles, Integer<size_t>{}),
+        column("scene_fingerprint", &R::scene_fingerprint, Text{}),
         column("method", &R::method, Text{}, Key::Yes),
         column("generator", &R::generator, Text{}),
         column("generator_params", &R::generator_params, Text{}),

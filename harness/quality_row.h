@@ -13,6 +13,7 @@ namespace raycoh {
 struct QualityRow {
   std::string scene, scene_spec;
   size_t scene_triangles = 0;
+  std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
   std::string method, generator, generator_params, tracer_spec, tracer, tracer_params;
   int width = 0, height = 0, frames = 0, ref_frames = 0, bias_renders = 0;
   uint32_t seed = 0;

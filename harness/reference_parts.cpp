@@ -1,5 +1,6 @@
 // `raycoh reference`: renders (or finds in the cache) the NoOpt reference that `quality` and `converge` would use
-// with the same options, or, with `--shard I/N --out PART`, only shard I's whole frame blocks into a part file;
+// with the same options, or, with `--shard I/N --out PART`, only shard I's whole frame blocks into a part file
+// (a stopped shard run again keeps the blocks it finished in PART.partial);
 // `raycoh reference-combine PART...` adds the parts into the cache entry, the same bits as one process's
 // (shading/reference.h: frame blocks and part files).
 #include <fmt/format.h>
@@ -69,7 +70,8 @@ int run_reference(const ReferenceOptions& o) {
   Progress bar;
   const std::string label = fmt::format("{} reference {}", ls->scene.name, o.shard.text());
   req.progress = [&](int done, int total) { bar.update(0, 1, done - 1, total, label); };
-  const double seconds = render_reference_part(ls->scene, ls->bvh, req, o.shard.index, o.shard.count, o.out);
+  const double seconds =
+      render_reference_part(ls->scene, ls->bvh, req, o.shard.index, o.shard.count, o.out, o.common.force);
   bar.clear();
   const FrameRange range = reference_shard_frames(o.frames, req.frame_block, o.shard.index, o.shard.count);
   std::printf(
@@ -119,7 +121,12 @@ BoundCommand bind_reference_combine(CLI::App& parent) {
   cmd->add_option("--cache", s->cache_dir, "reference cache folder (default $RAYCOH_CACHE, else results/cache)");
   return {cmd, [s](const Provenance&) {
             const Reference ref = combine_reference_parts(s->parts, s->cache_dir);
-            std::printf("combined %zu part(s) -> %s\n", s->parts.size(), ref.path.c_str());
+            if (ref.render_hosts.empty())
+              std::printf("combined %zu part(s) -> %s (parts written before format 2 record no render time)\n",
+                          s->parts.size(), ref.path.c_str());
+            else
+              std::printf("combined %zu part(s) -> %s (rendered in %.1f s in all, on %s)\n", s->parts.size(),
+                          ref.path.c_str(), ref.render_s, join(ref.render_hosts, ", ").c_str());
             if (ref.non_finite > 0)
               std::printf("warning: %llu NaN/Inf frame samples were left out (counted, not added)\n",
                           static_cast<unsigned long long>(ref.non_finite));

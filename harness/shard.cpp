@@ -61,4 +61,16 @@ std::string experiment_unit(const std::string& scene, int frame, const std::stri
   return scene + '\x1f' + std::to_string(frame) + '\x1f' + method;
 }
 
+std::string render_unit(const std::string& scene_spec, const std::string& method) {
+  return scene_spec + '\x1f' + method;
+}
+
+std::vector<bool> owned_units(const std::vector<std::string>& units, const Shard& shard) {
+  std::vector<bool> owned(units.size(), true);
+  if (shard.whole()) return owned;
+  const std::vector<int> owner = deal_units(units, shard.count);
+  for (size_t u = 0; u < units.size(); ++u) owned[u] = owner[u] == shard.index;
+  return owned;
+}
+
 }  // namespace raycoh

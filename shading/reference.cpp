@@ -1,6 +1,7 @@
 // The reference cache (key, files and reuse rule in reference.h).
 #include "shading/reference.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -9,10 +10,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string_view>
 
 #include "core/durable_file.h"
@@ -183,15 +186,21 @@ double render_blocks(const Scene& scene, const Bvh& bvh, const ReferenceRequest&
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Writes the image, then the sidecar (the old sidecar removed first). Call with the entry's lock held.
-void store_entry(const Entry& e, const std::string& key, const Reference& ref) {
+// Writes the image, then the sidecar (the old sidecar removed first). Call with the entry's lock held. `extra`:
+// more sidecar fields (a combined entry's parts).
+void store_entry(const Entry& e, const std::string& key, const Reference& ref,
+                 const nlohmann::json& extra = nlohmann::json::object()) {
   std::error_code ec;
   fs::remove(e.sidecar, ec);  // an old sidecar must never describe the new image, even for a moment
   write_image(ref.image, e.image.string());
-  nlohmann::json side = {
-      {"key", nlohmann::json::parse(key)},    {"digest", fmt::format("{:016x}", e.digest)},
-      {"render_seconds", ref.render_s},       {"non_finite_samples", ref.non_finite},
-      {"image", e.image.filename().string()}, {"image_fnv1a", fmt::format("{:016x}", file_hash(e.image))}};
+  nlohmann::json side = {{"key", nlohmann::json::parse(key)},
+                         {"digest", fmt::format("{:016x}", e.digest)},
+                         {"render_seconds", ref.render_s},
+                         {"render_hosts", ref.render_hosts},
+                         {"non_finite_samples", ref.non_finite},
+                         {"image", e.image.filename().string()},
+                         {"image_fnv1a", fmt::format("{:016x}", file_hash(e.image))}};
+  side.update(extra);
   side["checksum"] = sidecar_checksum(side);
   write_file_atomically(e.sidecar.string(), side.dump(2) + "\n");
 }
@@ -201,28 +210,44 @@ std::string_view bytes_of(const std::vector<T>& v) {
   return {reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T)};
 }
 
-constexpr int kPartFormat = 1;
+// Part files: format 2 (this one) follows each block's bytes with a line "block <index> <FNV-1a of its bytes>
+// <render seconds> <host>", so that a stopped shard keeps its finished blocks and the combined entry can sum the
+// render time; format 1 (revision 4919fdd and before) has no such lines and is still read.
+constexpr int kPartFormat = 2;
+
+// This machine's name for a part's block lines (no blanks).
+std::string host_name() {
+  char buf[256] = {};
+  if (::gethostname(buf, sizeof buf - 1) != 0 || buf[0] == '\0') return "unknown";
+  std::string h(buf);
+  for (char& c : h)
+    if (std::isspace(static_cast<unsigned char>(c))) c = '_';
+  return h;
+}
 
 // One part file: its header, then its blocks read one at a time.
 struct PartReader {
   std::string file;
   std::ifstream in;
   nlohmann::json head;
-  int width = 0, height = 0, blocks = 0;
+  int format = 0, width = 0, height = 0, blocks = 0;
   int shard = 0, shards = 0, first = 0, end = 0, frames = 0, block = 0;
   std::string stem;
+  std::streamoff header_bytes = 0;
+  double seconds = 0;              // render time of the blocks read (format 2)
+  std::vector<std::string> hosts;  // where they were rendered (format 2), each once
 
   explicit PartReader(const std::string& path) : file(path), in(path, std::ios::binary) {
     if (!in) throw Error(fmt::format("{}: cannot read the reference part", file));
     std::string line;
     std::getline(in, line);
+    header_bytes = in.tellg();
     head = nlohmann::json::parse(line, nullptr, false);
     const std::string damaged =
-        fmt::format("{}: not a raycoh reference part (format {}), or its header is damaged", file, kPartFormat);
+        fmt::format("{}: not a raycoh reference part (format 1 or {}), or its header is damaged", file, kPartFormat);
     try {
-      if (head.is_discarded() || !head.is_object() || head.at("raycoh_reference_part").get<int>() != kPartFormat ||
-          !head.at("key").is_object())
-        throw Error(damaged);
+      if (head.is_discarded() || !head.is_object() || !head.at("key").is_object()) throw Error(damaged);
+      format = head.at("raycoh_reference_part").get<int>();
       width = head.at("width").get<int>();
       height = head.at("height").get<int>();
       shard = head.at("shard").get<int>();
@@ -232,32 +257,58 @@ struct PartReader {
       stem = head.at("stem").get<std::string>();
       frames = head.at("key").at("frames").get<int>();
       block = head.at("key").at("frame_block").get<int>();
-      if (width < 1 || height < 1 || block < 1 || end <= first || shards < 1) throw Error(damaged);
+      if ((format != 1 && format != kPartFormat) || width < 1 || height < 1 || block < 1 || end <= first ||
+          shards < 1 || header_bytes <= 0)
+        throw Error(damaged);
       blocks = (end - first + block - 1) / block;
     } catch (const nlohmann::json::exception&) {
       throw Error(damaged);
     }
   }
 
+  // Block b (the next one in the file), its bytes added to `total`; nothing when the file ends within it or, in
+  // format 2, its line is missing or does not match its bytes.
+  std::optional<Accumulator> read_block(int b, Fnv1a& total) {
+    const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+    std::vector<double> sums(3 * n);
+    std::vector<uint32_t> samples(n), non_finite(n);
+    Fnv1a h = total, own;
+    const auto read = [&](auto& v) {
+      in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(v[0])));
+      h.add(v.data(), v.size() * sizeof(v[0]));
+      own.add(v.data(), v.size() * sizeof(v[0]));
+      return static_cast<bool>(in);
+    };
+    if (!read(sums) || !read(samples) || !read(non_finite)) return std::nullopt;
+    if (format >= 2) {
+      std::string line;
+      std::getline(in, line);
+      if (in.eof()) return std::nullopt;  // no newline: the line was being written
+      char hash[17] = {}, host[256] = {};
+      int index = -1;
+      double s = 0;
+      if (std::sscanf(line.c_str(), "block %d %16s %lf %255s", &index, hash, &s, host) != 4 || index != b ||
+          std::string(hash) != fmt::format("{:016x}", own.h))
+        return std::nullopt;
+      seconds += s;
+      if (std::find(hosts.begin(), hosts.end(), host) == hosts.end()) hosts.push_back(host);
+    }
+    total = h;
+    return Accumulator::from_parts(width, height, std::move(sums), std::move(samples), std::move(non_finite));
+  }
+
   // Reads every block, in order, into on_block; checks the closing checksum.
   template <class OnBlock>
   void read_blocks(OnBlock&& on_block) {
-    const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
     Fnv1a h;
     for (int b = 0; b < blocks; ++b) {
-      std::vector<double> sums(3 * n);
-      std::vector<uint32_t> samples(n), non_finite(n);
-      auto read = [&](auto& v) {
-        in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(v[0])));
-        if (!in)
-          throw Error(fmt::format("{}: the reference part is cut short (block {} of {}); render that shard again", file,
-                                  b, blocks));
-        h.add(v.data(), v.size() * sizeof(v[0]));
-      };
-      read(sums);
-      read(samples);
-      read(non_finite);
-      on_block(Accumulator::from_parts(width, height, std::move(sums), std::move(samples), std::move(non_finite)));
+      std::optional<Accumulator> acc = read_block(b, h);
+      if (!acc)
+        throw Error(
+            fmt::format("{}: the reference part is cut short or damaged (block {} of {}); render that shard "
+                        "again (it keeps the blocks before)",
+                        file, b, blocks));
+      on_block(*acc);
     }
     std::string line;
     std::getline(in, line);
@@ -323,6 +374,7 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
   ref.render_s = render_blocks(scene, bvh, r, {0, r.frames}, [&](const Accumulator& block) { total.merge(block); });
   ref.image = total.mean();
   ref.non_finite = total.non_finite_samples();
+  ref.render_hosts = {host_name()};
   store_entry(e, key, ref);
   return ref;
 }
@@ -344,7 +396,7 @@ FrameRange reference_shard_frames(int frames, int frame_block, int index, int co
 }
 
 double render_reference_part(const Scene& scene, const Bvh& bvh, const ReferenceRequest& r, int index, int count,
-                             const std::string& path) {
+                             const std::string& path, bool replace) {
   check_request(r);
   const FrameRange range = reference_shard_frames(r.frames, r.frame_block, index, count);
   const std::string key = reference_key(r);
@@ -357,19 +409,81 @@ double render_reference_part(const Scene& scene, const Bvh& bvh, const Reference
                                {"end_frame", range.end},
                                {"width", r.settings.width},
                                {"height", r.settings.height}};
-  double seconds = 0;
-  write_file_atomically(path, [&](int fd) {
-    Fnv1a h;
-    write_all(fd, head.dump() + "\n", path);
-    seconds = render_blocks(scene, bvh, r, range, [&](const Accumulator& block) {
-      for (std::string_view bytes :
-           {bytes_of(block.sums()), bytes_of(block.sample_counts()), bytes_of(block.non_finite_counts())}) {
-        write_all(fd, bytes, path);
-        h.add(bytes.data(), bytes.size());
+  const int blocks = (range.end - range.first + r.frame_block - 1) / r.frame_block;
+  // The blocks a stopped run of this very shard left in <path>.partial and that verify are kept; the file is cut
+  // after the last of them and the rest is rendered after it.
+  const std::string partial = path + ".partial";
+  int kept = 0;
+  std::streamoff keep_bytes = 0;
+  Fnv1a h;  // of every block's bytes, for the closing line
+  std::error_code ec;
+  if (!replace && fs::exists(partial, ec)) {
+    std::unique_ptr<PartReader> rd;
+    try {
+      rd = std::make_unique<PartReader>(partial);
+    } catch (const Error&) {
+      // A header cut short (stopped at once): nothing to keep.
+    }
+    if (rd) {
+      const std::string diff = rd->head["key"] != head["key"]
+                                   ? "key field " + key_difference(rd->head["key"], head["key"])
+                               : rd->shard != index || rd->shards != count
+                                   ? fmt::format("shard {}/{} vs {}/{}", rd->shard, rd->shards, index, count)
+                                   : key_difference(rd->head, head);
+      if (!diff.empty())
+        throw Error(
+            fmt::format("{} holds another reference part ({}); pass --force to replace it, or choose another "
+                        "--out",
+                        partial, diff));
+      keep_bytes = rd->header_bytes;
+      while (kept < blocks && rd->read_block(kept, h)) {
+        ++kept;
+        keep_bytes = rd->in.tellg();
       }
-    });
-    write_all(fd, fmt::format("end {:016x}\n", h.h), path);
-  });
+      std::fprintf(stderr, "%s: resuming: %d of %d blocks already rendered%s\n", partial.c_str(), kept, blocks,
+                   kept > 0 ? fmt::format(" (frames {}..{} kept)", range.first,
+                                          std::min(range.end, range.first + kept * r.frame_block) - 1)
+                                  .c_str()
+                            : "");
+    }
+  }
+  const int fd = ::open(partial.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw WriteError(fmt::format("{}: cannot create {}: {}", path, partial, std::strerror(errno)));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  if (::ftruncate(fd, keep_bytes) != 0 || ::lseek(fd, keep_bytes, SEEK_SET) != keep_bytes)
+    throw WriteError(
+        fmt::format("{}: cannot cut {} after its finished blocks: {}", path, partial, std::strerror(errno)));
+  if (keep_bytes == 0) write_all(fd, head.dump() + "\n", partial);
+  const std::string host = host_name();
+  double seconds = 0;
+  if (kept < blocks) {
+    int b = kept;
+    auto t = std::chrono::steady_clock::now();
+    seconds =
+        render_blocks(scene, bvh, r, {range.first + kept * r.frame_block, range.end}, [&](const Accumulator& block) {
+          const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+          Fnv1a own;
+          for (std::string_view bytes :
+               {bytes_of(block.sums()), bytes_of(block.sample_counts()), bytes_of(block.non_finite_counts())}) {
+            write_all(fd, bytes, partial);
+            h.add(bytes.data(), bytes.size());
+            own.add(bytes.data(), bytes.size());
+          }
+          write_all(fd, fmt::format("block {} {:016x} {} {}\n", b++, own.h, s, host), partial);
+          sync_file(fd, partial);  // a finished block survives a crash
+          t = std::chrono::steady_clock::now();
+        });
+  }
+  write_all(fd, fmt::format("end {:016x}\n", h.h), partial);
+  sync_file(fd, partial);
+  // Moved into place only when whole; a failed move leaves the finished part in <path>.partial.
+  if (::rename(partial.c_str(), path.c_str()) != 0)
+    throw WriteError(fmt::format("{}: cannot move {} into place: {} (the finished part stays there)", path, partial,
+                                 std::strerror(errno)));
+  sync_parent_folder(path);
   return seconds;
 }
 
@@ -423,14 +537,25 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
   const std::string key = a.head["key"].dump();
   const Entry e = entry_of(safe_name(a.stem), key, cache_dir);
   Accumulator total(a.width, a.height);
-  for (PartReader* rd : by_index) rd->read_blocks([&](const Accumulator& block) { total.merge(block); });
   Reference ref;
+  int untimed = 0;  // format-1 parts: no render time or host recorded
+  for (PartReader* rd : by_index) {
+    rd->read_blocks([&](const Accumulator& block) { total.merge(block); });
+    ref.render_s += rd->seconds;
+    untimed += rd->format < 2;
+    for (const std::string& host : rd->hosts)
+      if (std::find(ref.render_hosts.begin(), ref.render_hosts.end(), host) == ref.render_hosts.end())
+        ref.render_hosts.push_back(host);
+  }
   ref.path = e.image.string();
   ref.image = total.mean();
   ref.non_finite = total.non_finite_samples();
+  // The sidecar's render_seconds is the parts' render time summed (rendering, not waiting in a queue).
+  nlohmann::json extra = {{"parts", count}};
+  if (untimed > 0) extra["parts_without_render_time"] = untimed;
   create_cache_dir(e.dir);
   const OutputLock lock((e.dir / e.stem).string(), "reference cache entry " + e.stem, OutputLock::Wait::Yes);
-  store_entry(e, key, ref);
+  store_entry(e, key, ref, extra);
   return ref;
 }
 

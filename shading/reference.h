@@ -23,9 +23,12 @@
 // in block order (Accumulator::merge), then divided by the per-pixel sample counts. Because that order does not
 // depend on who rendered a block, a reference rendered as frame shards of whole blocks (render_reference_part,
 // one process each) and combined (combine_reference_parts) is the same image, bit for bit, as one process's.
-// A part file holds one line of JSON (the entry's key and stem, the shard, its blocks), then per block the raw
-// accumulator (3 doubles of sums, then a uint32 of finite and one of non-finite samples per pixel, native byte
-// order), then a line "end <FNV-1a of the block bytes>".
+// A part file holds one line of JSON (format 2, the entry's key and stem, the shard, its blocks), then per block the
+// raw accumulator (3 doubles of sums, then a uint32 of finite and one of non-finite samples per pixel, native byte
+// order) and a line "block <index> <FNV-1a of the block's bytes> <render seconds> <host>", then a line "end <FNV-1a
+// of all block bytes>". It is written as <part>.partial, each block synced when done, and moved into place when
+// whole: a shard stopped midway keeps its verified blocks and renders only the rest when run again. Format 1
+// (revision 4919fdd and before: no block lines, so no render time) is still read and combined.
 #pragma once
 
 #include <functional>
@@ -65,8 +68,9 @@ struct Reference {
   Image image;
   std::string path;  // the cached image file
   bool from_cache = false;
-  double render_s = 0;      // 0 when read from the cache
-  uint64_t non_finite = 0;  // NaN/Inf frame samples left out while rendering it
+  double render_s = 0;                    // 0 when read from the cache; combined: the parts' render seconds summed
+  std::vector<std::string> render_hosts;  // where it was rendered (combined: every part's hosts)
+  uint64_t non_finite = 0;                // NaN/Inf frame samples left out while rendering it
 };
 
 // Canonical JSON text of the request's key.
@@ -84,10 +88,12 @@ struct FrameRange {
 };
 FrameRange reference_shard_frames(int frames, int frame_block, int index, int count);
 
-// Renders shard `index` of `count` of the request's reference and writes its part file to `path` (whole or not
-// at all); returns the seconds it rendered. Throws raycoh::Error on bad settings or shards.
+// Renders shard `index` of `count` of the request's reference and writes its part file to `path` (moved there
+// whole from `path`.partial); returns the seconds it rendered. The verified blocks of a `path`.partial that an
+// earlier run of the same shard left are kept (replace = true: rendered again). Throws raycoh::Error on bad
+// settings or shards, or when `path`.partial is another reference's (unless replace).
 double render_reference_part(const Scene& scene, const Bvh& bvh, const ReferenceRequest& request, int index, int count,
-                             const std::string& path);
+                             const std::string& path, bool replace = false);
 
 // True when `path` is already a part file of this request's shard `index` of `count` (its header; combining checks
 // its data), so that a resubmitted shard need not render again.
@@ -95,7 +101,9 @@ bool reference_part_done(const std::string& path, const ReferenceRequest& reques
 
 // Reads the part files of one reference (any order), checks that they share the key and that every shard is
 // there once, adds their blocks in frame order and stores the cache entry in cache_dir ("" = the default) as
-// get_reference would have. Throws raycoh::Error naming the file and what is wrong.
+// get_reference would have; its sidecar's render_seconds and render_hosts are the parts' (summed; format-1 parts
+// recorded none and are counted in parts_without_render_time). Throws raycoh::Error naming the file and what is
+// wrong.
 Reference combine_reference_parts(const std::vector<std::string>& parts, const std::string& cache_dir);
 
 }  // namespace raycoh

@@ -19,12 +19,21 @@ namespace {
 namespace fs = std::filesystem;
 
 // Columns whose values differ between runs of the same work: measured times, and where and how a run was started.
-const std::set<std::string> kNotDeterministic = {"gen_ms",     "trace_ms", "trace_ms_min", "mray_s",
-                                                 "key_ms",     "sort_ms",  "permute_ms",   "e2e_ms",
-                                                 "e2e_mray_s", "host",     "started_utc",  "command_line"};
+const std::set<std::string> kExperimentTimes = {"gen_ms",     "trace_ms", "trace_ms_min", "mray_s",
+                                                "key_ms",     "sort_ms",  "permute_ms",   "e2e_ms",
+                                                "e2e_mray_s", "host",     "started_utc",  "command_line"};
+
+// quality and converge: measured times (and what is read off them), and where and how a run was started.
+const std::set<std::string> kRenderTimes = {"render_s",      "trace_s",         "gen_ms",
+                                            "mray_s",        "wall_s",          "gen_s",
+                                            "frame_wall_ms", "frame_trace_ms",  "horizon_s",
+                                            "error",         "baseline_error",  "equal_time_error_ratio",
+                                            "time_s",        "baseline_time_s", "equal_error_speedup",
+                                            "host",          "started_utc",     "command_line"};
 
 // The file's rows with the non-deterministic columns blanked, sorted (header first).
-std::vector<std::string> deterministic_rows(const fs::path& p) {
+std::vector<std::string> deterministic_rows(const fs::path& p,
+                                            const std::set<std::string>& not_deterministic = kExperimentTimes) {
   std::vector<std::string> lines = read_lines(p), header, out;
   if (lines.empty()) return out;
   csv_parse_line(lines[0], header);
@@ -34,7 +43,7 @@ std::vector<std::string> deterministic_rows(const fs::path& p) {
     csv_parse_line(lines[i], f);
     std::string row;
     for (size_t c = 0; c < f.size() && c < header.size(); ++c)
-      row += (kNotDeterministic.count(header[c]) ? std::string("-") : f[c]) + ",";
+      row += (not_deterministic.count(header[c]) ? std::string("-") : f[c]) + ",";
     out.push_back(row);
   }
   std::sort(out.begin() + 1, out.end());
@@ -166,6 +175,103 @@ TEST(CliShard, MergeRefusesWhatDoesNotBelongTogetherNamingFilesAndField) {
   expect_error("merge --out " + out.string() + " " + a.string() + " " + (dir / "x.csv.partial").string(), "unfinished");
   EXPECT_FALSE(fs::exists(out));
   ASSERT_EQ(run_raycoh("merge --out " + out.string() + " " + a.string() + " " + b.string()).exit_code, 0);
+}
+
+// The named columns of every row, in file order.
+std::vector<std::string> columns_of(const fs::path& p, const std::vector<std::string>& names) {
+  std::vector<std::string> lines = read_lines(p), header, out;
+  if (lines.empty()) return out;
+  csv_parse_line(lines[0], header);
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::vector<std::string> f;
+    csv_parse_line(lines[i], f);
+    std::string row;
+    for (const std::string& n : names) row += f[std::find(header.begin(), header.end(), n) - header.begin()] + " ";
+    out.push_back(row);
+  }
+  return out;
+}
+
+// quality --shard: three shards started at once race for the two scenes' references; the cache's entry lock lets
+// one shard render each while the others wait and read it. The merged file is the single process's rows.
+const std::string kQuality =
+    "quality --scenes cornell,voxels:size=8 --generators noopt,ours,contiguous --res 32x24 --ref-frames 8 "
+    "--bias-renders 2";
+
+TEST(CliShard, QualityShardsRacingForTheReferencesMergeToTheSingleProcessRows) {
+  const auto dir = temp_dir("cli_quality_shard");
+  const std::string d = dir.string();
+  const CommandResult shards =
+      run_shell("cd " + d + " && for i in 0 1 2; do \"$R\" " + kQuality + " --frames 2 --cache " + d +
+                "/cache --images images --shard $i/3 --out q$i.csv > log$i 2>&1 & pids=\"$pids $!\"; done; "
+                "for p in $pids; do wait $p || exit 1; done; cat log0 log1 log2");
+  ASSERT_EQ(shards.exit_code, 0) << shards.output;
+  size_t rendered = 0;
+  for (size_t at = 0; (at = shards.output.find("reference: rendered", at)) != std::string::npos; ++at) ++rendered;
+  EXPECT_EQ(rendered, 2u) << shards.output;  // once per scene, whoever rendered it
+  EXPECT_NE(shards.output.find("raycoh merge"), std::string::npos) << shards.output;
+  // Every image once in the shared --images folder: 2 scenes x (3 generators + the reference).
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "images"), fs::directory_iterator{}), 8);
+  const CommandResult whole = run_raycoh(kQuality + " --frames 2 --cache " + d + "/cache --out " + d + "/whole.csv");
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const CommandResult m = run_raycoh("merge --out " + d + "/m.csv " + d + "/q0.csv " + d + "/q1.csv " + d + "/q2.csv");
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  ASSERT_EQ(read_lines(dir / "m.csv").size(), 7u);
+  EXPECT_EQ(deterministic_rows(dir / "m.csv", kRenderTimes), deterministic_rows(dir / "whole.csv", kRenderTimes));
+  // In one process's order (scene, then generator).
+  EXPECT_EQ(columns_of(dir / "m.csv", {"scene_spec", "method"}),
+            columns_of(dir / "whole.csv", {"scene_spec", "method"}));
+
+  // Refused, nothing written: a shard of other parameters (both files and the field named); a missing shard and
+  // a duplicate, named together.
+  const std::string out = d + "/bad.csv";
+  ASSERT_EQ(run_raycoh(kQuality + " --frames 3 --cache " + d + "/cache --shard 2/3 --out " + d + "/f3.csv").exit_code,
+            0);
+  const CommandResult r = run_raycoh("merge --out " + out + " " + d + "/q0.csv " + d + "/q1.csv " + d + "/f3.csv");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const std::string& part : {d + "/q0.csv", d + "/f3.csv", std::string("disagree on frames: '2' vs '3'")})
+    EXPECT_NE(r.output.find(part), std::string::npos) << part << "\n" << r.output;
+  fs::copy_file(dir / "q1.csv", dir / "copy.csv");
+  const CommandResult twice =
+      run_raycoh("merge --out " + out + " " + d + "/q0.csv " + d + "/q1.csv " + d + "/copy.csv");
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  for (const std::string& part : {std::string("shard(s) 2/3 missing"), std::string("duplicate quality row(s)")})
+    EXPECT_NE(twice.output.find(part), std::string::npos) << part << "\n" << twice.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// converge --shard: each shard renders the baseline beside its generators (its rows written by the baseline's
+// shard only); 3 shards of 2 generators (one owns none) merge into the single process's curves and summary rows.
+TEST(CliShard, ConvergeShardsMergeToTheSingleProcessCurves) {
+  const auto dir = temp_dir("cli_converge_shard");
+  const std::string d = dir.string();
+  const std::string run =
+      "converge --scene cornell --generators noopt,contiguous --res 32x24 --ref-frames 8 --time 1000s --max-frames 3 "
+      "--cache " +
+      d + "/cache";
+  ASSERT_EQ(run_raycoh(run + " --out " + d + "/whole.csv").exit_code, 0);
+  std::string inputs;
+  for (int i = 0; i < 3; ++i) {
+    const std::string out = d + "/c" + std::to_string(i) + ".csv";
+    const CommandResult r = run_raycoh(run + " --shard " + std::to_string(i) + "/3 --out " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    inputs += " " + out;
+  }
+  // A per-frame file without its summary is named.
+  fs::rename(dir / "c2-summary.csv", dir / "moved.csv");
+  expect_error("merge --out " + d + "/m.csv" + inputs, d + "/c2-summary.csv (no such file)");
+  fs::rename(dir / "moved.csv", dir / "c2-summary.csv");
+  const CommandResult m = run_raycoh("merge --out " + d + "/m.csv" + inputs);
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  EXPECT_EQ(read_lines(dir / "m.csv").size(), 1u + 2 * 3);
+  EXPECT_EQ(deterministic_rows(dir / "m.csv", kRenderTimes), deterministic_rows(dir / "whole.csv", kRenderTimes));
+  EXPECT_EQ(read_lines(dir / "m-summary.csv").size(), 1u + 2);
+  EXPECT_EQ(deterministic_rows(dir / "m-summary.csv", kRenderTimes),
+            deterministic_rows(dir / "whole-summary.csv", kRenderTimes));
+  // Round by round, as one process writes them: frame, then generator.
+  EXPECT_EQ(columns_of(dir / "m.csv", {"frame", "method"}), columns_of(dir / "whole.csv", {"frame", "method"}));
+  EXPECT_EQ(columns_of(dir / "m-summary.csv", {"method", "clock"}),
+            columns_of(dir / "whole-summary.csv", {"method", "clock"}));
 }
 
 TEST(CliShard, CommandWordsUndoTheProvenanceQuoting) {

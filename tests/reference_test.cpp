@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 
 #include "bvh/bvh_build.h"
 #include "core/error.h"
@@ -169,6 +170,131 @@ TEST(ReferenceShards, EightFrameShardsAddUpToTheSingleProcessBitForBit) {
   std::vector<std::string> with_cut(parts.begin() + 1, parts.end());
   with_cut.push_back(cut);
   EXPECT_NE(test::error_of([&] { combine_reference_parts(with_cut, sharded.cache_dir); }).find(cut), std::string::npos);
+}
+
+// The combined entry's sidecar (JSON beside the image).
+nlohmann::json sidecar_of(const Reference& ref) {
+  std::ifstream in(fs::path(ref.path).replace_extension(".json"));
+  return nlohmann::json::parse(in);
+}
+
+bool same_pixels(const Image& a, const Image& b) {
+  return a.rgb.size() == b.rgb.size() && std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+// A shard stopped after k blocks (here by a throw from its progress callback, after the third block was written and
+// synced; then a torn fourth block, as a kill leaves it) keeps them: run again, it renders only the other blocks,
+// and the combined reference is the single process's bit for bit. The combined sidecar sums the parts' render
+// seconds and names their hosts. A .partial of another part is refused unless replaced.
+TEST(ReferenceShards, AStoppedPartKeepsItsFinishedBlocks) {
+  const Scene s = load_scene("cornell");
+  const Bvh bvh = build_bvh(s);
+  const fs::path dir = test::temp_dir("refresume");
+  ReferenceRequest req;
+  req.scene_spec = "cornell";
+  req.settings = small(12, 8, 5);
+  req.frames = 64;
+  req.frame_block = 4;  // 8 blocks per shard of 2
+  req.revision = "test-resume";
+  req.cache_dir = (dir / "single").string();
+  const Reference single = get_reference(s, bvh, req);
+
+  ReferenceRequest sharded = req;
+  sharded.cache_dir = (dir / "combined").string();
+  const std::string p0 = (dir / "part0").string(), p1 = (dir / "part1").string();
+  int frames = 0;
+  sharded.progress = [&](int, int) {
+    if (++frames == 14) throw Error("stopped");  // in block 4, after blocks 1 .. 3 went to disk
+  };
+  EXPECT_EQ(test::error_of([&] { render_reference_part(s, bvh, sharded, 0, 2, p0); }), "stopped");
+  EXPECT_FALSE(fs::exists(p0));
+  ASSERT_TRUE(fs::exists(p0 + ".partial"));
+  EXPECT_FALSE(reference_part_done(p0, sharded, 0, 2));
+  {
+    std::ofstream torn(p0 + ".partial", std::ios::binary | std::ios::app);
+    torn << std::string(1000, '\x7f');  // part of block 4's bytes
+  }
+  frames = 0;
+  sharded.progress = [&](int, int) { ++frames; };
+  render_reference_part(s, bvh, sharded, 0, 2, p0);
+  EXPECT_EQ(frames, 32 - 3 * 4);  // only blocks 4 .. 8
+  EXPECT_FALSE(fs::exists(p0 + ".partial"));
+  EXPECT_TRUE(reference_part_done(p0, sharded, 0, 2));
+
+  // Shard 1: a .partial whose second block line does not match its bytes keeps only the first block.
+  sharded.progress = nullptr;
+  render_reference_part(s, bvh, sharded, 1, 2, p1);
+  std::ifstream in(p1, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t block_bytes = 12 * 8 * 32;
+  const size_t first = bytes.find('\n') + 1 + block_bytes;          // block 0's line
+  const size_t second = bytes.find('\n', first) + 1 + block_bytes;  // block 1's line
+  ASSERT_EQ(bytes.compare(second, 8, "block 1 "), 0);
+  bytes[second + 8] = bytes[second + 8] == '0' ? '1' : '0';  // its checksum
+  test::write_file(p1 + ".partial", bytes.substr(0, bytes.find('\n', second) + 1));
+  frames = 0;
+  sharded.progress = [&](int, int) { ++frames; };
+  render_reference_part(s, bvh, sharded, 1, 2, p1);
+  EXPECT_EQ(frames, 32 - 4);
+
+  const Reference combined = combine_reference_parts({p1, p0}, sharded.cache_dir);
+  EXPECT_EQ(fs::path(combined.path).filename(), fs::path(single.path).filename());
+  EXPECT_TRUE(same_pixels(combined.image, single.image));
+  EXPECT_TRUE(same_pixels(read_image(combined.path), read_image(single.path)));
+  const nlohmann::json side = sidecar_of(combined);
+  EXPECT_GT(side.at("render_seconds").get<double>(), 0);
+  EXPECT_DOUBLE_EQ(side.at("render_seconds").get<double>(), combined.render_s);
+  EXPECT_EQ(side.at("render_hosts").size(), 1u);
+  EXPECT_EQ(side.at("parts").get<int>(), 2);
+  EXPECT_FALSE(side.contains("parts_without_render_time"));
+  EXPECT_TRUE(get_reference(s, bvh, sharded).from_cache);  // the sidecar's new fields keep it valid
+
+  // Another part's .partial is not thrown away unasked.
+  fs::copy_file(p0, p1 + ".partial", fs::copy_options::overwrite_existing);
+  const std::string e = test::error_of([&] { render_reference_part(s, bvh, sharded, 1, 2, p1); });
+  EXPECT_NE(e.find(p1 + ".partial holds another reference part (shard 0/2 vs 1/2)"), std::string::npos) << e;
+  render_reference_part(s, bvh, sharded, 1, 2, p1, true);
+  EXPECT_TRUE(reference_part_done(p1, sharded, 1, 2));
+}
+
+// Part files of revision 4919fdd (format 1, no block lines), made by that revision's `raycoh reference --scene
+// cornell --res 4x3 --seed 3 --frames 256 --shard I/2 --out tests/data/ref-part-4919fdd-I-of-2.part`, are still
+// read and combined, alone or beside a part of today's format, into the reference this code renders for their key.
+TEST(ReferenceShards, PartsOfRevision4919fddAreStillCombined) {
+  const fs::path data = fs::path(RAYCOH_SOURCE_DIR) / "tests" / "data";
+  const std::string old0 = (data / "ref-part-4919fdd-0-of-2.part").string(),
+                    old1 = (data / "ref-part-4919fdd-1-of-2.part").string();
+  std::ifstream in(old0, std::ios::binary);
+  std::string line;
+  std::getline(in, line);
+  const nlohmann::json key = nlohmann::json::parse(line).at("key");
+  ASSERT_EQ(nlohmann::json::parse(line).at("raycoh_reference_part").get<int>(), 1);
+  const Scene s = load_scene("cornell");
+  const Bvh bvh = build_bvh(s);
+  const fs::path dir = test::temp_dir("refformat1");
+  ReferenceRequest req;
+  req.scene_spec = "cornell";
+  req.settings = small(4, 3, key.at("seed").get<uint32_t>());
+  req.frames = 256;
+  req.revision = key.at("renderer_revision").get<std::string>();
+  req.cache_dir = (dir / "single").string();
+  ASSERT_EQ(reference_key(req), key.dump());
+  const Reference single = get_reference(s, bvh, req);
+  ASSERT_FALSE(single.from_cache);
+  EXPECT_TRUE(reference_part_done(old0, req, 0, 2));
+
+  const Reference both_old = combine_reference_parts({old1, old0}, (dir / "old").string());
+  EXPECT_EQ(fs::path(both_old.path).filename(), fs::path(single.path).filename());
+  EXPECT_TRUE(same_pixels(both_old.image, single.image));
+  EXPECT_EQ(sidecar_of(both_old).at("parts_without_render_time").get<int>(), 2);
+  EXPECT_EQ(sidecar_of(both_old).at("render_seconds").get<double>(), 0);
+
+  const std::string new1 = (dir / "new1").string();
+  render_reference_part(s, bvh, req, 1, 2, new1);
+  const Reference mixed = combine_reference_parts({old0, new1}, (dir / "mixed").string());
+  EXPECT_TRUE(same_pixels(mixed.image, single.image));
+  EXPECT_EQ(sidecar_of(mixed).at("parts_without_render_time").get<int>(), 1);
+  EXPECT_GT(sidecar_of(mixed).at("render_seconds").get<double>(), 0);
 }
 
 TEST(ReferenceShards, MisalignedShardsAreRefusedNamingTheValidCounts) {

@@ -53,6 +53,35 @@ TEST(Shard, TheShardsPartitionTheWorkListForAnyCount) {
   }
 }
 
+// quality and converge: the scene x generator units (owned_units, as QualityRun and ConvergeRun deal them) of N
+// shards are a partition of the run's units for N = 1 .. 60, and a whole run owns every unit.
+TEST(Shard, QualityAndConvergeShardsPartitionTheSceneGeneratorUnits) {
+  std::vector<std::string> all;
+  for (const char* scene : {"cornell", "voxels:size=8", "../shared/scenes/sibenik/sibenik.glb"})
+    for (const char* g : {"noopt", "ours", "ours:k=8", "tile", "sadeghi", "microjitter", "contiguous"})
+      all.push_back(render_unit(scene, g));
+  ASSERT_EQ(std::set<std::string>(all.begin(), all.end()).size(), all.size());
+  const std::vector<bool> whole = owned_units(all, Shard{});
+  EXPECT_EQ(std::count(whole.begin(), whole.end(), true), static_cast<long>(all.size()));
+  for (int n = 1; n <= 60; ++n) {
+    std::vector<int> owners(all.size(), 0);
+    size_t smallest = all.size(), largest = 0;
+    for (int i = 0; i < n; ++i) {
+      const std::vector<bool> owned = owned_units(all, Shard{i, n});
+      ASSERT_EQ(owned.size(), all.size());
+      size_t mine = 0;
+      for (size_t u = 0; u < all.size(); ++u) {
+        owners[u] += owned[u];
+        mine += owned[u];
+      }
+      smallest = std::min(smallest, mine);
+      largest = std::max(largest, mine);
+    }
+    for (size_t u = 0; u < all.size(); ++u) EXPECT_EQ(owners[u], 1) << all[u] << " in n = " << n;
+    EXPECT_LE(largest - smallest, 1u) << "n = " << n;
+  }
+}
+
 // A unit's shard depends on the set of units, not on the order they are listed in.
 TEST(Shard, TheDealDoesNotDependOnListOrder) {
   std::vector<std::string> all = units();
