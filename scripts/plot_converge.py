@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Error against time curves from a `raycoh converge` CSV: one line per generator, one row of panels per scene,
-one panel per clock.
+"""Error against time curves from `raycoh converge` CSVs (one or more, e.g. one per scene): one line per generator,
+one row of panels per scene, one panel per clock.
 
 Clocks (--clock, comma-separated): wall_s, the cumulative wall-clock time of the frames on the CPU; trace_s, the
 cumulative time of the CPU tracer calls; modeled_gpu_s, the cumulative MODELED time of the same frames on the
@@ -9,7 +9,7 @@ the CSV has modeled times, modeled_gpu_s beside it. y is the error of the runnin
 (--metric rel_mse by default; mse, rmse on log axes; psnr, ssim on a linear axis). With <csv stem>-summary.csv
 beside it, the equal-time error ratio and equal-error speedup of each clock are written into its legend.
 
-usage: plot_converge.py converge.csv --out curves.png [--metric rel_mse|mse|rmse|psnr|ssim]
+usage: plot_converge.py converge.csv [more.csv ...] --out curves.png [--metric rel_mse|mse|rmse|psnr|ssim]
                         [--clock wall_s|trace_s|modeled_gpu_s[,...]]
 """
 import argparse
@@ -53,7 +53,7 @@ def summary_notes(path, clock):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("csv", help="CSV written by raycoh converge")
+    ap.add_argument("csv", nargs="+", help="CSVs written by raycoh converge")
     ap.add_argument("--out", required=True, help="figure file (.png, .pdf, .svg)")
     ap.add_argument("--metric", choices=["rel_mse", "mse", "rmse", "psnr", "ssim"], default="rel_mse")
     ap.add_argument("--clock", default=None,
@@ -87,7 +87,9 @@ def main():
                 curves[(r["scene"], r["method"])].append((t, e))
         if not curves:
             fail(f"no rows with a positive {clock} and a {a.metric} value")
-        notes = summary_notes(a.csv, clock)
+        notes = {}
+        for path in a.csv:
+            notes.update(summary_notes(path, clock))
         for si, scene in enumerate(scenes):
             ax = axes[si][ci]
             for (s, method), pts in curves.items():

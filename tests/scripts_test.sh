@@ -104,6 +104,8 @@ expect_error() {  # expect_error <text> <command...>: exit code 2 and the text i
 "$scripts/plot_converge.py" converge.csv --out fig/converge_psnr.png --metric psnr --clock trace_s && check fig/converge_psnr.png
 "$scripts/plot_converge.py" converge_gpu.csv --out fig/converge_gpu.png && check fig/converge_gpu.png
 "$scripts/plot_converge.py" converge_gpu.csv --out fig/converge_3.png --clock wall_s,trace_s,modeled_gpu_s && check fig/converge_3.png
+sed 's/^cornell,/voxels,/' converge_gpu.csv > converge_gpu2.csv
+"$scripts/plot_converge.py" converge_gpu.csv converge_gpu2.csv --out fig/converge_2.png && check fig/converge_2.png
 "$scripts/plot_quality.py" quality.csv --out fig/quality.png --markdown fig/quality.md && check fig/quality.png
 check fig/quality.md
 grep -q "| ours | 25.00 | 19.50 |" fig/quality.md || { echo "scripts_test: unexpected table:"; cat fig/quality.md; exit 1; }
