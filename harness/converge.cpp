@@ -12,6 +12,9 @@
 // --shard I/N: the shard renders its own generators (units scene x generator, harness/shard.h) and the baseline
 // beside them, so that every ratio compares two curves timed in one process on one machine; the baseline's rows
 // are written only by the shard that owns it. `raycoh merge` joins both files of every shard.
+// The third clock, modeled_gpu, is each frame's modeled time on the `simt` tracer's GPU (--gpu-model,
+// harness/gpu_clock.h: what it includes and what not), computed on the same rays after the timed frame: its own
+// columns and its own summary rows, never added to a measured time.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -25,6 +28,7 @@
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
+#include "harness/gpu_clock.h"
 #include "harness/merge.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
@@ -51,6 +55,12 @@ struct ConvergeRow {
   uint64_t rays = 0;
   double rel_mse = 0, mse = 0, rmse = 0, psnr = 0, ssim = 0;
   uint64_t non_finite_samples = 0;
+  // Modeled GPU clock (empty without --gpu-model): this frame's modeled generation, trace and total, and the
+  // cumulative total. modeled_frame 0: not modeled (--model-every), the last modeled frame's figures held.
+  std::string gpu_model;
+  std::optional<int> modeled_frame;
+  double frame_modeled_gen_ms = std::nan(""), frame_modeled_trace_ms = std::nan(""),
+         frame_modeled_gpu_ms = std::nan(""), modeled_gpu_s = std::nan("");
   Provenance provenance;
 };
 
@@ -89,6 +99,12 @@ const Schema<ConvergeRow>& converge_schema() {
         column("psnr", &R::psnr, G{}),
         column("ssim", &R::ssim, G{}),
         column("non_finite_samples", &R::non_finite_samples, Integer<uint64_t>{}),
+        column("gpu_model", &R::gpu_model, Text{}),
+        column("modeled_frame", &R::modeled_frame, Optional<Integer<int>>{}),
+        column("frame_modeled_gen_ms", &R::frame_modeled_gen_ms, G{}),
+        column("frame_modeled_trace_ms", &R::frame_modeled_trace_ms, G{}),
+        column("frame_modeled_gpu_ms", &R::frame_modeled_gpu_ms, G{}),
+        column("modeled_gpu_s", &R::modeled_gpu_s, G{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
     return s;
@@ -144,6 +160,10 @@ void check_converge(const ConvergeOptions& o) {
     throw Error(fmt::format("--reference {}: no such image file", o.reference));
   check_output_file("--out", o.out);
   check_output_folder("--cache", o.cache_dir.empty() ? default_cache_dir() : o.cache_dir);
+  check_frames("--model-every", o.model_every);
+  if (o.gpu_model != "none" && parse_plugin_spec(o.gpu_model).name != "simt")
+    throw Error(
+        fmt::format("--gpu-model {}: expected a simt tracer (simt, simt:preset=h100, ...) or none", o.gpu_model));
 }
 
 std::string summary_path_of(const ConvergeOptions& o) { return stem_path(o.out) + "-summary.csv"; }
@@ -157,6 +177,11 @@ struct Run {
   int frames = 0;
   std::vector<CurvePoint> by_wall, by_trace;
   bool active = true;
+  // The modeled GPU clock (absent without --gpu-model).
+  std::unique_ptr<FrameModel> model;
+  ModeledFrame modeled;  // the last modeled frame
+  double modeled_s = 0;
+  std::vector<CurvePoint> by_gpu;
 };
 
 class ConvergeRun {
@@ -169,11 +194,12 @@ class ConvergeRun {
 
  private:
   bool render_round();
-  ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m) const;
+  ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m, bool modeled) const;
   // --shard: the generators whose rows this shard writes; it renders the baseline (0) too, for its ratios.
   bool owns(size_t gi) const { return owned_[gi]; }
   bool renders(size_t gi) const { return gi == 0 || owns(gi); }
   SummaryRow compare(const Run& run, const std::string& clock) const;
+  std::vector<std::string> clocks() const;
 
   const ConvergeOptions& o_;
   Provenance provenance_;  // with this run's device
@@ -184,7 +210,8 @@ class ConvergeRun {
   std::vector<std::unique_ptr<Generator>> generators_;
   std::unique_ptr<LoadedScene> ls_;
   ReferenceImage ref_;
-  ToneMap tm_;  // resolved on the reference, the same for every generator
+  ToneMap tm_;                         // resolved on the reference, the same for every generator
+  std::unique_ptr<Tracer> gpu_model_;  // the `simt` tracer of --gpu-model, null for none
   std::vector<Run> runs_;
   std::vector<bool> owned_;
   std::string fingerprint_;
@@ -210,6 +237,7 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
   ref_ = obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference);
   tm_ = resolved(o.common.tone_map, ref_.image);
   provenance_.device = device_of(o.common.tracer);
+  if (o.gpu_model != "none") gpu_model_ = make_tracer(parse_plugin_spec(o.gpu_model), ls_->scene, ls_->bvh);
   for (size_t gi = 0; gi < generators_.size(); ++gi) {
     Run run;
     run.label = o.generators[gi].text();
@@ -218,12 +246,16 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
       run.pt = std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi],
                                             settings_of(o.common, o.common.seed));
       run.acc = Accumulator(o.common.width, o.common.height);
+      if (gpu_model_)
+        run.model =
+            std::make_unique<FrameModel>(ls_->scene, *ls_->tracer, *gpu_model_, make_generator(o.generators[gi]),
+                                         settings_of(o.common, o.common.seed));
     }
     runs_.push_back(std::move(run));
   }
 }
 
-ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m) const {
+ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m, bool modeled) const {
   const Run& run = runs_[gi];
   ConvergeRow r;
   r.scene = ls_->scene.name;
@@ -255,6 +287,14 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.psnr = m.psnr;
   r.ssim = m.ssim;
   r.non_finite_samples = run.total.non_finite;
+  if (run.model) {
+    r.gpu_model = "simt[" + gpu_model_->params() + "]";
+    r.modeled_frame = modeled ? 1 : 0;
+    r.frame_modeled_gen_ms = run.modeled.gen_ms;
+    r.frame_modeled_trace_ms = run.modeled.trace_ms;
+    r.frame_modeled_gpu_ms = run.modeled.ms();
+    r.modeled_gpu_s = run.modeled_s;
+  }
   r.provenance = provenance_;
   return r;
 }
@@ -267,11 +307,18 @@ bool ConvergeRun::render_round() {
     if (!run.active) continue;
     const FrameStats f = run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc);
     run.total.add(f);
+    // The modeled GPU clock, after the timed frame: its own sum, never added to a measured time.
+    const bool modeled = run.model && (run.frames % o_.model_every == 0);
+    if (modeled) run.modeled = run.model->model(static_cast<uint32_t>(run.frames), f);
     ++run.frames;
     const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_);
     run.by_wall.push_back({run.total.wall_s, m.rel_mse});
     run.by_trace.push_back({run.total.trace_s, m.rel_mse});
-    if (owns(gi)) csv_.write(row_of(gi, f, m));
+    if (run.model) {
+      run.modeled_s += run.modeled.ms() * 1e-3;
+      run.by_gpu.push_back({run.modeled_s, m.rel_mse});
+    }
+    if (owns(gi)) csv_.write(row_of(gi, f, m, modeled));
     run.active = run.total.wall_s < o_.time_s && run.frames < o_.max_frames;
     any = any || run.active;
   }
@@ -306,32 +353,39 @@ void ConvergeRun::render() {
   csv_.finish();
 }
 
+std::vector<std::string> ConvergeRun::clocks() const {
+  if (gpu_model_) return {"wall", "trace", "modeled_gpu"};
+  return {"wall", "trace"};
+}
+
 SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const {
   const Run& base = runs_[0];
-  const bool wall = clock == "wall";
-  const auto& c = wall ? run.by_wall : run.by_trace;
-  const auto& b = wall ? base.by_wall : base.by_trace;
+  auto curve = [&clock](const Run& x) -> const std::vector<CurvePoint>& {
+    return clock == "wall" ? x.by_wall : clock == "trace" ? x.by_trace : x.by_gpu;
+  };
+  const CurveComparison cc = compare_curves(curve(run), curve(base));
   SummaryRow r;
   r.scene = ls_->scene.name;
   r.method = run.label;
   r.baseline = base.label;
   r.metric = "rel_mse";
   r.clock = clock;
-  r.horizon_s = std::min(c.back().time, b.back().time);
-  r.error = error_at_time(c, r.horizon_s);
-  r.baseline_error = error_at_time(b, r.horizon_s);
-  r.equal_time_error_ratio = r.error / r.baseline_error;
-  r.target_error = std::max(c.back().error, b.back().error);
-  r.time_s = time_to_error(c, r.target_error);
-  r.baseline_time_s = time_to_error(b, r.target_error);
-  r.equal_error_speedup = r.baseline_time_s / r.time_s;
+  r.horizon_s = cc.horizon;
+  r.error = cc.error;
+  r.baseline_error = cc.baseline_error;
+  r.equal_time_error_ratio = cc.equal_time_error_ratio;
+  r.target_error = cc.target_error;
+  r.time_s = cc.time;
+  r.baseline_time_s = cc.baseline_time;
+  r.equal_error_speedup = cc.equal_error_speedup;
   r.frames = run.frames;
   r.baseline_frames = base.frames;
   r.provenance = provenance_;
   return r;
 }
 
-// Ratios against the baseline (the first generator), on relMSE, for the wall and the trace clock.
+// Ratios against the baseline (the first generator), on relMSE, for the wall and the trace clock and the
+// modeled GPU clock.
 void ConvergeRun::summarize() {
   const std::string summary_path = summary_path_of(o_);
   RecordCsv<SummaryRow>& summary = summary_;
@@ -346,22 +400,28 @@ void ConvergeRun::summarize() {
       "baseline %s\n\n",
       ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames, ref_.kind.c_str(),
       kRelMseEpsilon, runs_[0].label.c_str());
-  std::printf("| generator | frames | final relMSE | final PSNR |\n|---|---:|---:|---:|\n");
+  std::printf(
+      "| generator | frames | final relMSE | final PSNR | wall s | modeled GPU ms per frame |\n"
+      "|---|---:|---:|---:|---:|---:|\n");
   for (const Run& r : runs_)
     if (r.frames > 0)
-      std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
-                  psnr(r.acc.mean(), ref_.image, tm_));
+      std::printf("| %s | %d | %.4g | %.2f | %.3g | %s |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
+                  psnr(r.acc.mean(), ref_.image, tm_), r.total.wall_s,
+                  r.model ? fmt::format("{:.3g}", r.modeled_s * 1e3 / r.frames).c_str() : "-");
+  if (gpu_model_)
+    std::printf("\nmodeled_gpu: MODELED time on simt[%s] (trace launches + generation, harness/gpu_clock.h)\n",
+                gpu_model_->params().c_str());
   std::printf(
       "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
       "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (size_t gi = 1; gi < runs_.size(); ++gi) {
     if (!owns(gi)) continue;
-    for (const char* clock : {"wall", "trace"}) {
+    for (const std::string& clock : clocks()) {
       const SummaryRow r = compare(runs_[gi], clock);
       summary.write(r);
-      std::printf("| %s | %s | %.3g | %.4g | %.4g | %.3f | %.4g | %.3g | %.3g | %.3f |\n", r.method.c_str(), clock,
-                  r.horizon_s, r.error, r.baseline_error, r.equal_time_error_ratio, r.target_error, r.time_s,
-                  r.baseline_time_s, r.equal_error_speedup);
+      std::printf("| %s | %s | %.3g | %.4g | %.4g | %.3f | %.4g | %.3g | %.3g | %.3f |\n", r.method.c_str(),
+                  clock.c_str(), r.horizon_s, r.error, r.baseline_error, r.equal_time_error_ratio, r.target_error,
+                  r.time_s, r.baseline_time_s, r.equal_error_speedup);
     }
   }
   summary.finish();
@@ -403,8 +463,8 @@ BoundCommand bind_converge(CLI::App& parent) {
   auto s = std::make_shared<State>();
   s->generators = join_specs(s->o.generators);
   s->time = fmt::format("{}s", s->o.time_s);
-  CLI::App* cmd =
-      parent.add_subcommand("converge", "error against wall-clock and trace time; equal-time and equal-error ratios");
+  CLI::App* cmd = parent.add_subcommand(
+      "converge", "error against wall-clock, trace and modeled GPU time; equal-time and equal-error ratios");
   cmd->add_option("--scene", s->o.scene, "scene")->capture_default_str();
   cmd->add_option("--generators", s->generators, "comma-separated generators, the first is the baseline")
       ->capture_default_str();
@@ -417,6 +477,10 @@ BoundCommand bind_converge(CLI::App& parent) {
   cmd->add_option("--shard", s->shard,
                   "I/N: render only shard I (0-based) of N of the generators (and the baseline beside them); join "
                   "with raycoh merge")
+      ->capture_default_str();
+  cmd->add_option("--gpu-model", s->o.gpu_model, "modeled GPU clock: a simt tracer spec, or none")
+      ->capture_default_str();
+  cmd->add_option("--model-every", s->o.model_every, "model every Nth frame on the GPU, hold the others")
       ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
   return {cmd, [s](const Provenance& provenance) {

@@ -75,4 +75,18 @@ double time_to_error(const std::vector<CurvePoint>& c, double e) {
   return std::nan("");
 }
 
+CurveComparison compare_curves(const std::vector<CurvePoint>& c, const std::vector<CurvePoint>& b) {
+  RAYCOH_CHECK(!c.empty() && !b.empty(), "compare_curves: an empty curve");
+  CurveComparison r;
+  r.horizon = std::min(c.back().time, b.back().time);
+  r.error = error_at_time(c, r.horizon);
+  r.baseline_error = error_at_time(b, r.horizon);
+  r.equal_time_error_ratio = r.error / r.baseline_error;
+  r.target_error = std::max(c.back().error, b.back().error);
+  r.time = time_to_error(c, r.target_error);
+  r.baseline_time = time_to_error(b, r.target_error);
+  r.equal_error_speedup = r.baseline_time / r.time;
+  return r;
+}
+
 }  // namespace raycoh

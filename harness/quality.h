@@ -73,6 +73,9 @@ struct ConvergeOptions {
   // --shard I/N: only this shard's generators (units scene x generator); each shard also renders the baseline
   // beside them for its ratios (its rows are written by the baseline's shard only). Join with raycoh merge.
   Shard shard;
+  // The modeled GPU clock (harness/gpu_clock.h): a `simt` tracer spec, or "none" for no modeled time.
+  std::string gpu_model = "simt";
+  int model_every = 1;  // --model-every [1, kMaxFrames]: model frames 0, N, 2N, ...; the others hold the last
 };
 int run_converge(const ConvergeOptions& options, const Provenance& provenance);
 
@@ -98,5 +101,16 @@ double error_at_time(const std::vector<CurvePoint>& curve, double t);
 // First time the curve reaches error e, interpolated the same way between the last frame above e and the first
 // at or below it; the first frame's time if that one is already below; NaN if never reached.
 double time_to_error(const std::vector<CurvePoint>& curve, double e);
+// A curve against a baseline curve, both on one clock (wall, trace or modeled GPU time: never a sum of two):
+//   equal time   T = the shorter of the two curves' last times, the errors at T and their ratio
+//                error / baseline_error (< 1: the curve is more accurate in the same time);
+//   equal error  E = the larger of the two final errors (both curves reach it), the times to reach it and the
+//                speedup baseline_time / time (> 1: the curve reaches it sooner).
+struct CurveComparison {
+  double horizon = 0, error = 0, baseline_error = 0, equal_time_error_ratio = 0;
+  double target_error = 0, time = 0, baseline_time = 0, equal_error_speedup = 0;
+};
+// Both curves must have at least one point.
+CurveComparison compare_curves(const std::vector<CurvePoint>& curve, const std::vector<CurvePoint>& baseline);
 
 }  // namespace raycoh

@@ -265,7 +265,7 @@ TEST(CliShard, ConvergeShardsMergeToTheSingleProcessCurves) {
   ASSERT_EQ(m.exit_code, 0) << m.output;
   EXPECT_EQ(read_lines(dir / "m.csv").size(), 1u + 2 * 3);
   EXPECT_EQ(deterministic_rows(dir / "m.csv", kRenderTimes), deterministic_rows(dir / "whole.csv", kRenderTimes));
-  EXPECT_EQ(read_lines(dir / "m-summary.csv").size(), 1u + 2);
+  EXPECT_EQ(read_lines(dir / "m-summary.csv").size(), 1u + 3);  // clocks wall, trace, modeled_gpu
   EXPECT_EQ(deterministic_rows(dir / "m-summary.csv", kRenderTimes),
             deterministic_rows(dir / "whole-summary.csv", kRenderTimes));
   // Round by round, as one process writes them: frame, then generator.

@@ -174,9 +174,10 @@ TEST(QualityCommands, ConvergeWritesCurvesAndRatios) {
   EXPECT_GE(rows.size(), 3u);
   EXPECT_LE(rows.size(), 13u);
   const auto summary = read_lines(dir / "c-summary.csv");
-  ASSERT_EQ(summary.size(), 3u);  // header + ours (wall) + ours (trace)
+  ASSERT_EQ(summary.size(), 4u);  // header + ours (wall) + ours (trace) + ours (modeled_gpu)
   EXPECT_NE(summary[1].find(",wall,"), std::string::npos);
   EXPECT_NE(summary[2].find(",trace,"), std::string::npos);
+  EXPECT_NE(summary[3].find(",modeled_gpu,"), std::string::npos);
 }
 
 TEST(QualityCommands, RenderWritesImageAndCrops) {

@@ -42,6 +42,14 @@ cat > converge-summary.csv <<'CSV'
 scene,method,baseline,metric,clock,horizon_s,error,baseline_error,equal_time_error_ratio,target_error,time_s,baseline_time_s,equal_error_speedup
 cornell,ours,noopt,rel_mse,wall,0.24,0.37,0.41,0.9,0.37,0.24,0.27,1.12
 CSV
+# The same with the modeled GPU clock (converge --gpu-model).
+cat > converge_gpu.csv <<'CSV'
+scene,method,frame,wall_s,trace_s,rel_mse,mse,rmse,psnr,ssim,gpu_model,modeled_gpu_s
+cornell,noopt,1,0.1,0.05,1.0,0.1,0.31,15,0.3,simt[preset=rtx3060],0.002
+cornell,noopt,2,0.2,0.1,0.5,0.05,0.22,18,0.4,simt[preset=rtx3060],0.004
+cornell,ours,1,0.08,0.03,1.1,0.11,0.33,14.8,0.3,simt[preset=rtx3060],0.001
+cornell,ours,2,0.16,0.06,0.56,0.056,0.24,17.7,0.4,simt[preset=rtx3060],0.002
+CSV
 cat > quality.csv <<'CSV'
 scene,method,frames,ref_frames,psnr,psnr_std,ssim,rel_mse,rmse,bias2
 cornell,noopt,32,512,25.1,0.15,0.70,0.05,0.06,0.0002
@@ -94,6 +102,10 @@ expect_error() {  # expect_error <text> <command...>: exit code 2 and the text i
 "$scripts/plot_sweep.py" sweep.csv --out fig/sweep_mray.svg --value mray && check fig/sweep_mray.svg
 "$scripts/plot_converge.py" converge.csv --out fig/converge.png && check fig/converge.png
 "$scripts/plot_converge.py" converge.csv --out fig/converge_psnr.png --metric psnr --clock trace_s && check fig/converge_psnr.png
+"$scripts/plot_converge.py" converge_gpu.csv --out fig/converge_gpu.png && check fig/converge_gpu.png
+"$scripts/plot_converge.py" converge_gpu.csv --out fig/converge_3.png --clock wall_s,trace_s,modeled_gpu_s && check fig/converge_3.png
+sed 's/^cornell,/voxels,/' converge_gpu.csv > converge_gpu2.csv
+"$scripts/plot_converge.py" converge_gpu.csv converge_gpu2.csv --out fig/converge_2.png && check fig/converge_2.png
 "$scripts/plot_quality.py" quality.csv --out fig/quality.png --markdown fig/quality.md && check fig/quality.png
 check fig/quality.md
 grep -q "| ours | 25.00 | 19.50 |" fig/quality.md || { echo "scripts_test: unexpected table:"; cat fig/quality.md; exit 1; }
@@ -112,6 +124,8 @@ check fig/crops.png
 
 expect_error "no such CSV file" "$scripts/plot_table.py" missing.csv --out fig/x.png
 expect_error "missing column" "$scripts/plot_converge.py" quality.csv --out fig/x.png
+expect_error "missing column" "$scripts/plot_converge.py" converge.csv --out fig/x.png --clock modeled_gpu_s
+expect_error "expected one of" "$scripts/plot_converge.py" converge.csv --out fig/x.png --clock gpu
 grep -v ",noopt," table.csv > no_baseline.csv
 expect_error "no noopt rows" "$scripts/plot_table.py" no_baseline.csv --out fig/x.png
 expect_error "not inside" "$scripts/montage.py" reference.png --crop 60,40,16,16 --out fig/x.png
