@@ -2,7 +2,8 @@
 //
 // - Tangent frame from the normal only: the branchless ONB of Duff et al. ("Building an Orthonormal Basis,
 //   Revisited", JCGT 2017), so parallel surfaces get identical frames. It flips at n.z = 0 (the sign of n.z
-//   picks the branch): normals a hair apart on either side get frames up to 180 deg apart about the normal.
+//   picks the branch): normals a hair apart on either side get frames far apart about the normal (the same
+//   tangent-space direction up to ~130 deg apart; tests/hybrid_reuse_test.cpp).
 // - rotate_between: the minimal rotation from one normal to another (the `ours:frame=rotate` reuse).
 // - Cosine-weighted hemisphere sampling (Malley's method).
 // - GGX visible-normal sampling (Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 2018),
