@@ -68,6 +68,18 @@ RAYCOH_HD RAYCOH_INLINE DirectionSample diffuse_from_local(const BsdfParams& m, 
   return s;
 }
 
+// The same for a world direction wi carried to this member (the `ours:frame=rotate` reuse): pdf cos / pi with
+// cos = wi . ns, weight the base colour (0, flagged below_shading, when wi is not above the shading surface).
+RAYCOH_HD RAYCOH_INLINE DirectionSample diffuse_from_world(const BsdfParams& m, Vec3 ns, Vec3 ng, Vec3 wi) {
+  DirectionSample s;
+  s.dir = wi;
+  s.pdf = fmaxf(dot(wi, ns), 0.f) * kInvPi;
+  s.weight = s.pdf > 0.f ? m.base_color : Vec3(0.f);
+  if (!(s.pdf > 0.f)) s.flags |= kSampleBelowShading;
+  check_direction(s, ng);
+  return s;
+}
+
 // pdf and weight of using the world direction wi at this point, by the material's own BSDF (used when a
 // direction is chosen elsewhere, e.g. shared in a group). Non-delta lobes only (diffuse, glossy, specular).
 RAYCOH_HD RAYCOH_INLINE DirectionSample evaluate_direction(const BsdfParams& m, Vec3 ns, Vec3 ng, Vec3 wo, Vec3 wi) {

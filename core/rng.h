@@ -35,6 +35,7 @@ enum RngDim : uint32_t {
   kDimTileShuffleA = 5,   // per tile (the "pixel" argument is the tile index): shuffle multiplier
   kDimTileShuffleC = 6,   // per tile: shuffle increment
   kDimGroupDonor = 7,     // per group (the "pixel" argument is the frame-unique group id): donor member
+  kDimGroupGlossy = 8,    // per group: the glossy member whose direction `ours:hybrid=glossy` reuses
   kDimFirstFree = 16,     // later stages start here
 };
 

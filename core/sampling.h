@@ -1,7 +1,10 @@
 // BSDF sampling and frames shared by host and device.
 //
 // - Tangent frame from the normal only: the branchless ONB of Duff et al. ("Building an Orthonormal Basis,
-//   Revisited", JCGT 2017), so parallel surfaces get identical frames.
+//   Revisited", JCGT 2017), so parallel surfaces get identical frames. It flips at n.z = 0 (the sign of n.z
+//   picks the branch): normals a hair apart on either side get frames far apart about the normal (the same
+//   tangent-space direction up to ~130 deg apart; tests/hybrid_reuse_test.cpp).
+// - rotate_between: the minimal rotation from one normal to another (the `ours:frame=rotate` reuse).
 // - Cosine-weighted hemisphere sampling (Malley's method).
 // - GGX visible-normal sampling (Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 2018),
 //   isotropic, alpha = roughness^2 clamped to kMinAlpha so near-specular lobes keep a finite pdf.
@@ -32,6 +35,21 @@ RAYCOH_HD RAYCOH_INLINE Frame make_frame(Vec3 n) {
   f.b = {b, sign + n.y * n.y * a, -n.y};
   f.n = n;
   return f;
+}
+
+// The minimal rotation taking unit vector a to unit vector b (about the axis a x b), applied to v: Rodrigues'
+// formula with k = a x b, c = a . b: v c + k x v + k (k . v) / (1 + c). Continuous in a and b wherever b is not
+// near -a; a == b gives v exactly; b within ~0.8 deg of -a (1 + c < 1e-4, where 1 + c loses its precision) gives
+// the half turn about make_frame(a).t, one of the equally minimal rotations. The result is renormalised.
+RAYCOH_HD RAYCOH_INLINE Vec3 rotate_between(Vec3 a, Vec3 b, Vec3 v) {
+  if (a.x == b.x && a.y == b.y && a.z == b.z) return v;
+  const float c = dot(a, b);
+  if (c < -1.f + 1e-4f) {
+    const Vec3 u = make_frame(a).t;
+    return normalize(u * (2.f * dot(u, v)) - v);
+  }
+  const Vec3 k = cross(a, b);
+  return normalize(v * c + cross(k, v) + k * (dot(k, v) / (1.f + c)));
 }
 
 // sin and cos of 2 pi u, bit-identical on the CPU and the GPU: glibc's sinf/cosf and CUDA's differ in the last

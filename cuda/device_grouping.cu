@@ -31,7 +31,8 @@ __device__ void shared_direction_phase(const TileBlock& b, unsigned long long* s
   if (q < b.groups && b.sh.count[q] > 0 && b.sh.diffuse[q] > 0) {
     const SharedDirection d = phase_shared_direction(b, q);
     if (d.hybrid_fallback) atomicAdd(stats + kStatHybridFallback, 1ull);
-    atomicAdd(stats + kStatReused, static_cast<unsigned long long>(b.sh.diffuse[q] - (d.from_donor ? 1u : 0u)));
+    atomicAdd(stats + kStatReused, static_cast<unsigned long long>(reused_members(
+                                       b.config, static_cast<GroupType>(b.sh.type[q]), d, b.sh.diffuse[q])));
   }
   __syncthreads();
 }

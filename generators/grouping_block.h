@@ -23,13 +23,14 @@ struct TileGroups {
   uint32_t* start;     // [g] first position of the group
   uint32_t* donor;     // [g] pixel (image index) of the donor
   uint32_t* type;      // [g] GroupType
-  Vec3* shared_dir;    // [g] tangent-space direction of the diffuse members
+  Vec3* shared_dir;    // [g] shared coordinates of the diffuse members' direction
+  float* glossy_pdf;   // [g] hybrid=glossy: pdf of the reused glossy sample
   MaterialClass* cls;  // [m] material class of a hit pixel
 };
 
 RAYCOH_HD RAYCOH_INLINE size_t tile_groups_bytes(uint32_t m, uint32_t g) {
   return static_cast<size_t>(m) * (3 * sizeof(uint32_t) + sizeof(Vec3) + sizeof(MaterialClass)) +
-         static_cast<size_t>(g) * (5 * sizeof(uint32_t) + sizeof(Vec3));
+         static_cast<size_t>(g) * (5 * sizeof(uint32_t) + sizeof(Vec3) + sizeof(float));
 }
 
 // Lays the arrays out in `base` (tile_groups_bytes(m, g) bytes, 4-byte aligned); the byte-sized array last.
@@ -50,7 +51,8 @@ RAYCOH_HD RAYCOH_INLINE TileGroups carve_tile_groups(unsigned char* base, uint32
   s.type = u32(g);
   s.local = reinterpret_cast<Vec3*>(base);
   s.shared_dir = s.local + m;
-  s.cls = reinterpret_cast<MaterialClass*>(s.shared_dir + g);
+  s.glossy_pdf = reinterpret_cast<float*>(s.shared_dir + g);
+  s.cls = reinterpret_cast<MaterialClass*>(s.glossy_pdf + g);
   return s;
 }
 
@@ -137,30 +139,60 @@ RAYCOH_HD RAYCOH_INLINE uint32_t write_pixel(const TileBlock& b, const BatchView
                          static_cast<GroupType>(b.sh.type[q]));
 }
 
+// The reference normal of group q (its donor's; frame=rotate). Groups without a diffuse member have donor
+// pixel 0 and never read it.
+RAYCOH_HD RAYCOH_INLINE Vec3 group_ref(const TileBlock& b, uint32_t q) { return b.points[b.sh.donor[q]].ns; }
+
 // Phase 5 (hit pixel i that is not diffuse-like): its own lobe, and its mean vote. Returns the sample flags.
 RAYCOH_HD RAYCOH_INLINE uint32_t phase_own_lobe(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot) {
   const uint32_t p = b.rect.pixel(i, b.image_width);
   const ShadingPoint& sp = b.points[p];
   const DirectionSample s = sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p);
-  if (mean_vote(sp, s, b.sh.local[i])) b.sh.flags[i] |= kPixelMeanVote;
+  if (mean_vote(b.config, sp, s, group_ref(b, b.sh.group_of[i]), b.sh.local[i])) b.sh.flags[i] |= kPixelMeanVote;
   return write_pixel(b, out, i, slot, s);
 }
 
-// Phase 6 (group q < groups with diffuse members): their tangent-space direction.
+// Phase 6 (group q < groups with diffuse members): their shared direction. hybrid=glossy re-draws the chosen
+// glossy member's own sample (the same numbers as its phase 5) rather than keep every member's pdf.
 RAYCOH_HD RAYCOH_INLINE SharedDirection phase_shared_direction(const TileBlock& b, uint32_t q) {
-  GlossyMean mean;
-  for (uint32_t j = 0; j < b.m; ++j)
-    if (b.sh.group_of[j] == q && (b.sh.flags[j] & kPixelMeanVote)) mean.add(b.sh.local[j]);
-  const SharedDirection d = shared_direction(b.config, static_cast<GroupType>(b.sh.type[q]), mean, b.sh.donor[q]);
+  const GroupType type = static_cast<GroupType>(b.sh.type[q]);
+  const Vec3 ref = group_ref(b, q);
+  SharedDirection d;
+  if (type == GroupType::Hybrid && b.config.hybrid == HybridRule::Glossy) {
+    uint32_t n_glossy = 0;
+    for (uint32_t j = 0; j < b.m; ++j)
+      n_glossy += b.sh.group_of[j] == q && (b.sh.flags[j] & kPixelHit) && is_glossy_like(b.sh.cls[j]);
+    const uint32_t pick = glossy_rank(b.config, group_id(b.config, b.tile, q), n_glossy);
+    uint32_t seen = 0;
+    for (uint32_t j = 0; j < b.m; ++j) {
+      if (b.sh.group_of[j] != q || !(b.sh.flags[j] & kPixelHit) || !is_glossy_like(b.sh.cls[j]) || seen++ != pick)
+        continue;
+      const uint32_t p = b.rect.pixel(j, b.image_width);
+      const ShadingPoint& sp = b.points[p];
+      d = glossy_direction(b.config, sp,
+                           sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p), ref);
+    }
+  } else {
+    GlossyMean mean;
+    for (uint32_t j = 0; j < b.m; ++j)
+      if (b.sh.group_of[j] == q && (b.sh.flags[j] & kPixelMeanVote)) mean.add(b.sh.local[j]);
+    d = shared_direction(b.config, type, mean, b.sh.donor[q], ref);
+  }
   b.sh.shared_dir[q] = d.local;
+  b.sh.glossy_pdf[q] = d.glossy_pdf;
   return d;
 }
 
-// Phase 7 (diffuse-like hit pixel i): the group's direction in its own frame. Returns the sample flags.
+// Phase 7 (diffuse-like hit pixel i): the group's direction carried to its frame. Returns the sample flags.
 RAYCOH_HD RAYCOH_INLINE uint32_t phase_reuse(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot) {
-  const ShadingPoint& sp = b.points[b.rect.pixel(i, b.image_width)];
-  const Vec3 local = b.sh.shared_dir[b.sh.group_of[i]];
-  return write_pixel(b, out, i, slot, diffuse_from_local(b.materials[sp.material], sp.ns, sp.ng, local));
+  const uint32_t p = b.rect.pixel(i, b.image_width), q = b.sh.group_of[i];
+  const ShadingPoint& sp = b.points[p];
+  SharedDirection d;
+  d.local = b.sh.shared_dir[q];
+  d.glossy_pdf = b.sh.glossy_pdf[q];
+  return write_pixel(b, out, i, slot,
+                     member_direction(b.config, static_cast<GroupType>(b.sh.type[q]), b.materials[sp.material], sp, p,
+                                      group_ref(b, q), d));
 }
 
 }  // namespace raycoh

@@ -22,14 +22,34 @@
 //                  directions). Each member's pdf (cos / pi) and weight (base colour) are its own, so every
 //                  pixel's marginal direction stays cosine-distributed around its own normal.
 //   glossy group   every member samples its own GGX lobe (no change from NoOpt).
-//   hybrid group   glossy members sample their own lobes; the mean of their tangent-space directions,
-//                  normalised, is used by every diffuse member, with pdf and weight from the member's own BSDF
-//                  (this direction is not drawn from the diffuse pdf: the paper's bias, measured, not hidden).
-//                  If the mean nearly cancels (the average vector is shorter than 0.01) or no glossy sample is
-//                  valid, the diffuse members fall back to the diffuse-group rule (counted: hybrid_mean_fallback).
+//   hybrid group   glossy members sample their own lobes; the diffuse members by the rule `hybrid`:
+//                  paper (default, the paper's rule): the mean of the glossy members' tangent-space directions,
+//                    normalised, with pdf and weight from the member's own BSDF. This direction is not drawn
+//                    from the diffuse pdf, so the weight (base colour = f cos / (cos / pi)) is wrong for it: the
+//                    paper's bias, measured in docs/hybrid-reuse.md (on cornell the affected pixels converge
+//                    ~12% dark). If the mean nearly cancels (the average vector is shorter than 0.01) or no
+//                    glossy sample is valid, the diffuse members fall back to the diffuse-group rule (counted:
+//                    hybrid_mean_fallback).
+//                  donor: the diffuse-group rule for the diffuse members (unbiased; coherent among them).
+//                  glossy: one glossy member, chosen uniformly before sampling (rng(seed, frame, group id,
+//                    kDimGroupGlossy)), lends its own sample: every diffuse member uses its direction with weight
+//                    f cos / p, p the GGX pdf that drew it (tangent-space copies and rotations keep solid angle,
+//                    so p is also the member's density). The pdf column stays the member's own cos / pi, the pdf
+//                    next-event estimation evaluates, so the MIS weights still sum to one. A sample below its own
+//                    shading surface gives the diffuse members weight 0 (still unbiased). Unbiased, but the
+//                    weight is large where the glossy lobe is thin: high variance on near-specular scenes.
+//                  independent: every diffuse member samples its own lobe (NoOpt's numbers; no reuse).
+// The reuse frame `frame`: duff (default, the paper's): the shared direction is a tangent-space vector used in
+// each member's make_frame(ns), which flips at n.z = 0 (neighbours with nearly equal normals on either side get
+// directions far apart). rotate: the shared direction is a world direction around the group's reference normal
+// (its donor's, a diffuse member), carried to each member by the minimal rotation from that normal to the
+// member's (core/sampling.h rotate_between): continuous where normals are close, the same cos to each member's
+// normal, and so the same marginal pdf (diffuse groups stay unbiased). Glossy votes are rotated to the reference
+// normal before they are averaged. frame=duff with hybrid=paper is the paper's generator bit for bit.
 // A shared direction that ends up below a member's geometric surface (shading normal far from the geometric
 // one) stays in the batch with weight 0 and is counted in below_geometric, like every generator's.
-// K = 1 reproduces NoOpt bit for bit: the donor is the pixel itself and uses NoOpt's random numbers.
+// K = 1 reproduces NoOpt bit for bit: the donor is the pixel itself and uses NoOpt's random numbers (frame=rotate:
+// the same directions; the pdf then comes from dir . ns, which may differ from NoOpt's in the last bit).
 //
 // Parameters: ours_params() below, shared by `ours` and `contiguous`. Batch orders: tile = row-major inside each
 // tile, tiles row-major; group = inside each tile, group by group (whole groups in one warp); scanline = the
@@ -116,6 +136,14 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
     tally_ray(write_group_ray(job.out, slot, sp, p, s, t, group, type), sc.stats);
   };
 
+  // The donor (a diffuse member) first: its normal is the reference of frame=rotate.
+  DonorSearch donor{donor_rank(c, group, census.diffuse)};
+  for (uint32_t j = begin; j < end && !donor.found; ++j) donor.offer(job.g.points[pixel_of(j)].cls, pixel_of(j));
+  const Vec3 ref = job.g.points[donor.found ? donor.pixel : pixel_of(begin)].ns;
+  const bool reuse_glossy = type == GroupType::Hybrid && c.hybrid == HybridRule::Glossy;
+  const uint32_t pick = glossy_rank(c, group, census.glossy);
+  uint32_t glossy_seen = 0;
+  SharedDirection picked;
   GlossyMean mean;
   for (uint32_t j = begin; j < end; ++j) {
     const uint32_t p = pixel_of(j);
@@ -124,18 +152,18 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
     const DirectionSample s = sample_own_lobe(job.materials[sp.material], sp, c.seed, c.frame, p);
     emit(j, sp, s);
     Vec3 local;
-    if (mean_vote(sp, s, local)) mean.add(local);
+    if (mean_vote(c, sp, s, ref, local)) mean.add(local);
+    if (reuse_glossy && is_glossy_like(sp.cls) && glossy_seen++ == pick) picked = glossy_direction(c, sp, s, ref);
   }
   if (census.diffuse == 0) return;
-  DonorSearch donor{donor_rank(c, group, census.diffuse)};
-  for (uint32_t j = begin; j < end && !donor.found; ++j) donor.offer(job.g.points[pixel_of(j)].cls, pixel_of(j));
-  const SharedDirection d = shared_direction(c, type, mean, donor.pixel);
+  const SharedDirection d = reuse_glossy ? picked : shared_direction(c, type, mean, donor.pixel, ref);
   sc.stats.hybrid_mean_fallback += d.hybrid_fallback;
   for (uint32_t j = begin; j < end; ++j) {
-    const ShadingPoint& sp = job.g.points[pixel_of(j)];
-    if (is_diffuse_like(sp.cls)) emit(j, sp, diffuse_from_local(job.materials[sp.material], sp.ns, sp.ng, d.local));
+    const uint32_t p = pixel_of(j);
+    const ShadingPoint& sp = job.g.points[p];
+    if (is_diffuse_like(sp.cls)) emit(j, sp, member_direction(c, type, job.materials[sp.material], sp, p, ref, d));
   }
-  sc.stats.reused_rays += census.diffuse - (d.from_donor ? 1 : 0);
+  sc.stats.reused_rays += reused_members(c, type, d, census.diffuse);
 }
 
 }  // namespace
@@ -149,6 +177,12 @@ const ParamTable& ours_params() {
       int_param("k", 8, 1, kMaxTilePixels, "group size K, at most W H"),
       choice_param("order", "tile", ray_order_names(true), "batch order (see tangent_reuse.cpp)"),
       uint_param("seed", 0u, 0u, 0xFFFFFFFFu, "extra salt for the grouping only (shuffle and donors); 0: none"),
+      choice_param("hybrid", "paper", {"paper", "donor", "glossy", "independent"},
+                   "diffuse members of hybrid groups: paper = glossy mean (biased), donor / glossy / independent "
+                   "(unbiased; see tangent_reuse.cpp)"),
+      choice_param("frame", "duff", {"duff", "rotate"},
+                   "reuse frame: duff = same tangent coordinates (seam at n.z = 0), rotate = minimal rotation "
+                   "from the donor normal"),
   };
   return table;
 }
@@ -170,6 +204,12 @@ TangentSpaceReuse::TangentSpaceReuse(ParamSet& params, bool interleaved) : inter
   k_ = params.get_int_at_most("k", area);
   order_ = parse_ray_order(params.get_choice("order"));
   salt_ = params.get_uint("seed");
+  const std::string hybrid = params.get_choice("hybrid");
+  hybrid_ = hybrid == "donor"         ? HybridRule::Donor
+            : hybrid == "glossy"      ? HybridRule::Glossy
+            : hybrid == "independent" ? HybridRule::Independent
+                                      : HybridRule::Paper;
+  frame_ = params.get_choice("frame") == "rotate" ? ReuseFrame::Rotate : ReuseFrame::Duff;
   params.finish();
   params_ = params.canonical();
 }
@@ -183,6 +223,8 @@ GroupingConfig TangentSpaceReuse::config(uint32_t seed, uint32_t frame) const {
   c.groups_per_full_tile = static_cast<uint32_t>((tile_.first * tile_.second + k_ - 1) / k_);
   c.interleaved = interleaved_;
   c.order = order_;
+  c.hybrid = hybrid_;
+  c.reuse_frame = frame_;
   return c;
 }
 

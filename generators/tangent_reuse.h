@@ -26,6 +26,8 @@ class TangentSpaceReuse final : public Generator {
   int k_ = 8;
   RayOrder order_ = RayOrder::Tile;
   uint32_t salt_ = 0;
+  HybridRule hybrid_ = HybridRule::Paper;
+  ReuseFrame frame_ = ReuseFrame::Duff;
   std::string params_;
 };
 

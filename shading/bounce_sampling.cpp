@@ -2,8 +2,11 @@
 //
 // The direction leaving the FIRST hit comes from the chosen generator (NoOpt, ours, ...), with the pdf and weight
 // (f cos / pdf) the generator reports; with a reusing generator (ours), the first bounce's MIS weight so uses each
-// pixel's own marginal pdf for diffuse groups (unbiased there), while the hybrid groups' shared direction is not
-// drawn from that pdf (the paper's bias, which the quality runs measure). Later directions are sampled
+// pixel's own marginal pdf for diffuse groups (unbiased there), while with ours:hybrid=paper (the default) the
+// hybrid groups' shared direction is not drawn from that pdf (the paper's bias; docs/hybrid-reuse.md). The other
+// hybrid rules are unbiased: hybrid=glossy's weight is f cos / (the glossy pdf that drew the direction) while its
+// pdf column (used here for MIS) is the member's own BSDF pdf, the one next-event estimation evaluates, so the two
+// strategies' MIS weights still sum to one. Later directions are sampled
 // independently with core/bsdf.h sample_direction. Russian roulette from rr_depth on: a path survives with
 // probability min(1, max component of its throughput) and is divided by it (unbiased). A straight pass through a
 // thin pane keeps the MIS state of the scattering event before it, as next-event estimation sees through panes.

@@ -217,6 +217,10 @@ const std::vector<std::string>& generator_specs() {
                                                  "ours:order=scanline",
                                                  "ours:seed=99",
                                                  "ours:tile=3x5,k=4",
+                                                 "ours:hybrid=donor",
+                                                 "ours:hybrid=glossy,frame=rotate",
+                                                 "ours:hybrid=independent,k=16",
+                                                 "ours:frame=rotate",
                                                  "contiguous",
                                                  "contiguous:k=4,order=group"};
   return specs;

@@ -109,7 +109,7 @@ RayBatch block_batch(const Scene& scene, const GBuffer& g, const GroupingConfig&
       if (sh.count[q] == 0 || sh.diffuse[q] == 0) continue;
       const SharedDirection d = phase_shared_direction(b, q);
       stats.hybrid_mean_fallback += d.hybrid_fallback;
-      stats.reused_rays += sh.diffuse[q] - (d.from_donor ? 1u : 0u);
+      stats.reused_rays += reused_members(c, static_cast<GroupType>(sh.type[q]), d, sh.diffuse[q]);
     }
     for (uint32_t i = 0; i < b.m; ++i)
       if (hit[i] && is_diffuse_like(sh.cls[i]))
@@ -136,7 +136,9 @@ TEST(GroupingBlock, HostRunOfTheBlockPhasesEqualsTheCpuGeneratorBitForBit) {
         first_hits(scene, *tracer, 97, 61, make_pixel_order(97, 61, RayOrder::Tile, 8, 8), 1, frame).gbuffer;
     for (const Case& k : {Case{"ours", 8, 8}, Case{"ours:k=1", 8, 8}, Case{"ours:tile=16x8,k=5,order=group", 16, 8},
                           Case{"ours:order=scanline,k=3,seed=9", 8, 8}, Case{"ours:tile=32x32,k=64", 32, 32},
-                          Case{"contiguous", 8, 8}, Case{"contiguous:tile=3x5,k=4,order=group", 3, 5}}) {
+                          Case{"contiguous", 8, 8}, Case{"contiguous:tile=3x5,k=4,order=group", 3, 5},
+                          Case{"ours:hybrid=donor", 8, 8}, Case{"ours:hybrid=glossy,frame=rotate", 8, 8},
+                          Case{"ours:hybrid=independent,k=16", 8, 8}, Case{"ours:frame=rotate,k=32", 8, 8}}) {
       SCOPED_TRACE(std::string(k.spec) + " frame " + std::to_string(frame));
       auto gen = make_generator(parse_plugin_spec(k.spec));
       RayBatch cpu;

@@ -79,7 +79,7 @@ TEST(PluginSchema, ListShowsEveryPluginWithItsTable) {
   for (const auto& info : encoder_infos()) EXPECT_NE(text.find("  " + info.name + " "), std::string::npos);
   for (const auto& info : tracer_infos()) EXPECT_NE(text.find("  " + info.name + " "), std::string::npos);
   for (const auto& info : builtin_scene_infos()) EXPECT_NE(text.find("  " + info.name + " "), std::string::npos);
-  EXPECT_NE(text.find("order  choice  tile  tile | group | scanline"), std::string::npos) << text;
+  EXPECT_NE(text.find("order   choice  tile   tile | group | scanline"), std::string::npos) << text;
   EXPECT_NE(text.find("size  int  64  [4, 1024]  columns"), std::string::npos) << text;
 }
 
