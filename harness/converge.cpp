@@ -42,7 +42,8 @@ struct ConvergeRow {
   std::optional<int> ref_frames;  // absent for an explicit --reference file
   int max_depth = 0, rr_depth = 0;
   std::string tone_map, reference;
-  int frame = 0;  // frames rendered so far
+  std::string protocol, metrics;  // --protocol; space of psnr/ssim
+  int frame = 0;                  // frames rendered so far
   double wall_s = 0, trace_s = 0, gen_s = 0, frame_wall_ms = 0, frame_trace_ms = 0;
   uint64_t rays = 0;
   double rel_mse = 0, mse = 0, rmse = 0, psnr = 0, ssim = 0;
@@ -71,6 +72,8 @@ const Schema<ConvergeRow>& converge_schema() {
         column("rr_depth", &R::rr_depth, Integer<int>{}),
         column("tone_map", &R::tone_map, Text{}),
         column("reference", &R::reference, Text{}),
+        column("protocol", &R::protocol, Text{}),
+        column("metrics", &R::metrics, Text{}),
         column("frame", &R::frame, Integer<int>{}),
         column("wall_s", &R::wall_s, G{}),
         column("trace_s", &R::trace_s, G{}),
@@ -223,6 +226,8 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.rr_depth = o_.common.rr_depth;
   r.tone_map = describe(tm_);
   r.reference = ref_.path;
+  r.protocol = o_.common.protocol;
+  r.metrics = metric_space_name(o_.common.metrics);
   r.frame = run.frames;
   r.wall_s = run.total.wall_s;
   r.trace_s = run.total.trace_s;
@@ -249,7 +254,7 @@ bool ConvergeRun::render_round() {
     const FrameStats f = run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc);
     run.total.add(f);
     ++run.frames;
-    const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_);
+    const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_, o_.common.metrics);
     run.by_wall.push_back({run.total.wall_s, m.rel_mse});
     run.by_trace.push_back({run.total.trace_s, m.rel_mse});
     csv_.write(row_of(gi, f, m));
@@ -313,13 +318,13 @@ void ConvergeRun::summarize() {
   RecordCsv<SummaryRow>& summary = summary_;
   std::printf(
       "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
-      "baseline %s\n\n",
+      "baseline %s; protocol %s, PSNR on %s\n\n",
       ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames, ref_.kind.c_str(),
-      kRelMseEpsilon, runs_[0].label.c_str());
+      kRelMseEpsilon, runs_[0].label.c_str(), o_.common.protocol.c_str(), metric_space_name(o_.common.metrics));
   std::printf("| generator | frames | final relMSE | final PSNR |\n|---|---:|---:|---:|\n");
   for (const Run& r : runs_)
     std::printf("| %s | %d | %.4g | %.2f |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
-                psnr(r.acc.mean(), ref_.image, tm_));
+                psnr(r.acc.mean(), ref_.image, tm_, o_.common.metrics));
   std::printf(
       "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
       "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -358,6 +363,7 @@ BoundCommand bind_converge(CLI::App& parent) {
   struct State {
     ConvergeOptions o;
     RenderText text;
+    ProtocolText protocol;
     std::string generators, time;  // defaults from ConvergeOptions
   };
   auto s = std::make_shared<State>();
@@ -375,8 +381,12 @@ BoundCommand bind_converge(CLI::App& parent) {
   cmd->add_option("--reference", s->o.reference, "use this .exr/.pfm as the reference");
   cmd->add_option("--out", s->o.out, "CSV file to write")->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
-  return {cmd, [s](const Provenance& provenance) {
+  bind_protocol(cmd, s->protocol, true);
+  return {cmd, [s, cmd](const Provenance& provenance) {
             resolve_render_common(s->o.common, s->text);
+            // The ci protocol leaves --max-frames unlimited (converge runs by time); paper stops at 128 frames.
+            resolve_protocol(cmd, s->protocol, s->o.common, s->protocol.protocol == "ci" ? nullptr : &s->o.max_frames,
+                             "--max-frames", &s->o.ref_frames, "--ref-frames");
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.time_s = parse_duration("--time", s->time);
             return run_converge(s->o, provenance);

@@ -148,6 +148,17 @@ Entry entry_of(const std::string& stem_prefix, const std::string& key, const std
   return e;
 }
 
+}  // namespace
+
+std::string half_reference_path(const std::string& image_path) {
+  const fs::path p(image_path);
+  return (p.parent_path() / (p.stem().string() + "-half1" + p.extension().string())).string();
+}
+
+bool reference_halves(int frames, int frame_block) { return frames % (2 * frame_block) == 0; }
+
+namespace {
+
 void create_cache_dir(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -178,12 +189,12 @@ double render_blocks(const Scene& scene, const Bvh& bvh, const ReferenceRequest&
       pt.render_frame(static_cast<uint32_t>(f), block);
       if (r.progress) r.progress(f - range.first + 1, range.end - range.first);
     }
-    on_block(block);
+    on_block(block, b);
   }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Writes the image, then the sidecar (the old sidecar removed first). Call with the entry's lock held.
+// Writes the image (and its half), then the sidecar (the old sidecar removed first). Call with the entry's lock held.
 void store_entry(const Entry& e, const std::string& key, const Reference& ref) {
   std::error_code ec;
   fs::remove(e.sidecar, ec);  // an old sidecar must never describe the new image, even for a moment
@@ -192,6 +203,14 @@ void store_entry(const Entry& e, const std::string& key, const Reference& ref) {
       {"key", nlohmann::json::parse(key)},    {"digest", fmt::format("{:016x}", e.digest)},
       {"render_seconds", ref.render_s},       {"non_finite_samples", ref.non_finite},
       {"image", e.image.filename().string()}, {"image_fnv1a", fmt::format("{:016x}", file_hash(e.image))}};
+  const fs::path half = half_reference_path(e.image.string());
+  if (!ref.first_half.empty()) {
+    write_image(ref.first_half, half.string());
+    side["half_image"] = half.filename().string();
+    side["half_image_fnv1a"] = fmt::format("{:016x}", file_hash(half));
+  } else {
+    fs::remove(half, ec);
+  }
   side["checksum"] = sidecar_checksum(side);
   write_file_atomically(e.sidecar.string(), side.dump(2) + "\n");
 }
@@ -257,7 +276,8 @@ struct PartReader {
       read(sums);
       read(samples);
       read(non_finite);
-      on_block(Accumulator::from_parts(width, height, std::move(sums), std::move(samples), std::move(non_finite)));
+      on_block(Accumulator::from_parts(width, height, std::move(sums), std::move(samples), std::move(non_finite)),
+               first + b * block);
     }
     std::string line;
     std::getline(in, line);
@@ -308,9 +328,15 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
       try {
         Image img = read_image(e.image.string());
         if (img.width == r.settings.width && img.height == r.settings.height) {
-          ref.image = std::move(img);
+          ref.image = img;
           ref.from_cache = true;
           ref.non_finite = side.value("non_finite_samples", uint64_t{0});
+          const fs::path half = half_reference_path(e.image.string());
+          if (side.contains("half_image") && fs::is_regular_file(half, ec) &&
+              side.value("half_image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(half))) {
+            Image h = read_image(half.string());
+            if (h.width == img.width && h.height == img.height) ref.first_half = std::move(h);
+          }
           return ref;
         }
       } catch (const Error&) {
@@ -319,9 +345,13 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
     }
   }
 
-  Accumulator total(r.settings.width, r.settings.height);
-  ref.render_s = render_blocks(scene, bvh, r, {0, r.frames}, [&](const Accumulator& block) { total.merge(block); });
+  Accumulator total(r.settings.width, r.settings.height), first_half(r.settings.width, r.settings.height);
+  ref.render_s = render_blocks(scene, bvh, r, {0, r.frames}, [&](const Accumulator& block, int start) {
+    total.merge(block);
+    if (start < r.frames / 2) first_half.merge(block);
+  });
   ref.image = total.mean();
+  if (reference_halves(r.frames, r.frame_block)) ref.first_half = first_half.mean();
   ref.non_finite = total.non_finite_samples();
   store_entry(e, key, ref);
   return ref;
@@ -361,7 +391,7 @@ double render_reference_part(const Scene& scene, const Bvh& bvh, const Reference
   write_file_atomically(path, [&](int fd) {
     Fnv1a h;
     write_all(fd, head.dump() + "\n", path);
-    seconds = render_blocks(scene, bvh, r, range, [&](const Accumulator& block) {
+    seconds = render_blocks(scene, bvh, r, range, [&](const Accumulator& block, int) {
       for (std::string_view bytes :
            {bytes_of(block.sums()), bytes_of(block.sample_counts()), bytes_of(block.non_finite_counts())}) {
         write_all(fd, bytes, path);
@@ -422,11 +452,16 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
 
   const std::string key = a.head["key"].dump();
   const Entry e = entry_of(safe_name(a.stem), key, cache_dir);
-  Accumulator total(a.width, a.height);
-  for (PartReader* rd : by_index) rd->read_blocks([&](const Accumulator& block) { total.merge(block); });
+  Accumulator total(a.width, a.height), first_half(a.width, a.height);
+  for (PartReader* rd : by_index)
+    rd->read_blocks([&](const Accumulator& block, int start) {
+      total.merge(block);
+      if (start < a.frames / 2) first_half.merge(block);
+    });
   Reference ref;
   ref.path = e.image.string();
   ref.image = total.mean();
+  if (reference_halves(a.frames, a.block)) ref.first_half = first_half.mean();
   ref.non_finite = total.non_finite_samples();
   create_cache_dir(e.dir);
   const OutputLock lock((e.dir / e.stem).string(), "reference cache entry " + e.stem, OutputLock::Wait::Yes);

@@ -26,6 +26,13 @@
 // A part file holds one line of JSON (the entry's key and stem, the shard, its blocks), then per block the raw
 // accumulator (3 doubles of sums, then a uint32 of finite and one of non-finite samples per pixel, native byte
 // order), then a line "end <FNV-1a of the block bytes>".
+//
+// Half reference: when the frames are two equal halves of whole blocks (frames a multiple of 2 * frame_block),
+// the entry also holds the mean of the first half's blocks, "<stem>-half1<ext>" beside the image (half_path; its
+// name and FNV-1a are in the sidecar as half_image, half_image_fnv1a). The second half is 2 * full - first, and
+// the two halves are independent, which is what shading/metrics.h reference_noise needs. get_reference and
+// combine_reference_parts write it (part files need no change: they hold every block); an entry without it (from
+// before, or frames that do not halve) is still used, without a noise estimate.
 #pragma once
 
 #include <functional>
@@ -67,7 +74,14 @@ struct Reference {
   bool from_cache = false;
   double render_s = 0;      // 0 when read from the cache
   uint64_t non_finite = 0;  // NaN/Inf frame samples left out while rendering it
+  Image first_half;         // empty when the entry has none (see "Half reference")
 };
+
+// "<dir>/<stem>-half1<ext>" for "<dir>/<stem><ext>": where the first-half mean of a reference image is looked for
+// (cache entries, and quality's --reference FILE).
+std::string half_reference_path(const std::string& image_path);
+// True when a reference of `frames` frames in blocks of frame_block has a half reference.
+bool reference_halves(int frames, int frame_block);
 
 // Canonical JSON text of the request's key.
 std::string reference_key(const ReferenceRequest& request);

@@ -11,6 +11,7 @@
 #include "harness/csv.h"
 #include "harness/merge.h"
 #include "shading/image.h"
+#include "shading/reference.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {
@@ -197,8 +198,16 @@ TEST(CliShard, ReferenceFrameShardsCombineToTheSingleProcessEntry) {
 
   std::vector<fs::path> single, combined;
   for (const auto& e : fs::directory_iterator(dir / "single"))
-    if (e.path().extension() != ".json") single.push_back(e.path());
+    if (e.path().extension() != ".json" && e.path().stem().string().find("-half1") == std::string::npos)
+      single.push_back(e.path());
   ASSERT_EQ(single.size(), 1u);
+  // The first-half image (the reference-noise estimate's) is written both ways, the same pixels.
+  const fs::path half = half_reference_path(single[0].string());
+  ASSERT_TRUE(fs::exists(half));
+  ASSERT_TRUE(fs::exists(dir / "combined" / half.filename())) << r.output;
+  const Image ha = read_image(half.string()), hb = read_image((dir / "combined" / half.filename()).string());
+  ASSERT_EQ(ha.rgb.size(), hb.rgb.size());
+  EXPECT_EQ(std::memcmp(ha.rgb.data(), hb.rgb.data(), ha.rgb.size() * sizeof(float)), 0);
   const fs::path twin = dir / "combined" / single[0].filename();
   ASSERT_TRUE(fs::exists(twin)) << r.output;
   // The same pixels, bit for bit (an EXR header also holds its write time, so not the same bytes).
