@@ -13,11 +13,13 @@
 //     MSE (a warning above kNoiseWarnShare = 10%), and mse_corr, rel_mse_corr, psnr_corr, bias2_corr the figures
 //     with the noise taken out (E[error] = error against the truth + reference noise, the two being independent).
 //   rel_mse_ds2/4/8: relMSE of the 2x/4x/8x box-downsampled render against the downsampled reference, mean over
-//     the renders: white noise drops ~4x per step, errors correlated over blocks (tile groups) stay.
+//     the renders: white noise drops ~4x per step, errors correlated over blocks (tile groups) stay. rel_var and
+//     rel_var_ds8: the variance part of rel_mse and rel_mse_ds8 (as variance above: bias left out), so that
+//     rel_var_ds8 / rel_var measures the structure of the noise alone (1/64 for white noise).
 //   bias_*: bias_test (shading/metrics.h) on the luma of all R x frames frames (they are independent): the share of
 //     pixels whose 95% band excludes zero (5% expected without bias), the whole-image mean bias with its 95% CI and
 //     the verdict; the map goes to --images as <scene>-<generator>-bias.png (red brighter, blue darker than the
-//     reference, brightness |z| / 4) and -bias.exr ((d, sigma, z) per pixel).
+//     reference; bright where the band excludes zero, dim where not) and -bias.exr ((d, sigma, z) per pixel).
 //   flip: mean ꟻLIP (LDR, NVIDIA's flip-evaluator) of render 0's display PNG against the reference's, when the
 //     flip program is found ($RAYCOH_FLIP, else .venv/bin/flip, which scripts/setup makes); empty otherwise.
 // --protocol ci|paper sets resolution, frames, reference frames and the metric space at once (harness/quality.h);
@@ -111,6 +113,7 @@ struct Renders {
   std::vector<double> psnr, ssim, rmse, rel_mse, mse, metric_mse;  // per render
   std::vector<double> ds[3];                                       // per render: rel_mse of the 2x/4x/8x images
   double mse_of_mean = 0;                                          // MSE of the mean of the R renders
+  double rel_mse_of_mean = 0, ds8_of_mean = 0;                     // relMSE of the mean, full and 8x downsampled
   BiasReport bias;
   bool has_bias = false;
   FrameStats total;
@@ -176,7 +179,10 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
     if (r == 0) sink.write(img, tm);
   }
   bar.clear();
-  out.mse_of_mean = mse(mean_acc.mean(), ref.image);
+  const Image mean_image = mean_acc.mean();
+  out.mse_of_mean = mse(mean_image, ref.image);
+  out.rel_mse_of_mean = rel_mse(mean_image, ref.image);
+  out.ds8_of_mean = downsampled_rel_mse(mean_image, ref.image, 8);
   if (samples.frames() >= 2) {
     out.bias = bias_test(samples, ref.image, ref.first_half.empty() ? nullptr : &ref.first_half);
     out.has_bias = true;
@@ -214,6 +220,9 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.rel_mse_ds2 = mean_of(m.ds[0]);
   row.rel_mse_ds4 = mean_of(m.ds[1]);
   row.rel_mse_ds8 = mean_of(m.ds[2]);
+  // The variance part alone (as `variance` above, on relMSE): bias, which survives downsampling too, left out.
+  row.rel_var = R > 1 ? (row.rel_mse - m.rel_mse_of_mean) * R / (R - 1) : nan;
+  row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.ds8_of_mean) * R / (R - 1) : nan;
   row.bias_excluded = m.has_bias ? m.bias.excluded_fraction : nan;
   row.bias_mean = m.has_bias ? m.bias.mean_bias : nan;
   row.bias_mean_ci = m.has_bias ? m.bias.mean_bias_ci : nan;
@@ -291,15 +300,16 @@ void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows)
       "\nReference noise, structure and bias: relMSE of the 2x/4x/8x box-downsampled images (white noise drops ~4x "
       "per step, blocky noise does not); pixels whose 95%% bias band excludes zero (5%% expected without bias); mean "
       "luma bias with its 95%% CI\n\n| scene | generator | ref noise relMSE | share | relMSE−noise | PSNR−noise | "
-      "ds2 | ds4 | ds8 | ds8/full | bias px | mean bias | ± | rel | verdict | FLIP |\n"
-      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|\n");
+      "ds2 | ds4 | ds8 | ds8/full | var ds8/full | bias px | mean bias | ± | rel | verdict | FLIP |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|\n");
   for (const QualityRow& r : rows)
     std::printf(
-        "| %s | %s | %.3g | %.1f%% | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f | %.1f%% | %+.3g | %.2g | %+.2f%% | %s | "
+        "| %s | %s | %.3g | %.1f%% | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f | %.3f | %.1f%% | %+.3g | %.2g | %+.2f%% "
+        "| %s | "
         "%.4f |\n",
         r.scene.c_str(), r.method.c_str(), r.ref_noise_rel_mse, 100 * r.ref_noise_share, r.rel_mse_corr, r.psnr_corr,
-        r.rel_mse_ds2, r.rel_mse_ds4, r.rel_mse_ds8, r.rel_mse_ds8 / r.rel_mse, 100 * r.bias_excluded, r.bias_mean,
-        r.bias_mean_ci, 100 * r.bias_mean_rel, r.bias_verdict.c_str(), r.flip);
+        r.rel_mse_ds2, r.rel_mse_ds4, r.rel_mse_ds8, r.rel_mse_ds8 / r.rel_mse, r.rel_var_ds8 / r.rel_var,
+        100 * r.bias_excluded, r.bias_mean, r.bias_mean_ci, 100 * r.bias_mean_rel, r.bias_verdict.c_str(), r.flip);
 }
 
 class QualityRun {

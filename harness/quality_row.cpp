@@ -51,6 +51,8 @@ const Schema<QualityRow>& quality_schema() {
         column("rel_mse_ds2", &R::rel_mse_ds2, G{}),
         column("rel_mse_ds4", &R::rel_mse_ds4, G{}),
         column("rel_mse_ds8", &R::rel_mse_ds8, G{}),
+        column("rel_var", &R::rel_var, G{}),
+        column("rel_var_ds8", &R::rel_var_ds8, G{}),
         column("bias_excluded", &R::bias_excluded, G{}),
         column("bias_mean", &R::bias_mean, G{}),
         column("bias_mean_ci", &R::bias_mean_ci, G{}),

@@ -28,6 +28,7 @@ struct QualityRow {
   double ref_noise_mse = 0, ref_noise_rel_mse = 0, ref_noise_share = 0, mse_corr = 0, rel_mse_corr = 0, psnr_corr = 0,
          bias2_corr = 0;
   double rel_mse_ds2 = 0, rel_mse_ds4 = 0, rel_mse_ds8 = 0;  // of the 2x/4x/8x box-downsampled images
+  double rel_var = 0, rel_var_ds8 = 0;                       // their variance part (NaN for one render)
   // Bias of the mean of all frames (shading/metrics.h bias_test), luma.
   double bias_excluded = 0, bias_mean = 0, bias_mean_ci = 0, bias_mean_rel = 0, bias_z2 = 0;
   std::string bias_verdict;  // "consistent" | "biased" | "" (one frame)

@@ -356,7 +356,9 @@ BiasReport bias_test(const BiasSamples& s, const Image& ref, const Image* half) 
 Image bias_false_colour(const Image& map) {
   Image out(map.width, map.height);
   for (size_t p = 0; p < map.pixels(); ++p) {
-    const float z = map.rgb[3 * p + 2], v = std::min(1.f, std::abs(z) / 4.f);
+    // Inside the band (|z| < 1.96): dim, at most 0.15; outside it: from 0.5 up to 1 at |z| = 4.
+    const float z = map.rgb[3 * p + 2], a = std::abs(z);
+    const float v = a < 1.96f ? 0.15f * a / 1.96f : std::min(1.f, 0.5f + 0.5f * (a - 1.96f) / 2.04f);
     out.set(p, z > 0 ? Vec3(v, 0.f, 0.f) : Vec3(0.f, 0.f, v));
   }
   return out;

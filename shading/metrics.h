@@ -137,7 +137,8 @@ struct BiasReport {
 BiasReport bias_test(const BiasSamples& samples, const Image& ref, const Image* ref_first_half);
 // Two-sided 95% quantile of Student's t with `dof` degrees of freedom (1.96 for large dof).
 double t_quantile_975(int dof);
-// A display image of a bias map: red where the render is brighter, blue where darker, brightness |z| / 4.
+// A display image of a bias map: red where the render is brighter, blue where darker; dim (<= 0.15) where the
+// pixel's 95% band includes zero (|z| < 1.96), bright (0.5 at the band's edge, 1 from |z| = 4) where it does not.
 Image bias_false_colour(const Image& map);
 
 }  // namespace raycoh
