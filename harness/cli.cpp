@@ -91,6 +91,28 @@ void resolve_render_common(RenderCommon& c, const RenderText& t) {
   }
 }
 
+void bind_protocol(CLI::App* cmd, ProtocolText& t, bool metrics) {
+  cmd->add_option("--protocol", t.protocol,
+                  "ci (160x120, 32 vs 512 frames, tone-mapped metrics) or paper (1920x1080, 128 vs 4096 frames, "
+                  "linear metrics); options given alongside replace its values")
+      ->capture_default_str();
+  if (metrics)
+    cmd->add_option("--metrics", t.metrics,
+                    "tonemapped or linear: the space of PSNR and SSIM (default: the protocol's)");
+}
+
+void resolve_protocol(CLI::App* cmd, const ProtocolText& t, RenderCommon& c, int* frames, const char* frames_option,
+                      int* ref_frames, const char* ref_option) {
+  apply_protocol(
+      protocol_named("--protocol", t.protocol),
+      [cmd](const std::string& o) {
+        const CLI::Option* opt = cmd->get_option_no_throw(o);
+        return opt && opt->count() > 0;
+      },
+      c, frames, frames_option, ref_frames, ref_option);
+  if (!t.metrics.empty()) c.metrics = parse_metric_space("--metrics", t.metrics);
+}
+
 std::vector<Crop> parse_crops(const std::vector<std::string>& texts) {
   std::vector<Crop> crops;
   for (size_t i = 0; i < texts.size(); ++i) {

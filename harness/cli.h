@@ -34,4 +34,14 @@ void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& text);
 void resolve_render_common(RenderCommon& c, const RenderText& text);
 std::vector<Crop> parse_crops(const std::vector<std::string>& texts);
 
+// --protocol ci|paper (and --metrics tonemapped|linear where `metrics`) of quality, converge and reference. After
+// resolve_render_common, resolve_protocol applies the protocol to every option not given on the command line
+// (harness/quality.h apply_protocol).
+struct ProtocolText {
+  std::string protocol = "ci", metrics;
+};
+void bind_protocol(CLI::App* cmd, ProtocolText& text, bool metrics);
+void resolve_protocol(CLI::App* cmd, const ProtocolText& text, RenderCommon& c, int* frames, const char* frames_option,
+                      int* ref_frames, const char* ref_option);
+
 }  // namespace raycoh

@@ -50,7 +50,8 @@ struct ConvergeRow {
   std::optional<int> ref_frames;  // absent for an explicit --reference file
   int max_depth = 0, rr_depth = 0;
   std::string tone_map, reference;
-  int frame = 0;  // frames rendered so far
+  std::string protocol, metrics;  // --protocol; space of psnr/ssim
+  int frame = 0;                  // frames rendered so far
   double wall_s = 0, trace_s = 0, gen_s = 0, frame_wall_ms = 0, frame_trace_ms = 0;
   uint64_t rays = 0;
   double rel_mse = 0, mse = 0, rmse = 0, psnr = 0, ssim = 0;
@@ -86,6 +87,8 @@ const Schema<ConvergeRow>& converge_schema() {
         column("rr_depth", &R::rr_depth, Integer<int>{}),
         column("tone_map", &R::tone_map, Text{}),
         column("reference", &R::reference, Text{}),
+        column("protocol", &R::protocol, Text{}),
+        column("metrics", &R::metrics, Text{}),
         column("frame", &R::frame, Integer<int>{}),
         column("wall_s", &R::wall_s, G{}),
         column("trace_s", &R::trace_s, G{}),
@@ -274,6 +277,8 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.rr_depth = o_.common.rr_depth;
   r.tone_map = describe(tm_);
   r.reference = ref_.path;
+  r.protocol = o_.common.protocol;
+  r.metrics = metric_space_name(o_.common.metrics);
   r.frame = run.frames;
   r.wall_s = run.total.wall_s;
   r.trace_s = run.total.trace_s;
@@ -311,7 +316,7 @@ bool ConvergeRun::render_round() {
     const bool modeled = run.model && (run.frames % o_.model_every == 0);
     if (modeled) run.modeled = run.model->model(static_cast<uint32_t>(run.frames), f);
     ++run.frames;
-    const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_);
+    const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_, o_.common.metrics);
     run.by_wall.push_back({run.total.wall_s, m.rel_mse});
     run.by_trace.push_back({run.total.trace_s, m.rel_mse});
     if (run.model) {
@@ -397,16 +402,16 @@ void ConvergeRun::summarize() {
   }
   std::printf(
       "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
-      "baseline %s\n\n",
+      "baseline %s; protocol %s, PSNR on %s\n\n",
       ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames, ref_.kind.c_str(),
-      kRelMseEpsilon, runs_[0].label.c_str());
+      kRelMseEpsilon, runs_[0].label.c_str(), o_.common.protocol.c_str(), metric_space_name(o_.common.metrics));
   std::printf(
       "| generator | frames | final relMSE | final PSNR | wall s | modeled GPU ms per frame |\n"
       "|---|---:|---:|---:|---:|---:|\n");
   for (const Run& r : runs_)
     if (r.frames > 0)
       std::printf("| %s | %d | %.4g | %.2f | %.3g | %s |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
-                  psnr(r.acc.mean(), ref_.image, tm_), r.total.wall_s,
+                  psnr(r.acc.mean(), ref_.image, tm_, o_.common.metrics), r.total.wall_s,
                   r.model ? fmt::format("{:.3g}", r.modeled_s * 1e3 / r.frames).c_str() : "-");
   if (gpu_model_)
     std::printf("\nmodeled_gpu: MODELED time on simt[%s] (trace launches + generation, harness/gpu_clock.h)\n",
@@ -458,6 +463,7 @@ BoundCommand bind_converge(CLI::App& parent) {
   struct State {
     ConvergeOptions o;
     RenderText text;
+    ProtocolText protocol;
     std::string generators, time, shard = "0/1";  // defaults from ConvergeOptions
   };
   auto s = std::make_shared<State>();
@@ -483,9 +489,13 @@ BoundCommand bind_converge(CLI::App& parent) {
   cmd->add_option("--model-every", s->o.model_every, "model every Nth frame on the GPU, hold the others")
       ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
-  return {cmd, [s](const Provenance& provenance) {
+  bind_protocol(cmd, s->protocol, true);
+  return {cmd, [s, cmd](const Provenance& provenance) {
             resolve_render_common(s->o.common, s->text);
             s->o.shard = parse_shard("--shard", s->shard);
+            // The ci protocol leaves --max-frames unlimited (converge runs by time); paper stops at 128 frames.
+            resolve_protocol(cmd, s->protocol, s->o.common, s->protocol.protocol == "ci" ? nullptr : &s->o.max_frames,
+                             "--max-frames", &s->o.ref_frames, "--ref-frames");
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.time_s = parse_duration("--time", s->time);
             return run_converge(s->o, provenance);

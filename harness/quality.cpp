@@ -8,6 +8,22 @@
 //     estimate the squared bias and the variance of one render (per pixel and channel, linear). The reference's
 //     own residual noise is part of bias2 (the same for every generator: NoOpt's bias2 is that floor). Empty for
 //     R = 1.
+//   ref_noise_mse, ref_noise_rel_mse: the reference's own noise (shading/metrics.h reference_noise, from its half
+//     reference; empty without one), ref_noise_share the largest of noise / figure over mse, rel_mse and the PSNR
+//     MSE (a warning above kNoiseWarnShare = 10%), and mse_corr, rel_mse_corr, psnr_corr, bias2_corr the figures
+//     with the noise taken out (E[error] = error against the truth + reference noise, the two being independent).
+//   rel_mse_ds2/4/8: relMSE of the 2x/4x/8x box-downsampled render against the downsampled reference, mean over
+//     the renders: white noise drops ~4x per step, errors correlated over blocks (tile groups) stay. rel_var and
+//     rel_var_ds8: the variance part of rel_mse and rel_mse_ds8 (as variance above: bias left out), so that
+//     rel_var_ds8 / rel_var measures the structure of the noise alone (1/64 for white noise).
+//   bias_*: bias_test (shading/metrics.h) on the luma of all R x frames frames (they are independent): the share of
+//     pixels whose 95% band excludes zero (5% expected without bias), the whole-image mean bias with its 95% CI and
+//     the verdict; the map goes to --images as <scene>-<generator>-bias.png (red brighter, blue darker than the
+//     reference; bright where the band excludes zero, dim where not) and -bias.exr ((d, sigma, z) per pixel).
+//   flip: mean ꟻLIP (LDR, NVIDIA's flip-evaluator) of render 0's display PNG against the reference's, when the
+//     flip program is found ($RAYCOH_FLIP, else .venv/bin/flip, which scripts/setup makes); empty otherwise.
+// --protocol ci|paper sets resolution, frames, reference frames and the metric space at once (harness/quality.h);
+// --metrics linear computes PSNR/SSIM on linear radiance (the paper's protocol) instead of the tone-mapped image.
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
 // Images of every render 0, the reference and the crops go to --images. Resume: rows already in <out>.partial
 // from an interrupted run with the same settings, scene, method and git revision are kept, not rendered again.
@@ -20,6 +36,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 
@@ -41,6 +58,9 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// ref_noise_share above which quality warns that the reference's noise is a large part of an error figure.
+constexpr double kNoiseWarnShare = 0.1;
 
 void check_quality(const QualityOptions& o) {
   check_common(o.common, true);
@@ -78,6 +98,8 @@ ResumeRule quality_rule(const QualityOptions& o, const Provenance& p) {
       .require("max_depth", {std::to_string(o.common.max_depth)})
       .require("rr_depth", {std::to_string(o.common.rr_depth)})
       .require("tone_map", {describe(o.common.tone_map)})
+      .require("protocol", {o.common.protocol})
+      .require("metrics", {metric_space_name(o.common.metrics)})
       .require("reference_kind", {o.reference.empty() ? "cache" : "file"});
   if (!o.reference.empty()) rule.require("reference", {o.reference});
   return require_provenance(rule, p);
@@ -91,55 +113,89 @@ double mean_of(const std::vector<double>& v) {
 
 // R independent renders of one generator against the reference.
 struct Renders {
-  std::vector<double> psnr, ssim, rmse, rel_mse, mse;  // per render
-  double mse_of_mean = 0;                              // MSE of the mean of the R renders
+  std::vector<double> psnr, ssim, rmse, rel_mse, mse, metric_mse;  // per render
+  std::vector<double> ds[3];                                       // per render: rel_mse of the 2x/4x/8x images
+  double mse_of_mean = 0;                                          // MSE of the mean of the R renders
+  double rel_mse_of_mean = 0, ds8_of_mean = 0;                     // relMSE of the mean, full and 8x downsampled
+  BiasReport bias;
+  bool has_bias = false;
   FrameStats total;
   uint64_t non_finite_pixels = 0;
 };
+
+constexpr int kDownsample[3] = {2, 4, 8};
+
+// rel_mse of the factor x factor box-downsampled images; NaN when the image is smaller than a block.
+double downsampled_rel_mse(const Image& img, const Image& ref, int factor) {
+  if (img.width < factor || img.height < factor) return std::nan("");
+  return rel_mse(box_downsample(img, factor), box_downsample(ref, factor));
+}
 
 // Where a generator's renders are written: render 0 and its crops, tone-mapped for display.
 struct ImageSink {
   std::string dir, base;  // base: "<scene>-<generator>"
   const std::vector<Crop>& crops;
+  std::string main_path() const { return (fs::path(dir) / (base + display_extension())).string(); }
   void write(const Image& img, const ToneMap& tm) const {
-    write_image(img, (fs::path(dir) / (base + display_extension())).string(), tm);
+    write_image(img, main_path(), tm);
     for (size_t ci = 0; ci < crops.size(); ++ci)
       write_image(crop(img, crops[ci]),
                   (fs::path(dir) / fmt::format("{}-crop{}{}", base, ci, display_extension())).string(), tm);
   }
+  // The bias map: signed false colour (display) and, in a build with EXR, (d, sigma, z) as float.
+  void write_bias(const BiasReport& b) const {
+    write_image(bias_false_colour(b.map), (fs::path(dir) / (base + "-bias" + display_extension())).string(),
+                ToneMap{ToneMapKind::Clamp, 1.f, false});
+    if (image_io_available()) write_image(b.map, (fs::path(dir) / (base + "-bias.exr")).string());
+  }
 };
 
 Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generator& generator, const std::string& label,
-                         const Image& ref, const ToneMap& tm, const ImageSink& sink, size_t item, size_t items) {
+                         const ReferenceImage& ref, const ToneMap& tm, const ImageSink& sink, size_t item,
+                         size_t items) {
   Renders out;
   Accumulator mean_acc(o.common.width, o.common.height);
+  BiasSamples samples(o.common.width, o.common.height);
   Progress bar;
   const int R = o.bias_renders;
   for (int r = 0; r < R; ++r) {
     PathTracer pt(ls.scene, *ls.tracer, generator, settings_of(o.common, o.common.seed + r));
     Accumulator acc(o.common.width, o.common.height);
     for (int f = 0; f < o.frames; ++f) {
-      out.total.add(pt.render_frame(static_cast<uint32_t>(f), acc));
+      Accumulator frame(o.common.width, o.common.height);  // this frame alone, for the bias test's spread
+      out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame));
+      acc.merge(frame);
+      samples.add_frame(frame);
       bar.update(item, items, r * o.frames + f, R * o.frames, fmt::format("{} {}", ls.scene.name, label));
     }
     out.non_finite_pixels += acc.pixels_with_non_finite();
     const Image img = acc.mean();
-    const ErrorMetrics m = compare_images(img, ref, tm);
+    const ErrorMetrics m = compare_images(img, ref.image, tm, o.common.metrics);
     out.psnr.push_back(m.psnr);
     out.ssim.push_back(m.ssim);
     out.rmse.push_back(m.rmse);
     out.rel_mse.push_back(m.rel_mse);
     out.mse.push_back(m.mse);
+    out.metric_mse.push_back(std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+    for (int k = 0; k < 3; ++k) out.ds[k].push_back(downsampled_rel_mse(img, ref.image, kDownsample[k]));
     for (size_t p = 0; p < img.pixels(); ++p) mean_acc.add(p, img.at(p));
     if (r == 0) sink.write(img, tm);
   }
   bar.clear();
-  out.mse_of_mean = mse(mean_acc.mean(), ref);
+  const Image mean_image = mean_acc.mean();
+  out.mse_of_mean = mse(mean_image, ref.image);
+  out.rel_mse_of_mean = rel_mse(mean_image, ref.image);
+  out.ds8_of_mean = downsampled_rel_mse(mean_image, ref.image, 8);
+  if (samples.frames() >= 2) {
+    out.bias = bias_test(samples, ref.image, ref.first_half.empty() ? nullptr : &ref.first_half);
+    out.has_bias = true;
+    sink.write_bias(out.bias);
+  }
   return out;
 }
 
 // The measured fields of a row (its head holds the settings and the resume key).
-void fill_measurements(QualityRow& row, const Renders& m, int R, int frames) {
+void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, const ReferenceNoise* noise) {
   row.psnr = mean_of(m.psnr);
   row.psnr_std = std::nan("");
   if (R > 1) {
@@ -154,6 +210,28 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames) {
   row.mse_of_mean = m.mse_of_mean;
   row.bias2 = R > 1 ? (R * m.mse_of_mean - row.mse) / (R - 1) : std::nan("");
   row.variance = R > 1 ? (row.mse - m.mse_of_mean) * R / (R - 1) : std::nan("");
+  const double nan = std::nan("");
+  row.ref_noise_mse = noise ? noise->mse : nan;
+  row.ref_noise_rel_mse = noise ? noise->rel_mse : nan;
+  row.ref_noise_share =
+      noise ? std::max({noise->mse / row.mse, noise->rel_mse / row.rel_mse, noise->metric_mse / mean_of(m.metric_mse)})
+            : nan;
+  row.mse_corr = noise ? minus_noise(row.mse, noise->mse) : nan;
+  row.rel_mse_corr = noise ? minus_noise(row.rel_mse, noise->rel_mse) : nan;
+  row.psnr_corr = noise ? psnr_from_mse(minus_noise(mean_of(m.metric_mse), noise->metric_mse)) : nan;
+  row.bias2_corr = noise && R > 1 ? row.bias2 - noise->mse : nan;
+  row.rel_mse_ds2 = mean_of(m.ds[0]);
+  row.rel_mse_ds4 = mean_of(m.ds[1]);
+  row.rel_mse_ds8 = mean_of(m.ds[2]);
+  // The variance part alone (as `variance` above, on relMSE): bias, which survives downsampling too, left out.
+  row.rel_var = R > 1 ? (row.rel_mse - m.rel_mse_of_mean) * R / (R - 1) : nan;
+  row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.ds8_of_mean) * R / (R - 1) : nan;
+  row.bias_excluded = m.has_bias ? m.bias.excluded_fraction : nan;
+  row.bias_mean = m.has_bias ? m.bias.mean_bias : nan;
+  row.bias_mean_ci = m.has_bias ? m.bias.mean_bias_ci : nan;
+  row.bias_mean_rel = m.has_bias ? m.bias.mean_bias / m.bias.ref_mean : nan;
+  row.bias_z2 = m.has_bias ? m.bias.z2 : nan;
+  row.bias_verdict = m.has_bias ? (m.bias.consistent ? "consistent" : "biased") : "";
   row.non_finite_samples = m.total.non_finite;
   row.non_finite_pixels = m.non_finite_pixels;
   row.render_s = m.total.wall_s;
@@ -165,12 +243,46 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames) {
   row.reused_rays = m.total.generation.reused_rays;
 }
 
+// ꟻLIP (Andersson et al. 2020) through NVIDIA's reference implementation (PyPI flip-evaluator, installed by
+// scripts/setup into .venv): $RAYCOH_FLIP, else .venv/bin/flip in the working folder; "" when neither exists.
+std::string flip_program() {
+  const char* env = std::getenv("RAYCOH_FLIP");
+  if (env && *env) return env;
+  std::error_code ec;
+  const fs::path venv = fs::path(".venv") / "bin" / "flip";
+  return fs::is_regular_file(venv, ec) ? fs::absolute(venv).string() : "";
+}
+
+// Single-quoted for the shell.
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Mean LDR-FLIP of two display images (the PNGs written); NaN when flip fails or prints no mean.
+double run_flip(const std::string& program, const std::string& ref, const std::string& test) {
+  const std::string cmd =
+      fmt::format("{} -r {} -t {} -v 1 -nerm 2>/dev/null", quoted(program), quoted(ref), quoted(test));
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return std::nan("");
+  std::string text;
+  char buf[256];
+  while (std::fgets(buf, sizeof buf, pipe)) text += buf;
+  const int rc = ::pclose(pipe);
+  const size_t at = text.find("Mean:");
+  if (rc != 0 || at == std::string::npos) return std::nan("");
+  return std::strtod(text.c_str() + at + 5, nullptr);
+}
+
 void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows) {
+  const bool linear = o.common.metrics == MetricSpace::Linear;
   std::printf(
       "\nPSNR (dB) after %d frames, mean of %d independent render(s), against a %d-frame NoOpt reference; "
-      "%dx%d, max depth %d; tone map %s, peak 1\n\n| generator |",
+      "%dx%d, max depth %d; protocol %s; metrics on %s, peak 1\n\n| generator |",
       o.frames, o.bias_renders, o.ref_frames, o.common.width, o.common.height, o.common.max_depth,
-      describe(o.common.tone_map).c_str());
+      o.common.protocol.c_str(),
+      linear ? "linear radiance (no tone map)" : ("tone map " + describe(o.common.tone_map)).c_str());
   for (size_t si = 0; si < o.scenes.size(); ++si) std::printf(" %s |", rows[si * o.generators.size()].scene.c_str());
   std::printf("\n|---|");
   for (size_t i = 0; i < o.scenes.size(); ++i) std::printf("---:|");
@@ -187,6 +299,20 @@ void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows)
     std::printf("| %s | %s | %.3g | %.2f | %.2f | %.4f | %.4g | %.4g | %.3g | %.3g | %llu | %.1f | %.2f |\n",
                 r.scene.c_str(), r.method.c_str(), r.exposure, r.psnr, r.psnr_std, r.ssim, r.rmse, r.rel_mse, r.bias2,
                 r.variance, static_cast<unsigned long long>(r.non_finite_samples), r.render_s, r.mray_s);
+  std::printf(
+      "\nReference noise, structure and bias: relMSE of the 2x/4x/8x box-downsampled images (white noise drops ~4x "
+      "per step, blocky noise does not); pixels whose 95%% bias band excludes zero (5%% expected without bias); mean "
+      "luma bias with its 95%% CI\n\n| scene | generator | ref noise relMSE | share | relMSE−noise | PSNR−noise | "
+      "ds2 | ds4 | ds8 | ds8/full | var ds8/full | bias px | mean bias | ± | rel | verdict | FLIP |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|\n");
+  for (const QualityRow& r : rows)
+    std::printf(
+        "| %s | %s | %.3g | %.1f%% | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f | %.3f | %.1f%% | %+.3g | %.2g | %+.2f%% "
+        "| %s | "
+        "%.4f |\n",
+        r.scene.c_str(), r.method.c_str(), r.ref_noise_rel_mse, 100 * r.ref_noise_share, r.rel_mse_corr, r.psnr_corr,
+        r.rel_mse_ds2, r.rel_mse_ds4, r.rel_mse_ds8, r.rel_mse_ds8 / r.rel_mse, r.rel_var_ds8 / r.rel_var,
+        100 * r.bias_excluded, r.bias_mean, r.bias_mean_ci, 100 * r.bias_mean_rel, r.bias_verdict.c_str(), r.flip);
 }
 
 class QualityRun {
@@ -197,6 +323,7 @@ class QualityRun {
         generators_(make_generators("--generators", o.generators)),
         ref_kind_(o.reference.empty() ? "cache" : "file"),
         image_dir_(o.image_dir.empty() ? stem_path(o.out) + "-images" : o.image_dir),
+        flip_(image_io_available() ? flip_program() : ""),
         csv_(o.out, quality_schema(), CsvWriter::Options::resumable(o.common.force, quality_rule(o, p))) {
     std::vector<std::string> units;
     for (const std::string& spec : o.scenes)
@@ -209,13 +336,14 @@ class QualityRun {
   QualityRow head(const std::string& spec, size_t gi) const;
   const QualityRow* finished(const std::string& spec, size_t gi) const;
   void run_scene(size_t si);
-  void run_generator(const LoadedScene& ls, const ReferenceImage& ref, const ToneMap& tm, size_t si, size_t gi);
+  void run_generator(const LoadedScene& ls, const ReferenceImage& ref, const ReferenceNoise* noise, const ToneMap& tm,
+                     size_t si, size_t gi);
   bool owns(size_t si, size_t gi) const { return owned_[si * o_.generators.size() + gi]; }
 
   const QualityOptions& o_;
   const Provenance& provenance_;
   std::vector<std::unique_ptr<Generator>> generators_;
-  std::string ref_kind_, image_dir_;
+  std::string ref_kind_, image_dir_, flip_;
   RecordCsv<QualityRow> csv_;
   std::vector<QualityRow> rows_;  // scene x generator order, for the console
   std::vector<bool> owned_;       // --shard: the scene x generator units this shard renders
@@ -238,6 +366,8 @@ QualityRow QualityRun::head(const std::string& spec, size_t gi) const {
   r.rr_depth = o_.common.rr_depth;
   r.tone_map = describe(o_.common.tone_map);
   r.reference_kind = ref_kind_;
+  r.protocol = o_.common.protocol;
+  r.metrics = metric_space_name(o_.common.metrics);
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.common.tracer);
   return r;
@@ -251,12 +381,12 @@ const QualityRow* QualityRun::finished(const std::string& spec, size_t gi) const
   return nullptr;
 }
 
-void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref, const ToneMap& tm, size_t si,
-                               size_t gi) {
+void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref, const ReferenceNoise* noise,
+                               const ToneMap& tm, size_t si, size_t gi) {
   const std::string label = o_.generators[gi].text();
   const ImageSink sink{image_dir_, fmt::format("{}-{}", safe_name(ls.scene.name), safe_name(label)), o_.crops};
-  const Renders m = render_generator(o_, ls, *generators_[gi], label, ref.image, tm, sink,
-                                     si * o_.generators.size() + gi, o_.scenes.size() * o_.generators.size());
+  const Renders m = render_generator(o_, ls, *generators_[gi], label, ref, tm, sink, si * o_.generators.size() + gi,
+                                     o_.scenes.size() * o_.generators.size());
   QualityRow row = head(o_.scenes[si], gi);
   row.scene = ls.scene.name;
   row.scene_triangles = ls.scene.triangle_count();
@@ -269,8 +399,17 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
   row.exposure = tm.exposure;
   row.reference = ref.path;
   row.ref_non_finite_samples = ref.non_finite;
-  fill_measurements(row, m, o_.bias_renders, o_.frames);
+  fill_measurements(row, m, o_.bias_renders, o_.frames, noise);
+  row.flip = flip_.empty()
+                 ? std::nan("")
+                 : run_flip(flip_, ImageSink{image_dir_, safe_name(ls.scene.name) + "-reference", {}}.main_path(),
+                            sink.main_path());
   csv_.write(row);
+  if (row.ref_noise_share > kNoiseWarnShare)
+    std::fprintf(stderr,
+                 "    warning: %s: the reference's own noise is %.0f%% of an error figure (ref_noise_share); "
+                 "render a longer reference (--ref-frames)\n",
+                 label.c_str(), 100 * row.ref_noise_share);
   rows_.push_back(std::move(row));
   if (m.total.non_finite > 0)
     std::fprintf(stderr, "    warning: %s: %llu NaN/Inf frame samples were left out (counted, not added)\n",
@@ -300,12 +439,22 @@ void QualityRun::run_scene(size_t si) {
   const ToneMap tm = resolved(o_.common.tone_map, ref.image);
   fingerprint_ = scene_fingerprint(spec);
   if (owns(si, 0)) ImageSink{image_dir_, safe_name(ls->scene.name) + "-reference", o_.crops}.write(ref.image, tm);
+  ReferenceNoise noise;
+  if (!ref.first_half.empty()) {
+    noise = reference_noise(ref.image, ref.first_half, tm, o_.common.metrics);
+    std::fprintf(stderr, "    reference noise: MSE %.3g, relMSE %.3g (from its two half-references)\n", noise.mse,
+                 noise.rel_mse);
+  } else {
+    std::fprintf(stderr, "    reference noise: unknown (no half-reference: %s)\n",
+                 ref.kind == "file" ? "no <stem>-half1 image beside --reference"
+                                    : "the reference frames are not two equal halves of whole 64-frame blocks");
+  }
   for (size_t gi = 0; gi < o_.generators.size(); ++gi) {
     if (!owns(si, gi)) continue;
     if (const QualityRow* row = finished(spec, gi))
       rows_.push_back(*row);
     else
-      run_generator(*ls, ref, tm, si, gi);
+      run_generator(*ls, ref, ref.first_half.empty() ? nullptr : &noise, tm, si, gi);
   }
 }
 
@@ -313,6 +462,10 @@ int QualityRun::run() {
   size_t reusable = 0;
   for (size_t si = 0; si < o_.scenes.size(); ++si)
     for (size_t gi = 0; gi < o_.generators.size(); ++gi) reusable += owns(si, gi) && finished(o_.scenes[si], gi);
+  if (flip_.empty())
+    std::fprintf(stderr,
+                 "FLIP: not available (no $RAYCOH_FLIP or .venv/bin/flip; scripts/setup installs flip-evaluator), "
+                 "the flip column stays empty\n");
   if (reusable > 0)
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", reusable, csv_.partial_path().c_str());
   const auto t_start = Clock::now();
@@ -347,6 +500,7 @@ BoundCommand bind_quality(CLI::App& parent) {
   struct State {
     QualityOptions o;
     RenderText text;
+    ProtocolText protocol;
     std::string scenes, generators, shard = "0/1";
   };
   auto s = std::make_shared<State>();
@@ -367,9 +521,11 @@ BoundCommand bind_quality(CLI::App& parent) {
                   "I/N: render only shard I (0-based) of N of the scene x generator units; join with raycoh merge")
       ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
-  return {cmd, [s](const Provenance& provenance) {
+  bind_protocol(cmd, s->protocol, true);
+  return {cmd, [s, cmd](const Provenance& provenance) {
             resolve_render_common(s->o.common, s->text);
             s->o.shard = parse_shard("--shard", s->shard);
+            resolve_protocol(cmd, s->protocol, s->o.common, &s->o.frames, "--frames", &s->o.ref_frames, "--ref-frames");
             s->o.scenes = split_scenes("--scenes", s->scenes);
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.crops = parse_crops(s->text.crops);

@@ -8,6 +8,7 @@
 // validation layer); errors are raycoh::Error naming the option (e.g. "--frames 0: ...").
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "harness/provenance.h"
 #include "harness/shard.h"
 #include "shading/image.h"
+#include "shading/metrics.h"
 
 namespace raycoh {
 
@@ -28,8 +30,28 @@ struct RenderCommon {
   // --tone-map aces|clamp, --exposure auto|(0, 1e6]: PNG output, PSNR and SSIM. Auto exposure (the default) is
   // resolved on the reference image (quality, converge, compare) or on the rendered image (render).
   ToneMap tone_map{ToneMapKind::Aces, 1.f, true};
-  bool force = false;  // --force: replace an existing --out (and what its .partial holds)
+  // --metrics tonemapped|linear (quality, converge): the space of PSNR and SSIM (shading/metrics.h).
+  MetricSpace metrics = MetricSpace::ToneMapped;
+  std::string protocol = "ci";  // --protocol (quality, converge, reference): recorded in the CSV
+  bool force = false;           // --force: replace an existing --out (and what its .partial holds)
 };
+
+// --protocol ci|paper of quality, converge and reference: one name for a set of settings, each of which an option
+// given alongside replaces.
+//   ci     the defaults above: 160x120, 32 frames, 512-frame reference, tone-mapped PSNR/SSIM (fits CI and a laptop)
+//   paper  the paper's Table 2: 1920x1080, 128 frames, 4096-frame reference, linear radiance (no tone map)
+// For converge, `frames` is --max-frames; for reference, `ref_frames` is --frames.
+struct Protocol {
+  std::string name;
+  int width = 0, height = 0, frames = 0, ref_frames = 0;
+  MetricSpace metrics = MetricSpace::ToneMapped;
+};
+// Throws raycoh::Error naming `option` and the choices.
+Protocol protocol_named(const std::string& option, const std::string& name);
+// Sets c.protocol, and c.width/height (--res), c.metrics (--metrics), *frames (frames_option) and *ref_frames
+// (ref_option) from the protocol unless given(option) says the option was given; frames and ref_frames may be null.
+void apply_protocol(const Protocol& p, const std::function<bool(const std::string&)>& given, RenderCommon& c,
+                    int* frames, const char* frames_option, int* ref_frames, const char* ref_option);
 
 // `raycoh render --scene S --generator G --frames N --out img.exr [--crop x,y,w,h]...`
 struct RenderOptions {

@@ -22,8 +22,18 @@ struct QualityRow {
   std::string tone_map;  // as given (exposure=auto before resolving)
   double exposure = 0;   // resolved on the reference
   std::string reference_kind, reference;
+  std::string protocol, metrics;  // --protocol; metric space of psnr/ssim ("tonemapped" | "linear")
   // NaN (written empty) where undefined, e.g. bias2 and variance for one render.
   double psnr = 0, psnr_std = 0, ssim = 0, rmse = 0, rel_mse = 0, mse = 0, mse_of_mean = 0, bias2 = 0, variance = 0;
+  // The reference's own noise (NaN without a half reference) and the figures with it taken out.
+  double ref_noise_mse = 0, ref_noise_rel_mse = 0, ref_noise_share = 0, mse_corr = 0, rel_mse_corr = 0, psnr_corr = 0,
+         bias2_corr = 0;
+  double rel_mse_ds2 = 0, rel_mse_ds4 = 0, rel_mse_ds8 = 0;  // of the 2x/4x/8x box-downsampled images
+  double rel_var = 0, rel_var_ds8 = 0;                       // their variance part (NaN for one render)
+  // Bias of the mean of all frames (shading/metrics.h bias_test), luma.
+  double bias_excluded = 0, bias_mean = 0, bias_mean_ci = 0, bias_mean_rel = 0, bias_z2 = 0;
+  std::string bias_verdict;  // "consistent" | "biased" | "" (one frame)
+  double flip = 0;           // mean FLIP of render 0 (NaN when flip is not available)
   uint64_t non_finite_samples = 0, non_finite_pixels = 0, ref_non_finite_samples = 0;
   double render_s = 0, trace_s = 0, gen_ms = 0;
   uint64_t rays = 0;

@@ -87,6 +87,7 @@ BoundCommand bind_reference(CLI::App& parent) {
   struct State {
     ReferenceOptions o;
     RenderText text;
+    ProtocolText protocol;
     std::string shard = "0/1";
   };
   auto s = std::make_shared<State>();
@@ -102,8 +103,10 @@ BoundCommand bind_reference(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--out", s->o.out, "the part file of --shard");
   bind_render_common(cmd, s->o.common, s->text);
-  return {cmd, [s](const Provenance&) {
+  bind_protocol(cmd, s->protocol, false);
+  return {cmd, [s, cmd](const Provenance&) {
             resolve_render_common(s->o.common, s->text);
+            resolve_protocol(cmd, s->protocol, s->o.common, nullptr, nullptr, &s->o.frames, "--frames");
             s->o.shard = parse_shard("--shard", s->shard);
             return run_reference(s->o);
           }};
@@ -127,6 +130,9 @@ BoundCommand bind_reference_combine(CLI::App& parent) {
             else
               std::printf("combined %zu part(s) -> %s (rendered in %.1f s in all, on %s)\n", s->parts.size(),
                           ref.path.c_str(), ref.render_s, join(ref.render_hosts, ", ").c_str());
+            if (!ref.first_half.empty())
+              std::printf("first-half reference (for the noise estimate) -> %s\n",
+                          half_reference_path(ref.path).c_str());
             if (ref.non_finite > 0)
               std::printf("warning: %llu NaN/Inf frame samples were left out (counted, not added)\n",
                           static_cast<unsigned long long>(ref.non_finite));

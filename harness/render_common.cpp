@@ -113,6 +113,13 @@ ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, 
                               out.image.width, out.image.height, c.width, c.height));
     out.path = explicit_path;
     out.kind = "file";
+    const std::string half = half_reference_path(explicit_path);
+    if (fs::is_regular_file(half)) {
+      out.first_half = read_image_for("--reference (half)", half);
+      if (out.first_half.width != c.width || out.first_half.height != c.height)
+        throw Error(fmt::format("--reference {}: its half image {} is {}x{}, the reference {}x{}", explicit_path, half,
+                                out.first_half.width, out.first_half.height, c.width, c.height));
+    }
     return out;
   }
   ReferenceRequest req;
@@ -138,7 +145,29 @@ ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, 
   out.path = ref.path;
   out.kind = ref.from_cache ? "cache" : "rendered";
   out.non_finite = ref.non_finite;
+  out.first_half = ref.first_half;
   return out;
+}
+
+Protocol protocol_named(const std::string& option, const std::string& name) {
+  if (name == "ci") return {"ci", 160, 120, 32, 512, MetricSpace::ToneMapped};
+  if (name == "paper") return {"paper", 1920, 1080, 128, 4096, MetricSpace::Linear};
+  throw Error(
+      fmt::format("{} '{}': expected ci (160x120, 32 vs 512 frames, tone-mapped) or paper (1920x1080, 128 "
+                  "vs 4096 frames, linear)",
+                  option, name));
+}
+
+void apply_protocol(const Protocol& p, const std::function<bool(const std::string&)>& given, RenderCommon& c,
+                    int* frames, const char* frames_option, int* ref_frames, const char* ref_option) {
+  c.protocol = p.name;
+  if (!given("--res")) {
+    c.width = p.width;
+    c.height = p.height;
+  }
+  if (!given("--metrics")) c.metrics = p.metrics;
+  if (frames && !given(frames_option)) *frames = p.frames;
+  if (ref_frames && !given(ref_option)) *ref_frames = p.ref_frames;
 }
 
 std::string stem_path(const std::string& path) {

@@ -54,8 +54,10 @@ struct ReferenceImage {
   std::string path;
   std::string kind;  // "cache" (read from the cache), "rendered" (rendered now into the cache), "file"
   uint64_t non_finite = 0;
+  Image first_half;  // the first-half mean (shading/reference.h), empty when there is none
 };
-// --reference when given, else the cached (or now rendered) NoOpt reference of shading/reference.h.
+// --reference when given (with its half image when "<stem>-half1<ext>" sits beside it), else the cached (or now
+// rendered) NoOpt reference of shading/reference.h.
 ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, const RenderCommon& c, int ref_frames,
                                 const std::string& cache_dir, const std::string& explicit_path);
 

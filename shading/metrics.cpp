@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -70,16 +71,29 @@ std::vector<double> gaussian_filter(const std::vector<double>& in, int w, int h)
   return out;
 }
 
-std::vector<double> display_luma(const Image& img, const ToneMap& tm) {
+// One channel value as the metric space's PSNR sees it.
+float metric_value(float v, const ToneMap& tm, MetricSpace space) {
+  return space == MetricSpace::Linear ? v : tone_map_channel(v, tm);
+}
+
+std::vector<double> metric_luma(const Image& img, const ToneMap& tm, MetricSpace space) {
   std::vector<double> y(img.pixels());
   for (size_t p = 0; p < img.pixels(); ++p) {
     const Vec3 c = img.at(p);
-    y[p] = luma709({tone_map_channel(c.x, tm), tone_map_channel(c.y, tm), tone_map_channel(c.z, tm)});
+    y[p] = luma709({metric_value(c.x, tm, space), metric_value(c.y, tm, space), metric_value(c.z, tm, space)});
   }
   return y;
 }
 
 }  // namespace
+
+MetricSpace parse_metric_space(const std::string& option, const std::string& text) {
+  if (text == "tonemapped") return MetricSpace::ToneMapped;
+  if (text == "linear") return MetricSpace::Linear;
+  throw Error(fmt::format("{} '{}': expected tonemapped or linear", option, text));
+}
+
+const char* metric_space_name(MetricSpace space) { return space == MetricSpace::Linear ? "linear" : "tonemapped"; }
 
 double luma709(Vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
@@ -126,13 +140,14 @@ double psnr_from_mse(double mse_display, double peak) {
   return 10.0 * std::log10(peak * peak / mse_display);
 }
 
-double psnr(const Image& test, const Image& ref, const ToneMap& tm) {
+double psnr(const Image& test, const Image& ref, const ToneMap& tm, MetricSpace space) {
   check_same_size(test, ref);
   uint64_t n;
   const double s = sum_over_finite(
       test, ref,
-      [&tm](double t, double r) {
-        const double d = tone_map_channel(static_cast<float>(t), tm) - tone_map_channel(static_cast<float>(r), tm);
+      [&tm, space](double t, double r) {
+        const double d = static_cast<double>(metric_value(static_cast<float>(t), tm, space)) -
+                         metric_value(static_cast<float>(r), tm, space);
         return d * d;
       },
       n);
@@ -167,12 +182,12 @@ double ssim_gray(const std::vector<double>& a, const std::vector<double>& b, int
   return sum / (static_cast<double>(width - 2 * pad) * static_cast<double>(height - 2 * pad));
 }
 
-double ssim(const Image& test, const Image& ref, const ToneMap& tm) {
+double ssim(const Image& test, const Image& ref, const ToneMap& tm, MetricSpace space) {
   check_same_size(test, ref);
-  return ssim_gray(display_luma(test, tm), display_luma(ref, tm), test.width, test.height, 1.0);
+  return ssim_gray(metric_luma(test, tm, space), metric_luma(ref, tm, space), test.width, test.height, 1.0);
 }
 
-ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& tm) {
+ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& tm, MetricSpace space) {
   check_same_size(test, ref);
   ErrorMetrics m;
   uint64_t n = 0;
@@ -182,8 +197,8 @@ ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& 
   m.pixels_compared = n;
   m.rmse = std::sqrt(m.mse);
   m.rel_mse = rel_mse(test, ref);
-  m.psnr = psnr(test, ref, tm);
-  m.ssim = test.width >= kSsimWindow && test.height >= kSsimWindow ? ssim(test, ref, tm) : std::nan("");
+  m.psnr = psnr(test, ref, tm, space);
+  m.ssim = test.width >= kSsimWindow && test.height >= kSsimWindow ? ssim(test, ref, tm, space) : std::nan("");
   for (size_t p = 0; p < test.pixels(); ++p) {
     const Vec3 t = test.at(p), r = ref.at(p);
     const bool nan =
@@ -194,6 +209,159 @@ ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& 
       ++m.inf_pixels;
   }
   return m;
+}
+
+Image box_downsample(const Image& image, int factor) {
+  if (factor < 1 || factor > image.width || factor > image.height)
+    throw Error(fmt::format("box downsample by {}: must be in [1, {}] for a {}x{} image", factor,
+                            std::min(image.width, image.height), image.width, image.height));
+  Image out(image.width / factor, image.height / factor);
+  const double inv = 1.0 / (static_cast<double>(factor) * factor);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      double s[3] = {0, 0, 0};
+      for (int dy = 0; dy < factor; ++dy)
+        for (int dx = 0; dx < factor; ++dx) {
+          const Vec3 c = image.at(x * factor + dx, y * factor + dy);
+          s[0] += c.x;
+          s[1] += c.y;
+          s[2] += c.z;
+        }
+      out.set(x, y,
+              Vec3(static_cast<float>(s[0] * inv), static_cast<float>(s[1] * inv), static_cast<float>(s[2] * inv)));
+    }
+  return out;
+}
+
+ReferenceNoise reference_noise(const Image& full, const Image& first_half, const ToneMap& tm, MetricSpace space) {
+  check_same_size(first_half, full);
+  double s_mse = 0, s_rel = 0, s_metric = 0;
+  uint64_t n = 0;
+  for (size_t p = 0; p < full.pixels(); ++p) {
+    if (!finite_pixel(full, p) || !finite_pixel(first_half, p)) continue;
+    ++n;
+    for (int c = 0; c < 3; ++c) {
+      const double f = full.rgb[3 * p + c], a = first_half.rgb[3 * p + c], b = 2 * f - a;
+      const double d2 = (a - b) * (a - b) / 4;
+      s_mse += d2;
+      s_rel += d2 / (f * f + kRelMseEpsilon);
+      const double dm = metric_value(static_cast<float>(a), tm, space) - metric_value(static_cast<float>(b), tm, space);
+      s_metric += dm * dm / 4;
+    }
+  }
+  return {mean_over_channels(s_mse, n), mean_over_channels(s_rel, n), mean_over_channels(s_metric, n)};
+}
+
+double minus_noise(double error, double noise) { return std::max(0.0, error - noise); }
+
+BiasSamples::BiasSamples(int w, int h)
+    : width(w), height(h), sum(static_cast<size_t>(w) * h), sum2(sum.size()), count(sum.size()) {}
+
+void BiasSamples::add_frame(const Accumulator& frame) {
+  RAYCOH_CHECK(frame.width() == width && frame.height() == height,
+               fmt::format("frame {}x{} for bias samples of {}x{}", frame.width(), frame.height(), width, height));
+  double image_sum = 0;
+  size_t finite = 0;
+  const std::vector<double>& sums = frame.sums();
+  for (size_t p = 0; p < sum.size(); ++p) {
+    const uint32_t n = frame.samples(p);
+    if (n == 0) continue;
+    const double y = luma709(Vec3(static_cast<float>(sums[3 * p] / n), static_cast<float>(sums[3 * p + 1] / n),
+                                  static_cast<float>(sums[3 * p + 2] / n)));
+    sum[p] += y;
+    sum2[p] += y * y;
+    ++count[p];
+    image_sum += y;
+    ++finite;
+  }
+  frame_means.push_back(finite > 0 ? image_sum / static_cast<double>(finite) : 0.0);
+}
+
+double t_quantile_975(int dof) {
+  static const double table[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                 2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+                                 2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  if (dof < 1) return std::numeric_limits<double>::infinity();
+  if (dof <= 30) return table[dof - 1];
+  return 1.959964 + 2.4 / dof;  // within 0.3% of the exact quantile above 30 degrees of freedom
+}
+
+BiasReport bias_test(const BiasSamples& s, const Image& ref, const Image* half) {
+  if (s.frames() < 2) throw Error(fmt::format("bias test: needs at least 2 frames (got {})", s.frames()));
+  if (ref.width != s.width || ref.height != s.height)
+    throw Error(
+        fmt::format("bias test: frames are {}x{}, the reference is {}x{}", s.width, s.height, ref.width, ref.height));
+  if (half) check_same_size(*half, ref);
+  const int w = s.width, h = s.height;
+  const size_t P = s.sum.size();
+  // The reference's noise variance per pixel (luma), from the halves.
+  std::vector<double> v_pair(P, 0.0), v_ref(P, 0.0);
+  double ref_sum = 0, ref_var_sum = 0;
+  for (size_t p = 0; p < P; ++p) {
+    const double f = luma709(ref.at(p));
+    ref_sum += f;
+    if (half) {
+      const double a = luma709(half->at(p)), b = 2 * f - a;
+      v_pair[p] = std::isfinite(a - b) ? (a - b) * (a - b) / 4 : 0.0;
+      ref_var_sum += v_pair[p];
+    }
+  }
+  if (half)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        double sum = 0;
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            if (x + dx >= 0 && x + dx < w && y + dy >= 0 && y + dy < h) {
+              sum += v_pair[static_cast<size_t>(y + dy) * w + x + dx];
+              ++n;
+            }
+        v_ref[static_cast<size_t>(y) * w + x] = sum / n;
+      }
+  BiasReport r;
+  r.map = Image(w, h);
+  size_t excluded = 0, tested = 0;
+  double z2 = 0;
+  for (size_t p = 0; p < P; ++p) {
+    const uint32_t n = s.count[p];
+    if (n < 2) continue;
+    const double mean = s.sum[p] / n, var = std::max(0.0, (s.sum2[p] - n * mean * mean) / (n - 1));
+    const double d = mean - luma709(ref.at(p)), sigma = std::sqrt(var / n + v_ref[p]);
+    if (!std::isfinite(d)) continue;
+    const double z = sigma > 0 ? d / sigma : (d == 0 ? 0.0 : std::copysign(1e30, d));
+    ++tested;
+    excluded += std::abs(z) > t_quantile_975(static_cast<int>(n) - 1);
+    z2 += std::min(z * z, 1e6);
+    r.map.set(p, Vec3(static_cast<float>(d), static_cast<float>(sigma), static_cast<float>(z)));
+  }
+  r.excluded_fraction = tested > 0 ? static_cast<double>(excluded) / tested : std::nan("");
+  r.z2 = tested > 0 ? z2 / tested : std::nan("");
+  const int F = s.frames();
+  double fm = 0;
+  for (double m : s.frame_means) fm += m;
+  fm /= F;
+  double fv = 0;
+  for (double m : s.frame_means) fv += (m - fm) * (m - fm);
+  fv /= (F - 1);
+  r.ref_mean = ref_sum / static_cast<double>(P);
+  r.mean_bias = fm - r.ref_mean;
+  // The reference's pixels are independent (NoOpt), so its image mean's variance is the sum over pixels / P^2.
+  const double ref_mean_var = ref_var_sum / (static_cast<double>(P) * static_cast<double>(P));
+  r.mean_bias_ci = t_quantile_975(F - 1) * std::sqrt(fv / F + ref_mean_var);
+  r.consistent = std::abs(r.mean_bias) <= r.mean_bias_ci;
+  return r;
+}
+
+Image bias_false_colour(const Image& map) {
+  Image out(map.width, map.height);
+  for (size_t p = 0; p < map.pixels(); ++p) {
+    // Inside the band (|z| < 1.96): dim, at most 0.15; outside it: from 0.5 up to 1 at |z| = 4.
+    const float z = map.rgb[3 * p + 2], a = std::abs(z);
+    const float v = a < 1.96f ? 0.15f * a / 1.96f : std::min(1.f, 0.5f + 0.5f * (a - 1.96f) / 2.04f);
+    out.set(p, z > 0 ? Vec3(v, 0.f, 0.f) : Vec3(0.f, 0.f, v));
+  }
+  return out;
 }
 
 }  // namespace raycoh

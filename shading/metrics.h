@@ -21,6 +21,26 @@
 //   nan_pixels, inf_pixels  pixels with a NaN (or else an Inf) channel in either image. They are left out of
 //               mse/rmse/rel_mse/psnr and counted; in SSIM the tone map sends NaN to 0 and +Inf to 1.
 //
+//
+// Metric space (MetricSpace, `--metrics` of quality and converge): psnr and ssim above are the TONE-MAPPED choice
+// (the default, "tonemapped"). With "linear" (the paper's protocol: no tone map) both are computed on the linear
+// radiance instead: PSNR = 10 log10(kPsnrPeak^2 / MSE) with MSE the linear MSE above and the fixed peak 1.0 (linear
+// radiance has no natural peak; a fixed one keeps PSNR comparable between scenes and runs, and a PSNR difference
+// between two methods is the same for any peak), SSIM on the Rec. 709 luma of the linear values, not clamped, with
+// L = 1. mse, rmse and rel_mse are linear in both spaces.
+//
+// Structure and noise (quality's columns, results/README.md):
+//   box_downsample    mean of each k x k block (the image cropped to whole blocks). White noise loses ~k^2 of its
+//                     MSE per k; noise correlated over blocks of k pixels or more keeps it, so rel_mse of the
+//                     2x/4x/8x downsampled images shows visible blotches and blocks that whole-image error hides.
+//   reference_noise   how much MSE the noise of a reference adds to every error against it, from two independent
+//                     half-references A and B (mean of the first and of the second half of its frame blocks,
+//                     full = (A + B) / 2): E|A - B|^2 = 2 Var(A) = 4 Var(full), so noise = mean |A - B|^2 / 4
+//                     (same means over pixels and channels as mse, rel_mse and the metric space's PSNR MSE).
+//                     B = 2 full - A (exact when both halves have the same finite sample count per pixel).
+//   BiasSamples/bias_test  per-pixel bias of a method: luma of the mean of independent frames minus the
+//                     reference's, with a 95% band from the frames' spread (and the reference's own noise).
+//
 // Every function throws raycoh::Error when the two images differ in size or are empty.
 #pragma once
 
@@ -35,6 +55,11 @@ namespace raycoh {
 constexpr double kRelMseEpsilon = 1e-2;
 constexpr double kPsnrPeak = 1.0;
 constexpr int kSsimWindow = 11;
+
+enum class MetricSpace { ToneMapped, Linear };
+// "tonemapped" | "linear"; throws raycoh::Error naming `option` and the valid choices.
+MetricSpace parse_metric_space(const std::string& option, const std::string& text);
+const char* metric_space_name(MetricSpace space);
 
 struct NonFiniteCount {
   uint64_t nan_pixels = 0;  // a NaN in any channel
@@ -55,13 +80,65 @@ double mse(const Image& test, const Image& ref);
 double rmse(const Image& test, const Image& ref);
 double rel_mse(const Image& test, const Image& ref, double eps = kRelMseEpsilon);
 double psnr_from_mse(double mse_display, double peak = kPsnrPeak);
-double psnr(const Image& test, const Image& ref, const ToneMap& tm = {});
-double ssim(const Image& test, const Image& ref, const ToneMap& tm = {});
+double psnr(const Image& test, const Image& ref, const ToneMap& tm = {}, MetricSpace space = MetricSpace::ToneMapped);
+double ssim(const Image& test, const Image& ref, const ToneMap& tm = {}, MetricSpace space = MetricSpace::ToneMapped);
 // The SSIM core on single-channel images (row-major, width * height values in [0, data_range]).
 double ssim_gray(const std::vector<double>& a, const std::vector<double>& b, int width, int height,
                  double data_range = 1.0);
 double luma709(Vec3 c);
 
-ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& tm = {});
+ErrorMetrics compare_images(const Image& test, const Image& ref, const ToneMap& tm = {},
+                            MetricSpace space = MetricSpace::ToneMapped);
+
+// Mean of each factor x factor block; (width / factor) x (height / factor). Throws unless 1 <= factor <= size.
+Image box_downsample(const Image& image, int factor);
+
+// The reference's own noise (see above): the MSE it adds to an error figure in each of the ways they are computed.
+struct ReferenceNoise {
+  double mse = 0;         // linear
+  double rel_mse = 0;     // as rel_mse, against the full reference
+  double metric_mse = 0;  // the MSE that PSNR uses in the metric space (display values when tone-mapped)
+};
+ReferenceNoise reference_noise(const Image& full, const Image& first_half, const ToneMap& tm = {},
+                               MetricSpace space = MetricSpace::ToneMapped);
+// An error figure with the reference's noise taken out (not below 0).
+double minus_noise(double error, double noise);
+
+// Per-pixel luma of independent frames (one sample per pixel each), for bias_test.
+struct BiasSamples {
+  BiasSamples(int width, int height);
+  // One frame (its accumulator holds that frame's samples only). Pixels without a finite sample are skipped.
+  void add_frame(const Accumulator& frame);
+  int frames() const { return static_cast<int>(frame_means.size()); }
+
+  int width, height;
+  std::vector<double> sum, sum2;    // per pixel: luma, luma^2
+  std::vector<uint32_t> count;      // per pixel: frames with a finite sample
+  std::vector<double> frame_means;  // per frame: its image-mean luma over pixels with a finite sample
+};
+
+// Bias of the mean of the frames in BiasSamples against a reference (all on Rec. 709 luma of linear radiance).
+//   per pixel: d = mean - ref, band d +- t(0.975, n - 1) sqrt(s^2 / n + v_ref) with s^2 the frames' sample variance of
+//   the
+//     pixel and v_ref the reference's noise variance (|A - B|^2 / 4 from the halves, averaged over the 3 x 3
+//     neighbourhood to steady a one-pair estimate; 0 without a half image). An unbiased method excludes zero at
+//     ~5% of pixels (the false-alarm rate); more means bias.
+//   whole image: mean_bias = mean over frames of the frame's image-mean luma minus the reference's image-mean
+//     luma, CI half-width t(0.975, frames - 1) * sd / sqrt(frames) (+ the reference's, from v_ref); it holds for
+//     methods whose errors are correlated between pixels, since frames are independent. consistent = |mean_bias|
+//     <= ci (a 5% false alarm rate).
+//   z2 = mean over pixels of (d / sigma)^2: ~1 for an unbiased method.
+// Throws raycoh::Error on sizes that differ or when there are fewer than 2 frames.
+struct BiasReport {
+  Image map;  // per pixel (d, sigma, d / sigma) in (R, G, B)
+  double excluded_fraction = 0, mean_bias = 0, mean_bias_ci = 0, ref_mean = 0, z2 = 0;
+  bool consistent = true;
+};
+BiasReport bias_test(const BiasSamples& samples, const Image& ref, const Image* ref_first_half);
+// Two-sided 95% quantile of Student's t with `dof` degrees of freedom (1.96 for large dof).
+double t_quantile_975(int dof);
+// A display image of a bias map: red where the render is brighter, blue where darker; dim (<= 0.15) where the
+// pixel's 95% band includes zero (|z| < 1.96), bright (0.5 at the band's edge, 1 from |z| = 4) where it does not.
+Image bias_false_colour(const Image& map);
 
 }  // namespace raycoh

@@ -151,6 +151,17 @@ Entry entry_of(const std::string& stem_prefix, const std::string& key, const std
   return e;
 }
 
+}  // namespace
+
+std::string half_reference_path(const std::string& image_path) {
+  const fs::path p(image_path);
+  return (p.parent_path() / (p.stem().string() + "-half1" + p.extension().string())).string();
+}
+
+bool reference_halves(int frames, int frame_block) { return frames % (2 * frame_block) == 0; }
+
+namespace {
+
 void create_cache_dir(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -181,13 +192,13 @@ double render_blocks(const Scene& scene, const Bvh& bvh, const ReferenceRequest&
       pt.render_frame(static_cast<uint32_t>(f), block);
       if (r.progress) r.progress(f - range.first + 1, range.end - range.first);
     }
-    on_block(block);
+    on_block(block, b);
   }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Writes the image, then the sidecar (the old sidecar removed first). Call with the entry's lock held. `extra`:
-// more sidecar fields (a combined entry's parts).
+// Writes the image (and its half), then the sidecar (the old sidecar removed first). Call with the entry's lock held.
+// `extra`: more sidecar fields (a combined entry's parts).
 void store_entry(const Entry& e, const std::string& key, const Reference& ref,
                  const nlohmann::json& extra = nlohmann::json::object()) {
   std::error_code ec;
@@ -201,6 +212,14 @@ void store_entry(const Entry& e, const std::string& key, const Reference& ref,
                          {"image", e.image.filename().string()},
                          {"image_fnv1a", fmt::format("{:016x}", file_hash(e.image))}};
   side.update(extra);
+  const fs::path half = half_reference_path(e.image.string());
+  if (!ref.first_half.empty()) {
+    write_image(ref.first_half, half.string());
+    side["half_image"] = half.filename().string();
+    side["half_image_fnv1a"] = fmt::format("{:016x}", file_hash(half));
+  } else {
+    fs::remove(half, ec);
+  }
   side["checksum"] = sidecar_checksum(side);
   write_file_atomically(e.sidecar.string(), side.dump(2) + "\n");
 }
@@ -308,7 +327,7 @@ struct PartReader {
             fmt::format("{}: the reference part is cut short or damaged (block {} of {}); render that shard "
                         "again (it keeps the blocks before)",
                         file, b, blocks));
-      on_block(*acc);
+      on_block(*acc, first + b * block);
     }
     std::string line;
     std::getline(in, line);
@@ -359,9 +378,15 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
       try {
         Image img = read_image(e.image.string());
         if (img.width == r.settings.width && img.height == r.settings.height) {
-          ref.image = std::move(img);
+          ref.image = img;
           ref.from_cache = true;
           ref.non_finite = side.value("non_finite_samples", uint64_t{0});
+          const fs::path half = half_reference_path(e.image.string());
+          if (side.contains("half_image") && fs::is_regular_file(half, ec) &&
+              side.value("half_image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(half))) {
+            Image h = read_image(half.string());
+            if (h.width == img.width && h.height == img.height) ref.first_half = std::move(h);
+          }
           return ref;
         }
       } catch (const Error&) {
@@ -370,9 +395,13 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
     }
   }
 
-  Accumulator total(r.settings.width, r.settings.height);
-  ref.render_s = render_blocks(scene, bvh, r, {0, r.frames}, [&](const Accumulator& block) { total.merge(block); });
+  Accumulator total(r.settings.width, r.settings.height), first_half(r.settings.width, r.settings.height);
+  ref.render_s = render_blocks(scene, bvh, r, {0, r.frames}, [&](const Accumulator& block, int start) {
+    total.merge(block);
+    if (start < r.frames / 2) first_half.merge(block);
+  });
   ref.image = total.mean();
+  if (reference_halves(r.frames, r.frame_block)) ref.first_half = first_half.mean();
   ref.non_finite = total.non_finite_samples();
   ref.render_hosts = {host_name()};
   store_entry(e, key, ref);
@@ -462,8 +491,8 @@ double render_reference_part(const Scene& scene, const Bvh& bvh, const Reference
   if (kept < blocks) {
     int b = kept;
     auto t = std::chrono::steady_clock::now();
-    seconds =
-        render_blocks(scene, bvh, r, {range.first + kept * r.frame_block, range.end}, [&](const Accumulator& block) {
+    seconds = render_blocks(
+        scene, bvh, r, {range.first + kept * r.frame_block, range.end}, [&](const Accumulator& block, int) {
           const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
           Fnv1a own;
           for (std::string_view bytes :
@@ -536,11 +565,14 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
 
   const std::string key = a.head["key"].dump();
   const Entry e = entry_of(safe_name(a.stem), key, cache_dir);
-  Accumulator total(a.width, a.height);
+  Accumulator total(a.width, a.height), first_half(a.width, a.height);
   Reference ref;
   int untimed = 0;  // format-1 parts: no render time or host recorded
   for (PartReader* rd : by_index) {
-    rd->read_blocks([&](const Accumulator& block) { total.merge(block); });
+    rd->read_blocks([&](const Accumulator& block, int start) {
+      total.merge(block);
+      if (start < a.frames / 2) first_half.merge(block);
+    });
     ref.render_s += rd->seconds;
     untimed += rd->format < 2;
     for (const std::string& host : rd->hosts)
@@ -549,6 +581,7 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
   }
   ref.path = e.image.string();
   ref.image = total.mean();
+  if (reference_halves(a.frames, a.block)) ref.first_half = first_half.mean();
   ref.non_finite = total.non_finite_samples();
   // The sidecar's render_seconds is the parts' render time summed (rendering, not waiting in a queue).
   nlohmann::json extra = {{"parts", count}};

@@ -29,6 +29,13 @@
 // of all block bytes>". It is written as <part>.partial, each block synced when done, and moved into place when
 // whole: a shard stopped midway keeps its verified blocks and renders only the rest when run again. Format 1
 // (revision 4919fdd and before: no block lines, so no render time) is still read and combined.
+//
+// Half reference: when the frames are two equal halves of whole blocks (frames a multiple of 2 * frame_block),
+// the entry also holds the mean of the first half's blocks, "<stem>-half1<ext>" beside the image (half_path; its
+// name and FNV-1a are in the sidecar as half_image, half_image_fnv1a). The second half is 2 * full - first, and
+// the two halves are independent, which is what shading/metrics.h reference_noise needs. get_reference and
+// combine_reference_parts write it (part files of either format need no change: they hold every block); an entry
+// without it (from before, or frames that do not halve) is still used, without a noise estimate.
 #pragma once
 
 #include <functional>
@@ -71,7 +78,14 @@ struct Reference {
   double render_s = 0;                    // 0 when read from the cache; combined: the parts' render seconds summed
   std::vector<std::string> render_hosts;  // where it was rendered (combined: every part's hosts)
   uint64_t non_finite = 0;                // NaN/Inf frame samples left out while rendering it
+  Image first_half;                       // empty when the entry has none (see "Half reference")
 };
+
+// "<dir>/<stem>-half1<ext>" for "<dir>/<stem><ext>": where the first-half mean of a reference image is looked for
+// (cache entries, and quality's --reference FILE).
+std::string half_reference_path(const std::string& image_path);
+// True when a reference of `frames` frames in blocks of frame_block has a half reference.
+bool reference_halves(int frames, int frame_block);
 
 // Canonical JSON text of the request's key.
 std::string reference_key(const ReferenceRequest& request);

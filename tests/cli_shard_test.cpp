@@ -11,6 +11,7 @@
 #include "harness/csv.h"
 #include "harness/merge.h"
 #include "shading/image.h"
+#include "shading/reference.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {
@@ -210,8 +211,9 @@ TEST(CliShard, QualityShardsRacingForTheReferencesMergeToTheSingleProcessRows) {
   for (size_t at = 0; (at = shards.output.find("reference: rendered", at)) != std::string::npos; ++at) ++rendered;
   EXPECT_EQ(rendered, 2u) << shards.output;  // once per scene, whoever rendered it
   EXPECT_NE(shards.output.find("raycoh merge"), std::string::npos) << shards.output;
-  // Every image once in the shared --images folder: 2 scenes x (3 generators + the reference).
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "images"), fs::directory_iterator{}), 8);
+  // Every image once in the shared --images folder: 2 scenes x (3 generators x (render, bias map PNG and EXR) + the
+  // reference).
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "images"), fs::directory_iterator{}), 20);
   const CommandResult whole = run_raycoh(kQuality + " --frames 2 --cache " + d + "/cache --out " + d + "/whole.csv");
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
   const CommandResult m = run_raycoh("merge --out " + d + "/m.csv " + d + "/q0.csv " + d + "/q1.csv " + d + "/q2.csv");
@@ -303,8 +305,16 @@ TEST(CliShard, ReferenceFrameShardsCombineToTheSingleProcessEntry) {
 
   std::vector<fs::path> single, combined;
   for (const auto& e : fs::directory_iterator(dir / "single"))
-    if (e.path().extension() != ".json") single.push_back(e.path());
+    if (e.path().extension() != ".json" && e.path().stem().string().find("-half1") == std::string::npos)
+      single.push_back(e.path());
   ASSERT_EQ(single.size(), 1u);
+  // The first-half image (the reference-noise estimate's) is written both ways, the same pixels.
+  const fs::path half = half_reference_path(single[0].string());
+  ASSERT_TRUE(fs::exists(half));
+  ASSERT_TRUE(fs::exists(dir / "combined" / half.filename())) << r.output;
+  const Image ha = read_image(half.string()), hb = read_image((dir / "combined" / half.filename()).string());
+  ASSERT_EQ(ha.rgb.size(), hb.rgb.size());
+  EXPECT_EQ(std::memcmp(ha.rgb.data(), hb.rgb.data(), ha.rgb.size() * sizeof(float)), 0);
   const fs::path twin = dir / "combined" / single[0].filename();
   ASSERT_TRUE(fs::exists(twin)) << r.output;
   // The same pixels, bit for bit (an EXR header also holds its write time, so not the same bytes).

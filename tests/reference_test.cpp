@@ -133,6 +133,20 @@ TEST(ReferenceShards, EightFrameShardsAddUpToTheSingleProcessBitForBit) {
   EXPECT_EQ(std::memcmp(file_a.rgb.data(), file_b.rgb.data(), file_a.rgb.size() * sizeof(float)), 0);
   const Reference reread = get_reference(s, bvh, sharded);
   EXPECT_TRUE(reread.from_cache);
+  // The first-half reference (frames 0..31) is kept beside the entry, the same bits both ways, and read back.
+  ASSERT_FALSE(single.first_half.empty());
+  ASSERT_EQ(combined.first_half.rgb.size(), single.first_half.rgb.size());
+  EXPECT_EQ(std::memcmp(combined.first_half.rgb.data(), single.first_half.rgb.data(),
+                        single.first_half.rgb.size() * sizeof(float)),
+            0);
+  EXPECT_TRUE(fs::is_regular_file(half_reference_path(combined.path)));
+  ASSERT_EQ(reread.first_half.rgb.size(), single.first_half.rgb.size());
+  EXPECT_EQ(std::memcmp(reread.first_half.rgb.data(), single.first_half.rgb.data(),
+                        single.first_half.rgb.size() * sizeof(float)),
+            0);
+  EXPECT_NE(std::memcmp(single.first_half.rgb.data(), single.image.rgb.data(), single.image.rgb.size() * sizeof(float)),
+            0);
+  EXPECT_EQ(half_reference_path("/a/b/cornell-0123.exr"), "/a/b/cornell-0123-half1.exr");
 
   // Two shards of the same blocks give the same bits too.
   ReferenceRequest two = req;
