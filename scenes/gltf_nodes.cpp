@@ -1,6 +1,8 @@
 // glTF node walking: GltfReader::read picks the root nodes of the default scene (or, without scenes, every node
 // that is nobody's child), walks the hierarchy depth-first composing node transforms into world space, reads
-// each node's mesh, and takes the first perspective camera met (eye at the node's origin, looking down its -Z).
+// each node's mesh, takes the first perspective camera met (eye at the node's origin, looking down its -Z) and
+// every KHR_lights_punctual light a node refers to (at the node's origin, shining down its -Z; node scale does
+// not change a light).
 // Also the node's local transform (matrix, or translation * rotation * scale). Part of the glTF loader, the one
 // adapter for tinygltf.
 #include <fmt/format.h>
@@ -68,6 +70,15 @@ void GltfReader::note_dropped() {
   if (morph_primitives_ > 0)
     notes.push_back(fmt::format("{} primitive(s) with morph targets: base shape{}", morph_primitives_,
                                 morph_weighted_ ? " plus the mesh's default weights" : " (default weights 0)"));
+  if (!scene_.lights.empty() || dark_lights_ > 0) {
+    size_t by_type[3] = {0, 0, 0};
+    for (const PunctualLight& l : scene_.lights) ++by_type[static_cast<int>(l.type)];
+    notes.push_back(fmt::format(
+        "KHR_lights_punctual: {} light(s) traced ({} point, {} spot, {} directional), sampled by next-event "
+        "estimation{}",
+        scene_.lights.size(), by_type[0], by_type[1], by_type[2],
+        dark_lights_ > 0 ? fmt::format("; {} with zero intensity dropped", dark_lights_) : std::string()));
+  }
   if (!model_.skins.empty())
     notes.push_back(fmt::format("{} skin(s): meshes at their node transforms (rest pose), joints not applied",
                                 model_.skins.size()));
@@ -126,9 +137,55 @@ void GltfReader::visit(int root, const Mat4& parent) {
         read_mesh(node.mesh, world, node.weights);
     }
     if (node.camera >= 0) take_camera(node, world);
+    if (node.extensions.count("KHR_lights_punctual")) take_light(index, node, world);
     // Reversed so that children are visited in file order (the first camera found is the first in the file).
     for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) stack.emplace_back(*it, world);
   }
+}
+
+void GltfReader::take_light(int index, const tinygltf::Node& node, const Mat4& world) {
+  const tinygltf::Value& ext = node.extensions.at("KHR_lights_punctual");
+  if (!ext.IsObject() || !ext.Has("light") || !ext.Get("light").IsInt())
+    fail(fmt::format("node {}: KHR_lights_punctual needs an integer 'light'", index));
+  const int li = ext.Get("light").GetNumberAsInt();
+  if (li < 0 || static_cast<size_t>(li) >= model_.lights.size())
+    fail(fmt::format("node {} refers to light {}, but there are {} lights", index, li, model_.lights.size()));
+  const tinygltf::Light& gl = model_.lights[static_cast<size_t>(li)];
+  PunctualLight l;
+  l.name = gl.name.empty() ? fmt::format("light{}", li) : gl.name;
+  const std::string who = fmt::format("light {} '{}'", li, l.name);
+  if (gl.type == "point") {
+    l.type = LightType::Point;
+  } else if (gl.type == "spot") {
+    l.type = LightType::Spot;
+  } else if (gl.type == "directional") {
+    l.type = LightType::Directional;
+  } else {
+    fail(fmt::format("{} has type '{}'; valid: point, spot, directional", who, gl.type));
+  }
+  Vec3 colour{1.f, 1.f, 1.f};
+  if (!gl.color.empty()) {
+    if (gl.color.size() != 3) fail(fmt::format("{} has {} colour components, not 3", who, gl.color.size()));
+    colour = {static_cast<float>(gl.color[0]), static_cast<float>(gl.color[1]), static_cast<float>(gl.color[2])};
+  }
+  l.intensity = colour * static_cast<float>(gl.intensity);
+  l.position = world.column(3);
+  const Vec3 forward = -world.column(2);
+  l.direction = dot(forward, forward) > 0.f ? normalize(forward) : forward;  // zero: finalize_scene refuses it
+  if (l.type != LightType::Directional) l.range = static_cast<float>(gl.range);
+  if (l.type == LightType::Spot) {
+    const double inner = gl.spot.innerConeAngle, outer = gl.spot.outerConeAngle;
+    if (!(inner >= 0.0 && inner <= outer && outer <= 0.5 * 3.14159265358979323846 + 1e-6))
+      fail(fmt::format("{}: spot cone angles inner {} and outer {} must satisfy 0 <= inner <= outer <= pi/2", who,
+                       inner, outer));
+    l.cos_inner = static_cast<float>(std::cos(inner));
+    l.cos_outer = static_cast<float>(std::cos(outer));
+  }
+  if (!(max_component(l.intensity) > 0.f)) {
+    ++dark_lights_;
+    return;
+  }
+  scene_.lights.push_back(l);
 }
 
 void GltfReader::take_camera(const tinygltf::Node& node, const Mat4& world) {
