@@ -49,10 +49,13 @@ void print_scene_info(const std::string& spec) {
                   std::acos(std::min(1.f, l.cos_outer)) * 57.29578f);
     std::printf("\n");
   }
-  std::printf("camera       %s: eye [%g %g %g] target [%g %g %g] vfov %g\n",
+  const std::string view = scene.camera.ortho_half_height > 0.f
+                               ? fmt::format("orthographic, half-height {:g}", scene.camera.ortho_half_height)
+                               : fmt::format("vfov {:g}", scene.camera.vfov_deg);
+  std::printf("camera       %s: eye [%g %g %g] target [%g %g %g] %s\n",
               scene.camera.from_file ? "from the scene" : "default framing of the bounds", scene.camera.eye.x,
               scene.camera.eye.y, scene.camera.eye.z, scene.camera.target.x, scene.camera.target.y,
-              scene.camera.target.z, scene.camera.vfov_deg);
+              scene.camera.target.z, view.c_str());
   for (const std::string& s : f.skipped_stages) std::printf("skipped      %s\n", s.c_str());
   for (const std::string& s : scene.load_notes) std::printf("loader       %s\n", s.c_str());
   const Bvh bvh = build_bvh(scene);

@@ -20,7 +20,8 @@
 // Materials: pbrMetallicRoughness factors, emissiveFactor x KHR_materials_emissive_strength,
 // KHR_materials_transmission, KHR_materials_ior, KHR_materials_volume (present = solid, absent = thin-walled);
 // textures scale them per triangle (gltf_textures.cpp). Camera: the first perspective camera met in the
-// traversal: eye at the node's origin, looking down its -Z. KHR_lights_punctual lights become Scene::lights.
+// traversal, else the first orthographic one (ymag = half-height): eye at the node's origin, looking down its -Z.
+// KHR_lights_punctual lights become Scene::lights.
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -1,6 +1,7 @@
 // glTF node walking: GltfReader::read picks the root nodes of the default scene (or, without scenes, every node
 // that is nobody's child), walks the hierarchy depth-first composing node transforms into world space, reads
-// each node's mesh, takes the first perspective camera met (eye at the node's origin, looking down its -Z) and
+// each node's mesh, takes the first perspective camera met (else the first orthographic one; eye at the node's
+// origin, looking down its -Z) and
 // every KHR_lights_punctual light a node refers to (at the node's origin, shining down its -Z; node scale does
 // not change a light).
 // Also the node's local transform (matrix, or translation * rotation * scale). Part of the glTF loader, the one
@@ -88,11 +89,12 @@ void GltfReader::note_dropped() {
     notes.push_back(fmt::format("{} scenes in the file: the default scene is traced", model_.scenes.size()));
   size_t ortho = 0;
   for (const auto& c : model_.cameras) ortho += c.type == "orthographic";
+  const char* used = !scene_.camera.from_file                 ? "none used, default framing"
+                     : scene_.camera.ortho_half_height == 0.f ? "the first perspective camera in the scene is used"
+                                                              : "the first (orthographic) camera in the scene is used";
   if (!model_.cameras.empty())
-    notes.push_back(fmt::format(
-        "{} camera(s) in the file{}: {}", model_.cameras.size(),
-        ortho ? fmt::format(" ({} orthographic, not supported)", ortho) : std::string(),
-        scene_.camera.from_file ? "the first perspective camera in the scene is used" : "none used, default framing"));
+    notes.push_back(fmt::format("{} camera(s) in the file{}: {}", model_.cameras.size(),
+                                ortho ? fmt::format(" ({} orthographic)", ortho) : std::string(), used));
 }
 
 void GltfReader::fail(const std::string& what) const { throw Error(fmt::format("scene '{}': {}", path_, what)); }
@@ -188,27 +190,34 @@ void GltfReader::take_light(int index, const tinygltf::Node& node, const Mat4& w
   scene_.lights.push_back(l);
 }
 
+// The first perspective camera, else the first orthographic one.
 void GltfReader::take_camera(const tinygltf::Node& node, const Mat4& world) {
-  if (scene_.camera.from_file) return;
+  const bool have = scene_.camera.from_file;
+  if (have && scene_.camera.ortho_half_height == 0.f) return;
   Camera cam;
-  if (camera_of(node, world, cam).empty()) scene_.camera = cam;
+  if (!camera_of(node, world, cam).empty()) return;
+  if (!have || cam.ortho_half_height == 0.f) scene_.camera = cam;
 }
 
 std::string GltfReader::camera_of(const tinygltf::Node& node, const Mat4& world, Camera& out) const {
   if (node.camera < 0 || static_cast<size_t>(node.camera) >= model_.cameras.size())
     return fmt::format("camera {} does not exist", node.camera);
   const tinygltf::Camera& cam = model_.cameras[static_cast<size_t>(node.camera)];
-  if (cam.type != "perspective") return fmt::format("{} cameras are not supported", cam.type);
+  const bool ortho = cam.type == "orthographic";
+  if (!ortho && cam.type != "perspective") return fmt::format("{} cameras are not supported", cam.type);
   const Vec3 forward = -world.column(2), up = world.column(1), eye = world.column(3);
   const double yfov = cam.perspective.yfov * 180.0 / 3.14159265358979323846;
+  // glTF's ymag is the orthographic view's half-height; node scale does not change it.
+  const double ymag = std::fabs(cam.orthographic.ymag);
   if (!is_finite(eye) || !is_finite(forward) || !is_finite(up) || !(dot(forward, forward) > 0.f) ||
-      !(dot(up, up) > 0.f) || !(yfov > 0.0 && yfov < 180.0))
-    return "its transform or field of view is degenerate";
+      !(dot(up, up) > 0.f) || !(ortho ? ymag > 0.0 && ymag < 1e30 : yfov > 0.0 && yfov < 180.0))
+    return ortho ? "its transform or magnification is degenerate" : "its transform or field of view is degenerate";
   // The target is one unit ahead: only the direction matters to the camera model.
   out.eye = eye;
   out.target = eye + normalize(forward);
   out.up = normalize(up);
-  out.vfov_deg = static_cast<float>(yfov);
+  out.vfov_deg = ortho ? Camera{}.vfov_deg : static_cast<float>(yfov);
+  out.ortho_half_height = ortho ? static_cast<float>(ymag) : 0.f;
   out.from_file = true;
   return {};
 }

@@ -57,8 +57,10 @@ void sanitize_material(Material& m) {
 // Camera values from a file can be NaN or place the target on the eye; such a view is replaced by the default.
 bool camera_usable(const Camera& c) {
   const Vec3 d = c.target - c.eye;
+  const bool view = c.ortho_half_height > 0.f ? std::isfinite(c.ortho_half_height)
+                                              : c.ortho_half_height == 0.f && c.vfov_deg > 0.f && c.vfov_deg < 180.f;
   return is_finite(c.eye) && is_finite(c.target) && is_finite(c.up) && dot(d, d) > 0.f &&
-         length(cross(d, c.up)) > 0.f && c.vfov_deg > 0.f && c.vfov_deg < 180.f;
+         length(cross(d, c.up)) > 0.f && view;
 }
 
 Camera default_camera(const Bounds& b) {
@@ -117,7 +119,8 @@ std::filesystem::path pick_scene_file(const std::filesystem::path& dir, const st
 }
 
 // `:camera=N|name` of a glTF file: its N-th camera node (traversal order) or the one of that name. The choices
-// are listed by get_choice's error; an orthographic or degenerate camera is refused naming why.
+// are listed by get_choice's error; a degenerate camera is refused naming why. The file's camera is in source
+// coordinates: it is moved like the scene was (finalize_scene's rebase).
 void select_camera(Scene& scene, const std::string& path, ParamSet& params) {
   std::vector<FileCamera> cams;
   const std::string ext = lower(std::filesystem::path(path).extension().string());
@@ -136,7 +139,11 @@ void select_camera(Scene& scene, const std::string& path, ParamSet& params) {
   }
   if (!cams[i].unusable.empty())
     throw Error(fmt::format("scene '{}': camera={} ('{}'): {}", path, pick, cams[i].name, cams[i].unusable));
-  scene.camera = cams[i].camera;
+  Camera cam = cams[i].camera;
+  cam.eye = (cam.eye - scene.rebase_offset) * scene.rebase_scale;
+  cam.target = (cam.target - scene.rebase_offset) * scene.rebase_scale;
+  cam.ortho_half_height *= scene.rebase_scale;
+  scene.camera = cam;
 }
 
 }  // namespace
@@ -336,6 +343,7 @@ void rebase(Scene& scene) {
   for (Vec3& p : scene.positions) p = (p - offset) * scale;
   scene.camera.eye = (scene.camera.eye - offset) * scale;
   scene.camera.target = (scene.camera.target - offset) * scale;
+  scene.camera.ortho_half_height *= scale;
   for (PunctualLight& l : scene.lights) {
     l.position = (l.position - offset) * scale;
     l.range *= scale;

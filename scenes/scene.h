@@ -39,6 +39,9 @@ struct Camera {
   Vec3 target{0.f, 0.f, 0.f};
   Vec3 up{0.f, 1.f, 0.f};
   float vfov_deg = 45.f;
+  // > 0: an orthographic camera whose view is this half-height (glTF ymag; the width follows the image's aspect),
+  // rays parallel to eye -> target from the plane through the eye; 0: a pinhole camera with vfov_deg.
+  float ortho_half_height = 0.f;
   // true: the source chose the view (a glTF camera node, or a built-in scene's own view);
   // false: default framing of the scene bounds.
   bool from_file = false;
