@@ -9,9 +9,12 @@
 // ("Robust BVH Ray Traversal", JCGT 2013).
 //
 // Counting is a compile-time policy: Counters::on_node / on_leaf / on_triangle receive the index fetched.
-// NoCounters compiles to nothing, so timing runs pay nothing for counting.
+// NoCounters compiles to nothing, so timing runs pay nothing for counting. So is the any-hit test of alpha MASK
+// cut-outs (core/alpha_mask.h): Filter::accept(prim, b1, b2) decides whether a candidate hit closer than the
+// current one counts; NoAlphaTest, the default, accepts all and compiles to nothing.
 #pragma once
 
+#include "core/alpha_mask.h"
 #include "core/bvh.h"
 #include "core/ray.h"
 
@@ -75,8 +78,11 @@ RAYCOH_HD RAYCOH_INLINE float intersect_box(const PreparedRay& r, Vec3 lo, Vec3 
   return tnear <= tfar ? tnear : __builtin_huge_valf();
 }
 
-// Watertight, double-sided ray/triangle test. Updates hit when the triangle is closer than hit.t.
-RAYCOH_HD RAYCOH_INLINE bool intersect_triangle(const PreparedRay& r, const BvhTriangle& tri, Hit& hit) {
+// Watertight, double-sided ray/triangle test. Updates hit when the triangle is closer than hit.t and the filter
+// accepts the hit.
+template <class Filter = NoAlphaTest>
+RAYCOH_HD RAYCOH_INLINE bool intersect_triangle(const PreparedRay& r, const BvhTriangle& tri, Hit& hit,
+                                                const Filter& filter = Filter{}) {
   const Vec3 a = tri.v0 - r.org, b = tri.v1 - r.org, c = tri.v2 - r.org;
   const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
   const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
@@ -98,9 +104,11 @@ RAYCOH_HD RAYCOH_INLINE bool intersect_triangle(const PreparedRay& r, const BvhT
   const float t = dot(ng, a) / dot(ng, r.dir);
   if (!(t > r.tmin) || !(t < hit.t)) return false;
   const float inv_det = 1.f / det;
+  const float b1 = v * inv_det, b2 = w * inv_det;
+  if (!filter.accept(tri.prim, b1, b2)) return false;
   hit.t = t;
-  hit.u = v * inv_det;  // weight of v1
-  hit.v = w * inv_det;  // weight of v2
+  hit.u = b1;  // weight of v1
+  hit.v = b2;  // weight of v2
   hit.prim = tri.prim;
   return true;
 }
@@ -166,13 +174,14 @@ RAYCOH_HD RAYCOH_INLINE void node_step(TraversalState& s, const BvhView& bvh, Co
 }
 
 // One iteration of the leaf loop: intersect the postponed leaf, then take node_ref as the next leaf if it is one.
-template <class Counters>
-RAYCOH_HD RAYCOH_INLINE void leaf_step(TraversalState& s, const BvhView& bvh, Counters& counters) {
+template <class Counters, class Filter = NoAlphaTest>
+RAYCOH_HD RAYCOH_INLINE void leaf_step(TraversalState& s, const BvhView& bvh, Counters& counters,
+                                       const Filter& filter = Filter{}) {
   counters.on_leaf(s.leaf_ref);
   const uint32_t first = leaf_first(s.leaf_ref), count = leaf_count(s.leaf_ref);
   for (uint32_t i = first; i < first + count; ++i) {
     counters.on_triangle(i);
-    intersect_triangle(s.ray, bvh.tris[i], s.hit);
+    intersect_triangle(s.ray, bvh.tris[i], s.hit, filter);
   }
   s.leaf_ref = s.node_ref;
   if (is_leaf_ref(s.node_ref)) s.node_ref = s.stack[--s.sp];
@@ -180,8 +189,9 @@ RAYCOH_HD RAYCOH_INLINE void leaf_step(TraversalState& s, const BvhView& bvh, Co
 
 // Scalar driver: closest hit of one ray. A scalar "warp" of one lane leaves the node loop as soon as it holds a
 // leaf, exactly as a GPU warp whose lanes all hold one.
-template <class Counters>
-RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r, Counters& counters) {
+template <class Counters, class Filter = NoAlphaTest>
+RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r, Counters& counters,
+                                        const Filter& filter = Filter{}) {
   TraversalState s;
   traversal_begin(s, r);
   while (!traversal_done(s)) {
@@ -189,7 +199,7 @@ RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r, Counte
       node_step(s, bvh, counters);
       if (traversal_has_leaf(s)) break;
     }
-    while (traversal_has_leaf(s)) leaf_step(s, bvh, counters);
+    while (traversal_has_leaf(s)) leaf_step(s, bvh, counters, filter);
   }
   return s.hit;
 }

@@ -162,23 +162,25 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh
 }
 
 // One triangle of the triangle group.
-template <class Counters>
-RAYCOH_HD RAYCOH_INLINE void cwbvh_triangle_step(CwbvhState& s, const CwbvhView& bvh, Counters& counters) {
+template <class Counters, class Filter = NoAlphaTest>
+RAYCOH_HD RAYCOH_INLINE void cwbvh_triangle_step(CwbvhState& s, const CwbvhView& bvh, Counters& counters,
+                                                 const Filter& filter = Filter{}) {
   const uint32_t i = s.tri_base + lowest_bit(s.tri_hits);
   s.tri_hits &= s.tri_hits - 1u;
   counters.on_triangle(i);
-  intersect_triangle(s.ray, bvh.tris[i], s.hit);
+  intersect_triangle(s.ray, bvh.tris[i], s.hit, filter);
 }
 
-// Scalar driver: closest hit of one ray.
-template <class Counters>
-RAYCOH_HD RAYCOH_INLINE Hit closest_hit_cwbvh(const CwbvhView& bvh, const Ray& r, Counters& counters) {
+// Scalar driver: closest hit of one ray (with alpha cut-outs when Filter is AlphaTest, core/alpha_mask.h).
+template <class Counters, class Filter = NoAlphaTest>
+RAYCOH_HD RAYCOH_INLINE Hit closest_hit_cwbvh(const CwbvhView& bvh, const Ray& r, Counters& counters,
+                                              const Filter& filter = Filter{}) {
   CwbvhState s;
   cwbvh_begin(s, r);
   while (!cwbvh_done(s)) {
     if (cwbvh_has_triangles(s)) {
       counters.on_leaf(0);
-      while (cwbvh_has_triangles(s)) cwbvh_triangle_step(s, bvh, counters);
+      while (cwbvh_has_triangles(s)) cwbvh_triangle_step(s, bvh, counters, filter);
     } else {
       cwbvh_node_step(s, bvh, counters);
     }

@@ -18,6 +18,9 @@
 // Sources: Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while
 // traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles;
 // Ylitie, Karras & Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs" (HPG 2017).
+//
+// Scenes with alpha MASK cut-outs (Scene::alpha) are refused with a one-line error: the kernels do not run the
+// any-hit alpha test of core/alpha_mask.h (the textures are not uploaded), and a GPU run must not differ silently.
 #include "cuda/cuda_tracer.h"
 
 #include <fmt/format.h>
@@ -31,6 +34,7 @@
 #include "core/error.h"
 #include "cuda/cuda_device.h"
 #include "cuda/trace_kernels.h"
+#include "scenes/scene.h"
 #include "simt/simt.h"
 #include "tracers/tracer.h"
 
@@ -113,6 +117,12 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   if (cwbvh && counting)
     throw Error(fmt::format("{}: counters=on has no CWBVH kernel (bvh=cwbvh); count CWBVH steps with the simt tracer",
                             params.owner()));
+  // The device has no copy of the alpha textures: tracing such a scene would silently ignore its cut-outs.
+  if (!scene.alpha.empty())
+    throw Error(
+        fmt::format("{}: scene '{}' has alpha MASK cut-outs ({} triangles), which the GPU kernels do not "
+                    "test yet; use the cpu, simt or embree tracer",
+                    params.owner(), scene.name, scene.alpha.masked_tris));
   if (cuda::device_count() == 0)
     throw Error(
         fmt::format("{}: no CUDA device (this machine has no usable GPU); use the cpu or simt tracer", params.owner()));

@@ -1,4 +1,5 @@
-// The pinhole camera ray of one pixel, one definition for make_primary_rays (CPU) and the CUDA primary kernel.
+// The camera ray of one pixel, one definition for make_primary_rays (CPU) and the CUDA primary kernel: a pinhole
+// camera, or an orthographic one (Camera::ortho_half_height > 0: parallel rays from the plane through the eye).
 #pragma once
 
 #include <cmath>
@@ -15,6 +16,7 @@ namespace raycoh {
 struct PinholeCamera {
   Vec3 eye, forward, right, up;
   float tan_half = 0.f, aspect = 1.f;
+  float ortho_half = 0.f;  // > 0: orthographic, the view's half-height
   int width = 0, height = 0;
 };
 
@@ -26,6 +28,7 @@ inline PinholeCamera make_pinhole_camera(const Camera& camera, int width, int he
   c.up = cross(c.right, c.forward);
   c.tan_half = std::tan(camera.vfov_deg * 0.5f * kPi / 180.f);
   c.aspect = static_cast<float>(width) / static_cast<float>(height);
+  c.ortho_half = camera.ortho_half_height;
   c.width = width;
   c.height = height;
   return c;
@@ -38,12 +41,17 @@ RAYCOH_HD RAYCOH_INLINE Ray primary_ray(const PinholeCamera& c, uint32_t p, uint
   const auto width = static_cast<uint32_t>(c.width);
   const float jx = jitter ? rng_float(seed, frame, p, kDimPixelJitterX) : 0.5f;
   const float jy = jitter ? rng_float(seed, frame, p, kDimPixelJitterY) : 0.5f;
-  const float sx =
-      (2.f * ((static_cast<float>(p % width) + jx) / static_cast<float>(c.width)) - 1.f) * c.tan_half * c.aspect;
-  const float sy = (1.f - 2.f * ((static_cast<float>(p / width) + jy) / static_cast<float>(c.height))) * c.tan_half;
+  const float ux = 2.f * ((static_cast<float>(p % width) + jx) / static_cast<float>(c.width)) - 1.f;
+  const float uy = 1.f - 2.f * ((static_cast<float>(p / width) + jy) / static_cast<float>(c.height));
   Ray ray;
-  ray.org = c.eye;
-  ray.dir = normalize(c.forward + c.right * sx + c.up * sy);
+  if (c.ortho_half > 0.f) {
+    ray.org = c.eye + c.right * (ux * c.ortho_half * c.aspect) + c.up * (uy * c.ortho_half);
+    ray.dir = c.forward;
+  } else {
+    const float sx = ux * c.tan_half * c.aspect, sy = uy * c.tan_half;
+    ray.org = c.eye;
+    ray.dir = normalize(c.forward + c.right * sx + c.up * sy);
+  }
   ray.tmin = 0.f;
   ray.tmax = __builtin_huge_valf();
   return ray;

@@ -89,6 +89,7 @@ std::unique_ptr<LoadedScene> load(const std::string& spec, const PluginSpec& tra
   const auto t0 = Clock::now();
   auto ls = std::make_unique<LoadedScene>(spec, tracer);
   std::string lights = fmt::format("{} emissive triangles", ls->scene.emissive_tris.size());
+  if (!ls->scene.lights.empty()) lights += fmt::format(" + {} punctual lights", ls->scene.lights.size());
   if (ls->scene.env.enabled) lights += " + sky and sun";
   std::fprintf(stderr, "%s: %zu triangles, %s; loaded and BVH built in %.2f s\n", ls->scene.name.c_str(),
                ls->scene.triangle_count(), lights.c_str(), seconds_since(t0));

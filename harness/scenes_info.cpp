@@ -1,6 +1,10 @@
 // `raycoh scenes info SCENE`: a scene's features, the stages it skips, what the loader did (extensions, dropped
 // primitives, instancing, warnings), its camera and BVH statistics.
+#include <fmt/format.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -30,11 +34,28 @@ void print_scene_info(const std::string& spec) {
   std::printf("\nfeatures     glossy %s, transmissive %s, emissive %s (%zu emitting triangles), textures %s\n",
               f.has_glossy ? "yes" : "no", f.has_transmissive ? "yes" : "no", f.has_emissive ? "yes" : "no",
               scene.emissive_tris.size(), f.has_textures ? "yes" : "no");
-  std::printf("lighting     %s\n", scene.env.enabled ? "sky + sun (environment)" : "scene emitters");
-  std::printf("camera       %s: eye [%g %g %g] target [%g %g %g] vfov %g\n",
+  std::printf("lighting     %s\n", scene.env.enabled       ? "sky + sun (environment)"
+                                   : !scene.lights.empty() ? "punctual lights and scene emitters"
+                                                           : "scene emitters");
+  for (const PunctualLight& l : scene.lights) {
+    std::printf("light        %s '%s': intensity [%g %g %g]", to_string(l.type), l.name.c_str(), l.intensity.x,
+                l.intensity.y, l.intensity.z);
+    if (l.type != LightType::Directional)
+      std::printf(" at [%g %g %g], range %s", l.position.x, l.position.y, l.position.z,
+                  l.range > 0.f ? fmt::format("{:g}", l.range).c_str() : "infinite");
+    if (l.type != LightType::Point) std::printf(", direction [%g %g %g]", l.direction.x, l.direction.y, l.direction.z);
+    if (l.type == LightType::Spot)
+      std::printf(", cone %g..%g deg", std::acos(std::min(1.f, l.cos_inner)) * 57.29578f,
+                  std::acos(std::min(1.f, l.cos_outer)) * 57.29578f);
+    std::printf("\n");
+  }
+  const std::string view = scene.camera.ortho_half_height > 0.f
+                               ? fmt::format("orthographic, half-height {:g}", scene.camera.ortho_half_height)
+                               : fmt::format("vfov {:g}", scene.camera.vfov_deg);
+  std::printf("camera       %s: eye [%g %g %g] target [%g %g %g] %s\n",
               scene.camera.from_file ? "from the scene" : "default framing of the bounds", scene.camera.eye.x,
               scene.camera.eye.y, scene.camera.eye.z, scene.camera.target.x, scene.camera.target.y,
-              scene.camera.target.z, scene.camera.vfov_deg);
+              scene.camera.target.z, view.c_str());
   for (const std::string& s : f.skipped_stages) std::printf("skipped      %s\n", s.c_str());
   for (const std::string& s : scene.load_notes) std::printf("loader       %s\n", s.c_str());
   const Bvh bvh = build_bvh(scene);

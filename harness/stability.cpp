@@ -127,11 +127,13 @@ void check_hits(const Scene& scene, const Bvh& bvh, const std::vector<Ray>& rays
   f.missed.assign(n, 0);
   f.graze.assign(n, 0);
   refs.assign(n, RefHit{});
+  const AlphaMaskView view = scene.alpha.view();
+  const AlphaMaskView* alpha = scene.alpha.empty() ? nullptr : &view;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       f.non_finite[i] = bad_ray(rays[i]);
       if (!f.checked[i] || f.non_finite[i]) continue;
-      refs[i] = reference_closest_hit(bvh, rays[i]);
+      refs[i] = reference_closest_hit(bvh, rays[i], alpha);
       const Verdict v = compare(scene, rays[i], hits[i], refs[i]);
       f.wrong[i] = v == Verdict::Wrong;
       f.missed[i] = v == Verdict::Missed;

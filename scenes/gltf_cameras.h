@@ -9,12 +9,12 @@
 
 namespace raycoh {
 
-// One camera node, in the order the loader's traversal meets them (the first usable perspective one is the
-// default view). name: the node's name, else the camera's, else "camera<N>".
+// One camera node, in the order the loader's traversal meets them (the first usable perspective one, else the
+// first orthographic one, is the default view). name: the node's name, else the camera's, else "camera<N>".
 struct FileCamera {
   std::string name;
   Camera camera;
-  std::string unusable;  // empty when usable; else why not (e.g. "orthographic cameras are not supported")
+  std::string unusable;  // empty when usable; else why not (e.g. "its transform or field of view is degenerate")
 };
 
 // Parses `path` again (glTF files only) and lists its cameras; throws raycoh::Error naming the file on failure.

@@ -20,7 +20,8 @@
 // Materials: pbrMetallicRoughness factors, emissiveFactor x KHR_materials_emissive_strength,
 // KHR_materials_transmission, KHR_materials_ior, KHR_materials_volume (present = solid, absent = thin-walled);
 // textures scale them per triangle (gltf_textures.cpp). Camera: the first perspective camera met in the
-// traversal: eye at the node's origin, looking down its -Z.
+// traversal, else the first orthographic one (ymag = half-height): eye at the node's origin, looking down its -Z.
+// KHR_lights_punctual lights become Scene::lights.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -95,6 +96,9 @@ constexpr ExtensionSupport kExtensions[] = {
     {"KHR_mesh_quantization", false, "byte and short attributes decoded to float"},
     {"EXT_mesh_gpu_instancing", false, "instances flattened into world-space triangles"},
     {"KHR_texture_transform", false, "offset, rotation, scale and texCoord of texture references"},
+    {"KHR_lights_punctual", false,
+     "point, spot and directional lights sampled by next-event estimation; candela and lux used as radiant "
+     "intensity and irradiance; range honoured with the spec's window"},
     {"KHR_materials_clearcoat", true, "clear coat layer dropped: the base metallic-roughness lobe is traced"},
     {"KHR_materials_specular", true, "specular strength and colour dropped: the metallic-roughness lobe is traced"},
     {"KHR_materials_sheen", true, "sheen layer dropped: the base metallic-roughness lobe is traced"},
@@ -106,8 +110,6 @@ std::string why_unsupported(const std::string& name) {
     return "Draco-compressed geometry cannot be decoded (no Draco library); use the uncompressed variant";
   if (name == "EXT_meshopt_compression") return "meshopt-compressed buffers cannot be decoded";
   if (name == "KHR_texture_basisu") return "Basis Universal textures cannot be decoded";
-  if (name == "KHR_lights_punctual")
-    return "punctual lights are not traced (no area to hit or sample); without emitters the sky + sun lights it";
   if (name == "KHR_materials_variants") return "the default material of each primitive is used";
   if (name == "KHR_xmp" || name == "KHR_xmp_json_ld") return "metadata only";
   if (name == "KHR_materials_unlit") return "unlit materials are shaded as lit";

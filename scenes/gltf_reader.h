@@ -107,6 +107,7 @@ class GltfReader {
   std::vector<int> root_nodes() const;
   void visit(int root, const Mat4& parent);
   void take_camera(const tinygltf::Node& node, const Mat4& world);
+  void take_light(int index, const tinygltf::Node& node, const Mat4& world);
   // The view of camera node `node` at `world`; empty when usable, else why not.
   std::string camera_of(const tinygltf::Node& node, const Mat4& world, Camera& out) const;
 
@@ -149,6 +150,7 @@ class GltfReader {
   size_t instanced_nodes_ = 0, instances_ = 0;     // EXT_mesh_gpu_instancing, flattened
   std::vector<float> uv_[2];                       // TEXCOORD_0 and _1 per scene vertex (zero where absent)
   int64_t default_material_ = -1;
+  size_t dark_lights_ = 0;  // punctual lights with zero intensity, not traced
 };
 
 }  // namespace raycoh::gltf

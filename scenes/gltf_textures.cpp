@@ -4,9 +4,11 @@
 // mean of those texels times the factors becomes the triangle's material. Triangles with equal quantised values
 // share one derived material, so every stage, the CUDA generators included, reads textured materials through the
 // usual per-triangle material index, and emitter sampling weighs each triangle by its mean emissive texel.
-// Alpha MASK cuts out a triangle when fewer than half of its samples reach alphaCutoff (no any-hit test, so
-// cut-outs are per triangle, not per texel); BLEND is traced as opaque. Normal and occlusion maps are not read.
-// Part of the glTF loader, the one adapter for tinygltf.
+// Alpha MASK: a triangle of a MASK material with a base-colour texture keeps its texture coordinates and the
+// texture's alpha in Scene::alpha, and the tracers test every candidate hit against alphaCutoff (any-hit, per
+// texel: core/alpha_mask.h); its material is the mean of its opaque samples only (of all 16 if none is). A
+// MASK material without a texture has one alpha: below the cutoff its triangles are removed whole. BLEND is
+// traced as opaque. Normal and occlusion maps are not read. Part of the glTF loader, the one adapter for tinygltf.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -145,6 +147,12 @@ std::array<std::array<float, 2>, 16> sample_points() {
   return out;
 }
 
+uint32_t alpha_wrap_mode(int gltf_wrap) {
+  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return kWrapClamp;
+  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return kWrapMirror;
+  return kWrapRepeat;
+}
+
 // Quantised values of a derived material: its key, and the values it stands for.
 constexpr float kColourSteps = 64.f, kFactorSteps = 32.f, kEmissionSteps = 256.f;
 int q(float v, float steps) { return static_cast<int>(std::lround(v * steps)); }
@@ -195,7 +203,45 @@ void GltfReader::apply_textures() {
   }
   if (normal_maps) notes.push_back("normal maps are not applied: shading normals are the interpolated vertex normals");
   if (blend) notes.push_back("alpha BLEND materials are traced as opaque surfaces");
-  if (textured == 0) return;
+  // MASK materials: the alpha factor, and the mask texture of those with a base-colour texture.
+  std::vector<uint32_t> mask_texture(nm, kNoAlphaMask);
+  std::vector<uint8_t> cut_whole(nm, 0);
+  AlphaMasks& masks = scene_.alpha;
+  size_t mask_materials = 0;
+  {
+    std::map<const tinygltf::Image*, uint64_t> image_offset;
+    for (size_t i = 0; i < nm; ++i) {
+      const tinygltf::Material& gm = model_.materials[i];
+      if (gm.alphaMode != "MASK") continue;
+      const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
+      const float factor = f.size() >= 4 ? static_cast<float>(f[3]) : 1.f;
+      const float cutoff = static_cast<float>(gm.alphaCutoff);
+      if (!tex[i].base) {
+        cut_whole[i] = factor < cutoff;
+        continue;
+      }
+      const TextureRef& r = tex[i].base;
+      // A texture whose every texel is opaque enough cuts nothing out: no test is needed.
+      uint8_t lowest = 255;
+      for (size_t p = 3; p < r.image->image.size(); p += 4) lowest = std::min(lowest, r.image->image[p]);
+      if (static_cast<float>(lowest) / 255.f * factor >= cutoff) continue;
+      auto [at, fresh] = image_offset.try_emplace(r.image, masks.texels.size());
+      if (fresh)
+        for (size_t p = 3; p < r.image->image.size(); p += 4) masks.texels.push_back(r.image->image[p]);
+      AlphaTexture t;
+      t.width = static_cast<uint32_t>(r.image->width);
+      t.height = static_cast<uint32_t>(r.image->height);
+      t.offset = at->second;
+      t.wrap_s = alpha_wrap_mode(r.wrap_s);
+      t.wrap_t = alpha_wrap_mode(r.wrap_t);
+      t.factor = factor;
+      t.cutoff = cutoff;
+      mask_texture[i] = static_cast<uint32_t>(masks.textures.size());
+      masks.textures.push_back(t);
+      ++mask_materials;
+    }
+  }
+  if (textured == 0 && std::find(cut_whole.begin(), cut_whole.end(), 1) == cut_whole.end()) return;
 
   const auto points = sample_points();
   std::map<std::array<int, 11>, uint32_t> derived;
@@ -206,11 +252,31 @@ void GltfReader::apply_textures() {
   for (size_t t = 0; t < scene_.tri_material.size(); ++t) {
     const uint32_t* idx = &scene_.indices[3 * t];
     uint32_t mat = scene_.tri_material[t];
+    if (mat < nm && cut_whole[mat]) {
+      ++cut;
+      continue;
+    }
+    const uint32_t mask = mat < nm ? mask_texture[mat] : kNoAlphaMask;
+    if (mask != kNoAlphaMask) {
+      // The mask texture's coordinates at the three corners, through its transform.
+      const TextureRef& r = tex[mat].base;
+      const int set = std::clamp(r.texcoord, 0, 1);
+      masks.tri_texture.resize(kept_materials.size(), kNoAlphaMask);
+      masks.tri_uv.resize(6 * kept_materials.size(), 0.f);
+      masks.tri_texture.push_back(mask);
+      for (int k = 0; k < 3; ++k) {
+        const double u0 = uv_[set][2 * idx[k]], v0 = uv_[set][2 * idx[k] + 1];
+        masks.tri_uv.push_back(static_cast<float>(r.m[0] * u0 + r.m[1] * v0 + r.m[2]));
+        masks.tri_uv.push_back(static_cast<float>(r.m[3] * u0 + r.m[4] * v0 + r.m[5]));
+      }
+      ++masks.masked_tris;
+    }
     if (mat < nm && tex[mat].any()) {
       const MaterialTextures& mt = tex[mat];
       const tinygltf::Material& gm = model_.materials[mat];
       const Material& base = scene_.materials[mat];
-      float colour[3] = {0, 0, 0}, metal = 0, rough = 0, emission[3] = {0, 0, 0}, trans = 0;
+      // Sums over all samples [0] and over the opaque ones [1].
+      float colour[2][3] = {}, metal[2] = {}, rough[2] = {}, emission[2][3] = {}, trans[2] = {};
       int opaque = 0;
       for (const auto& b : points) {
         float uv[2][2];
@@ -225,45 +291,55 @@ void GltfReader::apply_textures() {
         float alpha = gm.pbrMetallicRoughness.baseColorFactor.size() >= 4
                           ? static_cast<float>(gm.pbrMetallicRoughness.baseColorFactor[3])
                           : 1.f;
+        float c[3], m, ro, e[3], tr;
         if (mt.base) {
-          const auto c = at(mt.base);
-          for (int k = 0; k < 3; ++k) colour[k] += srgb_to_linear(c[k]) * base.base_color[k];
-          alpha *= c[3];
+          const auto texel = at(mt.base);
+          for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear(texel[k]) * base.base_color[k];
+          alpha *= texel[3];
         } else {
-          for (int k = 0; k < 3; ++k) colour[k] += base.base_color[k];
+          for (int k = 0; k < 3; ++k) c[k] = base.base_color[k];
         }
         if (mt.metal_rough) {
-          const auto c = at(mt.metal_rough);  // glTF: green = roughness, blue = metalness
-          rough += c[1] * base.roughness;
-          metal += c[2] * base.metallic;
+          const auto texel = at(mt.metal_rough);  // glTF: green = roughness, blue = metalness
+          ro = texel[1] * base.roughness;
+          m = texel[2] * base.metallic;
         } else {
-          rough += base.roughness;
-          metal += base.metallic;
+          ro = base.roughness;
+          m = base.metallic;
         }
         if (mt.emissive) {
-          const auto c = at(mt.emissive);
-          for (int k = 0; k < 3; ++k) emission[k] += srgb_to_linear(c[k]) * base.emission[k];
+          const auto texel = at(mt.emissive);
+          for (int k = 0; k < 3; ++k) e[k] = srgb_to_linear(texel[k]) * base.emission[k];
         } else {
-          for (int k = 0; k < 3; ++k) emission[k] += base.emission[k];
+          for (int k = 0; k < 3; ++k) e[k] = base.emission[k];
         }
-        trans += mt.transmission ? at(mt.transmission)[0] * base.transmission : base.transmission;
-        opaque += alpha >= static_cast<float>(gm.alphaCutoff);
+        tr = mt.transmission ? at(mt.transmission)[0] * base.transmission : base.transmission;
+        const bool is_opaque = alpha >= static_cast<float>(gm.alphaCutoff);
+        opaque += is_opaque;
+        for (int j = 0; j < 2; ++j) {
+          if (j == 1 && !is_opaque) continue;
+          for (int k = 0; k < 3; ++k) {
+            colour[j][k] += c[k];
+            emission[j][k] += e[k];
+          }
+          metal[j] += m;
+          rough[j] += ro;
+          trans[j] += tr;
+        }
       }
-      if (gm.alphaMode == "MASK" && 2 * opaque < static_cast<int>(points.size())) {
-        ++cut;
-        continue;
-      }
-      const float inv = 1.f / static_cast<float>(points.size());
+      // A masked triangle looks like its opaque texels: the others are never hit.
+      const int j = mask != kNoAlphaMask && opaque > 0 ? 1 : 0;
+      const float inv = 1.f / static_cast<float>(j ? opaque : static_cast<int>(points.size()));
       const std::array<int, 11> key = {static_cast<int>(mat),
-                                       q(colour[0] * inv, kColourSteps),
-                                       q(colour[1] * inv, kColourSteps),
-                                       q(colour[2] * inv, kColourSteps),
-                                       q(metal * inv, kFactorSteps),
-                                       q(rough * inv, kFactorSteps),
-                                       q(emission[0] * inv, kEmissionSteps),
-                                       q(emission[1] * inv, kEmissionSteps),
-                                       q(emission[2] * inv, kEmissionSteps),
-                                       q(trans * inv, kFactorSteps),
+                                       q(colour[j][0] * inv, kColourSteps),
+                                       q(colour[j][1] * inv, kColourSteps),
+                                       q(colour[j][2] * inv, kColourSteps),
+                                       q(metal[j] * inv, kFactorSteps),
+                                       q(rough[j] * inv, kFactorSteps),
+                                       q(emission[j][0] * inv, kEmissionSteps),
+                                       q(emission[j][1] * inv, kEmissionSteps),
+                                       q(emission[j][2] * inv, kEmissionSteps),
+                                       q(trans[j] * inv, kFactorSteps),
                                        0};
       auto [it, inserted] = derived.try_emplace(key, static_cast<uint32_t>(scene_.materials.size()));
       if (inserted) {
@@ -288,15 +364,24 @@ void GltfReader::apply_textures() {
   scene_.indices.swap(kept_indices);
   scene_.tri_material.swap(kept_materials);
   scene_.alpha_cut_tris = cut;
-  notes.push_back(
-      fmt::format("textures: {} triangle(s) of {} textured material(s) take the mean of 16 texels each "
-                  "(base colour, metallic-roughness, emissive, transmission), {} derived material(s)",
-                  retextured, textured, derived.size()));
-  if (cut > 0)
+  if (!masks.tri_texture.empty()) {
+    masks.tri_texture.resize(scene_.tri_material.size(), kNoAlphaMask);
+    masks.tri_uv.resize(6 * scene_.tri_material.size(), 0.f);
+  } else {
+    masks = AlphaMasks{};
+  }
+  if (textured > 0)
     notes.push_back(
-        fmt::format("alpha MASK: {} triangle(s) cut out (fewer than half of their texels opaque); "
-                    "cut-outs are per triangle, not per texel",
-                    cut));
+        fmt::format("textures: {} triangle(s) of {} textured material(s) take the mean of 16 texels each "
+                    "(base colour, metallic-roughness, emissive, transmission), {} derived material(s)",
+                    retextured, textured, derived.size()));
+  if (masks.masked_tris > 0)
+    notes.push_back(fmt::format(
+        "alpha MASK: {} triangle(s) of {} material(s) cut out per texel at every hit (any-hit test in traversal, "
+        "{} KiB of alpha texels)",
+        masks.masked_tris, mask_materials, (masks.texels.size() + 1023) / 1024));
+  if (cut > 0)
+    notes.push_back(fmt::format("alpha MASK: {} triangle(s) removed whole (constant alpha below the cutoff)", cut));
 }
 
 }  // namespace raycoh::gltf

@@ -2,8 +2,9 @@
 // directory holding one scene file), finalize_scene (validation, normals, bounds, emitters, default camera,
 // sky + sun) and analyse(), which says what a scene needs and which pipeline stages a run on it leaves out.
 //
-// Lighting rule (finalize_scene): the sky + sun environment is switched on when a scene has no emitting
-// triangle, or when its emitters are too weak to light it: their mean radiant exitance over the scene's whole
+// Lighting rule (finalize_scene): a scene with punctual lights (glTF KHR_lights_punctual) is lit by them and its
+// emitters, never by a substituted sky. Otherwise the sky + sun environment is switched on when a scene has no
+// emitting triangle, or when its emitters are too weak to light it: their mean radiant exitance over the scene's whole
 // surface, pi * sum(area * luminance(emission)) / total area, is below kMinEmitterExitance. The sun then gives
 // about 2.4 W/m^2 at normal incidence and the sky about 1 more, so a white wall in the open reads about 0.5-1.
 #include "scenes/scene.h"
@@ -56,8 +57,10 @@ void sanitize_material(Material& m) {
 // Camera values from a file can be NaN or place the target on the eye; such a view is replaced by the default.
 bool camera_usable(const Camera& c) {
   const Vec3 d = c.target - c.eye;
+  const bool view = c.ortho_half_height > 0.f ? std::isfinite(c.ortho_half_height)
+                                              : c.ortho_half_height == 0.f && c.vfov_deg > 0.f && c.vfov_deg < 180.f;
   return is_finite(c.eye) && is_finite(c.target) && is_finite(c.up) && dot(d, d) > 0.f &&
-         length(cross(d, c.up)) > 0.f && c.vfov_deg > 0.f && c.vfov_deg < 180.f;
+         length(cross(d, c.up)) > 0.f && view;
 }
 
 Camera default_camera(const Bounds& b) {
@@ -116,7 +119,8 @@ std::filesystem::path pick_scene_file(const std::filesystem::path& dir, const st
 }
 
 // `:camera=N|name` of a glTF file: its N-th camera node (traversal order) or the one of that name. The choices
-// are listed by get_choice's error; an orthographic or degenerate camera is refused naming why.
+// are listed by get_choice's error; a degenerate camera is refused naming why. The file's camera is in source
+// coordinates: it is moved like the scene was (finalize_scene's rebase).
 void select_camera(Scene& scene, const std::string& path, ParamSet& params) {
   std::vector<FileCamera> cams;
   const std::string ext = lower(std::filesystem::path(path).extension().string());
@@ -135,7 +139,11 @@ void select_camera(Scene& scene, const std::string& path, ParamSet& params) {
   }
   if (!cams[i].unusable.empty())
     throw Error(fmt::format("scene '{}': camera={} ('{}'): {}", path, pick, cams[i].name, cams[i].unusable));
-  scene.camera = cams[i].camera;
+  Camera cam = cams[i].camera;
+  cam.eye = (cam.eye - scene.rebase_offset) * scene.rebase_scale;
+  cam.target = (cam.target - scene.rebase_offset) * scene.rebase_scale;
+  cam.ortho_half_height *= scene.rebase_scale;
+  scene.camera = cam;
 }
 
 }  // namespace
@@ -152,6 +160,18 @@ const char* to_string(MaterialClass c) {
       return "transmissive";
     case MaterialClass::Emissive:
       return "emissive";
+  }
+  return "unknown";
+}
+
+const char* to_string(LightType t) {
+  switch (t) {
+    case LightType::Point:
+      return "point";
+    case LightType::Spot:
+      return "spot";
+    case LightType::Directional:
+      return "directional";
   }
   return "unknown";
 }
@@ -195,6 +215,19 @@ void validate_scene(Scene& scene) {
                        scene.materials.size()));
   }
   for (Material& m : scene.materials) sanitize_material(m);
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    PunctualLight& l = scene.lights[i];
+    const std::string name = fmt::format("{} light {} '{}'", to_string(l.type), i, l.name);
+    if (!is_finite(l.position) || !is_finite(l.direction) || !is_finite(l.intensity) || !std::isfinite(l.range) ||
+        !std::isfinite(l.cos_inner) || !std::isfinite(l.cos_outer))
+      fail(fmt::format("{} has a non-finite position, direction, intensity, range or cone", name));
+    if (std::min(l.intensity.x, std::min(l.intensity.y, l.intensity.z)) < 0.f || l.range < 0.f)
+      fail(fmt::format("{} has a negative intensity or range", name));
+    if (l.type != LightType::Point) {
+      if (!(dot(l.direction, l.direction) > 0.f)) fail(fmt::format("{} has a zero direction", name));
+      l.direction = normalize(l.direction);
+    }
+  }
 }
 
 // Normalises the usable normals and marks the others for repair: a normal is repaired when it is missing (the
@@ -276,9 +309,10 @@ bool collect_emitters(Scene& scene, const std::vector<float>& areas) {
   return total_area > 0.0 ? emitted / total_area < kMinEmitterExitance : true;
 }
 
-// The sky + sun when the scene has no emitter or only weak ones; the sun direction made a unit vector.
+// The sky + sun when the scene has no punctual light and no emitter or only weak ones; the sun direction made a
+// unit vector.
 void set_environment(Scene& scene, bool weak_emitters) {
-  scene.env.enabled = scene.emissive_tris.empty() || weak_emitters;
+  scene.env.enabled = scene.lights.empty() && (scene.emissive_tris.empty() || weak_emitters);
   if (scene.env.enabled && max_component(scene.env.sun_radiance) <= 0.f) {
     scene.env.sun_radiance = kSunRadiance;
     scene.env.sky_zenith = kSkyZenith;
@@ -292,7 +326,9 @@ void set_environment(Scene& scene, bool weak_emitters) {
 // Origin rebasing, both steps exact in float. An axis whose box centre c lies further from 0 than 8 times the
 // box's largest extent E is moved by -c: every coordinate v on it is within E / 2 of c, so v / c lies in
 // [15/16, 17/16] and v - c is exact (Sterbenz). Then a box smaller than 1/16 is scaled by the power of two that
-// brings E into [1, 2) (exact barring underflow). The camera moves with the scene (its eye may round).
+// brings E into [1, 2) (exact barring underflow). The camera moves with the scene (its eye may round), and so
+// do punctual lights: their positions and ranges like geometry, point and spot intensities by scale^2 so that
+// the irradiance I / d^2 they give is unchanged.
 void rebase(Scene& scene) {
   Bounds b;
   for (uint32_t i : scene.indices) b.grow(scene.positions[i]);
@@ -307,6 +343,12 @@ void rebase(Scene& scene) {
   for (Vec3& p : scene.positions) p = (p - offset) * scale;
   scene.camera.eye = (scene.camera.eye - offset) * scale;
   scene.camera.target = (scene.camera.target - offset) * scale;
+  scene.camera.ortho_half_height *= scale;
+  for (PunctualLight& l : scene.lights) {
+    l.position = (l.position - offset) * scale;
+    l.range *= scale;
+    if (l.type != LightType::Directional) l.intensity = l.intensity * (scale * scale);
+  }
   scene.rebase_offset = offset;
   scene.rebase_scale = scale;
 }
@@ -345,6 +387,7 @@ SceneFeatures analyse(const Scene& scene) {
                  0;
   f.has_transmissive = f.materials_per_class[static_cast<int>(MaterialClass::Transmissive)] > 0;
   f.has_emissive = !scene.emissive_tris.empty();
+  f.punctual_lights = scene.lights.size();
   f.has_textures = textured > 0;
   f.needs_env_light = scene.env.enabled;
 
@@ -354,7 +397,9 @@ SceneFeatures analyse(const Scene& scene) {
   if (!f.has_glossy) f.skipped_stages.push_back("hybrid groups: no glossy materials");
   if (!f.has_transmissive) f.skipped_stages.push_back("transmission handling: no transmissive materials");
   if (!f.has_emissive) f.skipped_stages.push_back("emitter sampling: scene has no emitters");
-  if (!f.needs_env_light) f.skipped_stages.push_back("environment light: scene has emitters");
+  if (!f.needs_env_light)
+    f.skipped_stages.push_back(f.punctual_lights > 0 ? "environment light: scene has punctual lights"
+                                                     : "environment light: scene has emitters");
   return f;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/alpha_mask.h"
 #include "core/material.h"
 #include "core/vec.h"
 
@@ -38,9 +39,31 @@ struct Camera {
   Vec3 target{0.f, 0.f, 0.f};
   Vec3 up{0.f, 1.f, 0.f};
   float vfov_deg = 45.f;
+  // > 0: an orthographic camera whose view is this half-height (glTF ymag; the width follows the image's aspect),
+  // rays parallel to eye -> target from the plane through the eye; 0: a pinhole camera with vfov_deg.
+  float ortho_half_height = 0.f;
   // true: the source chose the view (a glTF camera node, or a built-in scene's own view);
   // false: default framing of the scene bounds.
   bool from_file = false;
+};
+
+// A KHR_lights_punctual light: a delta light (nothing can hit it), sampled by next-event estimation only.
+// Intensities are used as the renderer's radiometric units, with no photometric conversion: a point or spot
+// light's intensity (candela) is its radiant intensity on the axis, so a surface at distance r facing it receives
+// E = I / r^2, and a directional light's (lux) is the irradiance E on a surface facing it. Emissive materials'
+// radiance (emissiveFactor x strength, nits) is on the same scale, so lights and emitters keep their ratio.
+enum class LightType : uint8_t { Point = 0, Spot = 1, Directional = 2 };
+const char* to_string(LightType t);
+
+struct PunctualLight {
+  std::string name;
+  LightType type = LightType::Point;
+  Vec3 position{0.f, 0.f, 0.f};    // point and spot
+  Vec3 direction{0.f, 0.f, -1.f};  // spot and directional: unit, the way the light travels (the node's -Z)
+  Vec3 intensity{1.f, 1.f, 1.f};   // colour x intensity
+  // Point and spot: 0 = infinite; else the spec's recommended window clamp(1 - (d / range)^4, 0, 1) on I / d^2.
+  float range = 0.f;
+  float cos_inner = 1.f, cos_outer = 0.f;  // spot cone: full intensity inside cos_inner, none outside cos_outer
 };
 
 // Sky + sun used when a scene has no emitter (or too weak an emitter to light it).
@@ -53,6 +76,19 @@ struct Environment {
   Vec3 sky_horizon{0.f, 0.f, 0.f};
 };
 
+// Alpha MASK cut-outs that the tracers test at every candidate hit (core/alpha_mask.h): triangles of MASK
+// materials with a base-colour texture. Empty (no arrays at all) when the scene has none, and then every tracer
+// runs its traversal without the test.
+struct AlphaMasks {
+  std::vector<uint32_t> tri_texture;  // per triangle: index into textures, or kNoAlphaMask
+  std::vector<float> tri_uv;          // 6 per triangle: the texture's (u, v) at v0, v1, v2
+  std::vector<AlphaTexture> textures;
+  std::vector<uint8_t> texels;  // every texture's alpha, at its offset
+  size_t masked_tris = 0;
+  bool empty() const { return tri_texture.empty(); }
+  AlphaMaskView view() const { return {tri_texture.data(), tri_uv.data(), textures.data(), texels.data()}; }
+};
+
 struct Scene {
   std::string name;                    // short name (file stem or procedural name)
   std::string source;                  // path or procedural spec it was made from
@@ -62,11 +98,13 @@ struct Scene {
   std::vector<uint32_t> tri_material;  // per triangle, index into materials
   std::vector<Material> materials;
   std::vector<uint32_t> emissive_tris;  // triangles whose material emits
+  std::vector<PunctualLight> lights;    // punctual lights (glTF KHR_lights_punctual), world space
   Camera camera;
   Environment env;
   Bounds bounds;
   uint32_t degenerate_tris = 0;  // zero-area triangles (kept; they are never hit)
-  size_t alpha_cut_tris = 0;     // triangles removed by an alpha MASK (glTF textures, per triangle)
+  size_t alpha_cut_tris = 0;     // triangles removed whole by an alpha MASK (constant alpha below the cutoff)
+  AlphaMasks alpha;              // per-texel cut-outs, tested in traversal
   bool generated_normals = false;
   // What the loader did that changes the workload or the materials, one line each, for `scenes info`: each glTF
   // extension used (supported / mapped / ignored), dropped primitives by kind, instancing, tinygltf's warnings.
@@ -88,6 +126,7 @@ struct SceneFeatures {
   bool has_glossy = false;  // glossy or specular
   bool has_transmissive = false;
   bool has_emissive = false;
+  size_t punctual_lights = 0;
   bool has_textures = false;
   bool needs_env_light = false;
   std::vector<std::string> skipped_stages;  // "stage: reason"
@@ -114,6 +153,8 @@ std::string builtin_scene_summary(const std::string& name);
 
 // Shared post-processing of every loader: validates geometry (finite positions, indices in range, at least one
 // triangle), generates missing normals, classifies materials, fills bounds, emitters, camera and environment.
+// Lighting rule: a scene with punctual lights is lit by them (and its emitters); otherwise a scene without
+// emitters, or with emitters too weak to light it, gets the sky + sun.
 void finalize_scene(Scene& scene);
 
 }  // namespace raycoh

@@ -5,6 +5,15 @@
 // The probability of each triangle is the exact probability that pick() returns it for a uniform number on
 // rng_float's grid of 2^-24 steps, so NEE and the MIS weights of BSDF hits use the same number even for triangles
 // too dim to be picked at all (probability 0: then only BSDF sampling finds them, with weight 1).
+//
+// Punctual lights (glTF KHR_lights_punctual, scenes/scene.h) are delta lights: BSDF sampling cannot find them, so
+// next-event estimation is their only strategy (MIS weight 1). One light is chosen per shading point with
+// probability proportional to its power, as pbrt-v4's PowerLightSampler: point 4 pi I, spot
+// 2 pi I (1 - (cos_inner + cos_outer) / 2), directional pi r^2 E with r the radius of the scene's bounding sphere
+// (luminance of the colour), with the same exact grid probabilities. What a light delivers follows the glTF spec:
+// I / d^2 for point and spot lights, times the spot's smooth cone falloff
+// t = clamp((cos - cos_outer) / max(1e-3, cos_inner - cos_outer), 0, 1), squared, and, where a range is given,
+// the spec's recommended window clamp(1 - (d / range)^4, 0, 1); E for directional lights.
 #pragma once
 
 #include <cstdint>
@@ -24,11 +33,33 @@ struct EmitterSample {
   Vec3 emission;
 };
 
+// A light direction from a shading point with what it delivers, divided by the probability of the choice.
+struct PunctualSample {
+  bool found = false;        // false: the point is outside the light's cone or range
+  Vec3 dir;                  // unit, from the offset ray origin towards the light
+  float dist = 0.f;          // to the light; infinite for directional lights
+  Vec3 irradiance_over_pmf;  // irradiance on a surface facing the light, over the choice's probability
+};
+
+struct PunctualLights {
+  std::vector<float> cdf;  // inclusive, last = 1
+  std::vector<float> pmf;  // exact probability of picking each light
+  explicit PunctualLights(const Scene& scene);
+  bool empty() const { return cdf.empty(); }
+  // The light for the uniform number u_pick, seen from sp.
+  PunctualSample sample(const Scene& scene, const ShadingPoint& sp, float u_pick) const;
+};
+
+// What light l delivers at distance d along unit direction dir (from the light towards the point): I / d^2 with
+// the spot cone and range windows for point and spot lights (d unused for directional lights: E).
+Vec3 punctual_irradiance(const PunctualLight& l, Vec3 dir, float d);
+
 struct EmitterDistribution {
   std::vector<uint32_t> tris;
   std::vector<float> cdf;          // inclusive, last = 1
   std::vector<float> pmf_by_prim;  // probability of picking triangle prim (0 for non-emitters), sized per triangle
   std::vector<float> area_by_prim;
+  PunctualLights punctual;  // the scene's punctual lights, sampled apart from the triangles
 
   explicit EmitterDistribution(const Scene& scene);
   bool empty() const { return tris.empty(); }

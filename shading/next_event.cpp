@@ -1,9 +1,12 @@
 // Next-event estimation of the path tracer (path_stages.h), at every path vertex with a non-delta BSDF (diffuse,
 // emissive, glossy, specular: core/bsdf.h): one shadow ray per light kind, an emitter (shading/emitters.h) in slot
-// 2i and the sun's cone (shading/environment.h) in slot 2i + 1, each weighted by multiple importance sampling
-// with the power heuristic against BSDF sampling of the same direction (Veach, "Robust Monte Carlo Methods for
-// Light Transport Simulation", PhD thesis 1997, ch. 9). All of a bounce's shadow rays are one batch, traced
-// closest-hit with tmax just short of the light (the tracer interface has no any-hit query).
+// 2i and, in slot 2i + 1, the sun's cone (shading/environment.h) or a punctual light (emitters.h): a scene has
+// one or the other, since finalize_scene switches the environment off in scenes with punctual lights. Emitter
+// and sun are weighted by multiple importance sampling with the power heuristic against BSDF sampling of the
+// same direction (Veach, "Robust Monte Carlo Methods for Light Transport Simulation", PhD thesis 1997, ch. 9);
+// punctual lights are delta lights that BSDF sampling never finds, so their weight is 1 (an infinite light pdf). All of
+// a bounce's shadow rays are one batch, traced closest-hit with tmax just short of the light (the tracer interface has
+// no any-hit query).
 //
 // A shadow ray that hits a thin-walled transmissive surface (a window pane) goes on behind it, attenuated by the
 // pane's straight-through transmittance (1 - F) x base colour, in another batch: thin-walled refraction does not
@@ -12,6 +15,7 @@
 // so that both strategies cover the same path lengths.
 #include <algorithm>
 
+#include "core/error.h"
 #include "shading/environment.h"
 #include "shading/path_stages.h"
 
@@ -73,6 +77,8 @@ ShadowRays make_shadow_rays(const FrameContext& ctx, const Vertices& verts, int 
   shadow.panes_left.assign(2 * nv, static_cast<uint8_t>(std::min(255, ctx.settings.max_depth - 1 - bounce)));
   shadow.keep.assign(2 * nv, 0);
   const SunSampler sun(ctx.scene.env);
+  const PunctualLights& punctual = ctx.emitters.punctual;
+  RAYCOH_CHECK(!(sun.on && !punctual.empty()), "the sun and punctual lights would share a shadow-ray slot");
   parallel_for_index(nv, [&](size_t i) {
     const ShadingPoint& sp = verts.sp[i];
     if (is_delta(sp.cls)) return;
@@ -89,6 +95,11 @@ ShadowRays make_shadow_rays(const FrameContext& ctx, const Vertices& verts, int 
       const Vec3 dir = sun.sample(ctx.rand(p, bounce, kSunU), ctx.rand(p, bounce, kSunV));
       add_shadow_ray(shadow, 2 * i + 1, verts, i, m,
                      {dir, __builtin_huge_valf(), ctx.scene.env.sun_radiance * (1.f / sun.pdf), sun.pdf});
+    } else if (!punctual.empty()) {
+      const PunctualSample l = punctual.sample(ctx.scene, sp, ctx.rand(p, bounce, kLightPick));
+      if (l.found)
+        add_shadow_ray(shadow, 2 * i + 1, verts, i, m,
+                       {l.dir, l.dist * (1.f - kShadowEpsilon), l.irradiance_over_pmf, __builtin_huge_valf()});
     }
   });
   compact(shadow.keep, shadow.rays.rays, shadow.pixel, shadow.beta, shadow.panes_left);

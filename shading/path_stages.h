@@ -39,7 +39,8 @@ enum BounceDim : uint32_t {
   kDirU = 5,
   kDirV = 6,
   kLobe = 7,
-  kRoulette = 8
+  kRoulette = 8,
+  kLightPick = 9
 };
 
 // Power heuristic (beta = 2) weight of the strategy with pdf a against b, written so that it never divides

@@ -3,7 +3,8 @@
 //   1. Camera pass (camera_pass.cpp): camera rays in 8x8 tile order, traced; the G-buffer of their hits; emitters
 //      and the environment seen directly.
 //   2. Next-event estimation (next_event.cpp) at every path vertex with a non-delta BSDF: one shadow ray towards
-//      an emitter (emitters.cpp) and one towards the sun (environment.cpp), MIS-weighted, through thin panes.
+//      an emitter (emitters.cpp) and one towards the sun (environment.cpp) or a punctual light (emitters.cpp),
+//      MIS-weighted (punctual lights: weight 1), through thin panes.
 //   3. Bounce sampling (bounce_sampling.cpp): the generator's directions at the first hit, BSDF sampling and
 //      Russian roulette at later ones.
 //   4. Hit gathering (hit_gathering.cpp): the wave traced; emitters, sun and sky found by BSDF sampling, MIS-
@@ -11,7 +12,8 @@
 //   5. Each pixel's frame sample is added to the Accumulator, which counts NaN/Inf samples instead of adding them.
 //
 // Random numbers: rng(seed, frame, pixel, dim) with, for the vertex of bounce b, dim = kDimFirstFree + 16 b + k:
-// k = 0 emitter choice, 1-2 point on it, 3-4 sun cone, 5-6 BSDF direction, 7 lobe choice, 8 roulette. The
+// k = 0 emitter choice, 1-2 point on it, 3-4 sun cone, 5-6 BSDF direction, 7 lobe choice, 8 roulette, 9 punctual
+// light choice. The
 // generator uses its own dimensions (core/rng.h) for the first bounce.
 #include "shading/path_tracer.h"
 

@@ -118,10 +118,12 @@ void finish_warp(const State* st, const RayCounters* rc, uint32_t lanes, Hit* hi
 // Traces the `lanes` rays of one warp (rays[0 .. lanes), lanes in [1, warp_size]) in lock step under the rules
 // of docs/simt-model.md: hits[0 .. lanes) get the closest hits, `counters` accumulates the warp's step and per-ray
 // counters (rays, warps, steps, lanes, lines, fetches, nodes, leaves, triangles; not the cache fields). Optional
-// outputs: the warp's cache requests, each lane's RayCounters, the step log.
-inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes, const SimtConfig& config, Hit* hits,
-                            CoherenceCounters& counters, WarpTrace* trace = nullptr,
-                            RayCounters* ray_counters = nullptr, std::vector<SimtStep>* steps = nullptr) {
+// outputs: the warp's cache requests, each lane's RayCounters, the step log. `filter` is the any-hit test of alpha
+// cut-outs (core/alpha_mask.h); its texel reads are not fetches of the model (they add no lines or sectors).
+template <class Filter = NoAlphaTest>
+void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes, const SimtConfig& config, Hit* hits,
+                     CoherenceCounters& counters, WarpTrace* trace = nullptr, RayCounters* ray_counters = nullptr,
+                     std::vector<SimtStep>* steps = nullptr, const Filter& filter = Filter{}) {
   using namespace simt_detail;
   RAYCOH_CHECK(lanes <= kMaxWarpSize && config.line_bytes >= 32 && config.sector_bytes >= 16,
                "simt_trace_warp: more than 64 lanes, or lines/sectors too small for the fetch buffers");
@@ -177,7 +179,7 @@ inline void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes,
       // exactly what the lock-step sub-steps compute.
       for (uint64_t m = leaf; m; m &= m - 1) {
         const int l = std::countr_zero(m);
-        leaf_step(st[l], bvh, rc[l]);
+        leaf_step(st[l], bvh, rc[l], filter);
       }
       leaf = lanes_where(leaf, [](const TraversalState& s) { return traversal_has_leaf(s); });
     }

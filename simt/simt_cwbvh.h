@@ -21,9 +21,10 @@ namespace raycoh {
 
 constexpr double kCwbvhTriangleShare = 0.2;
 
-inline void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_t lanes, const SimtConfig& config,
-                                  Hit* hits, CoherenceCounters& counters, WarpTrace* trace = nullptr,
-                                  RayCounters* ray_counters = nullptr, std::vector<SimtStep>* steps = nullptr) {
+template <class Filter = NoAlphaTest>
+void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_t lanes, const SimtConfig& config, Hit* hits,
+                           CoherenceCounters& counters, WarpTrace* trace = nullptr, RayCounters* ray_counters = nullptr,
+                           std::vector<SimtStep>* steps = nullptr, const Filter& filter = Filter{}) {
   using namespace simt_detail;
   RAYCOH_CHECK(lanes <= kMaxWarpSize && config.line_bytes >= 32 && config.sector_bytes >= 16,
                "simt_trace_warp_cwbvh: more than 64 lanes, or lines/sectors too small for the fetch buffers");
@@ -63,7 +64,7 @@ inline void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_
           const int l = std::countr_zero(m);
           const uint32_t i = st[l].tri_base + lowest_bit(st[l].tri_hits);
           f.add(config.tri_base + uint64_t{sizeof(BvhTriangle)} * i, sizeof(BvhTriangle), config);
-          cwbvh_triangle_step(st[l], bvh, rc[l]);
+          cwbvh_triangle_step(st[l], bvh, rc[l], filter);
         }
         f.finish();
         count_fetch_step(SimtStepKind::Triangle, tri, f, counters, trace, steps);

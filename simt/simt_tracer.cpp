@@ -3,7 +3,9 @@
 // the warps' steps are replayed by the timing model (simt/timed_replay.h) on a modelled GPU: the cache model
 // (simt/cache_model.h) says where each sector was found, the event simulation how long the kernel takes.
 // Its hits equal the `cpu` tracer's bit for bit; its products are the CoherenceCounters of last_counters(),
-// with the modeled kernel time, never its own wall-clock time.
+// with the modeled kernel time, never its own wall-clock time. Alpha MASK cut-outs are honoured as the `cpu`
+// tracer honours them (core/alpha_mask.h), but their texel reads are not modeled: on a masked scene the modeled
+// memory traffic covers the BVH only.
 //
 // Parameters: simt_params() below. Rows whose default is "preset" take the preset's value (simt/gpu_presets.cpp);
 // they exist for what-if studies (a GPU with half the DRAM bandwidth, another occupancy).
@@ -27,6 +29,7 @@
 #include "bvh/cwbvh_build.h"
 #include "core/error.h"
 #include "core/flush_denormals.h"
+#include "scenes/scene.h"
 #include "simt/gpu_model.h"
 #include "simt/simt.h"
 #include "simt/simt_cwbvh.h"
@@ -82,8 +85,14 @@ class SimtTracer final : public Tracer {
  public:
   // `cwbvh`: trace that layout instead of `bvh` (null: the BVH2).
   SimtTracer(const Bvh& bvh, std::unique_ptr<Cwbvh> cwbvh, const SimtConfig& simt, const GpuModelConfig& gpu,
-             std::string params)
-      : bvh_(bvh.view()), cwbvh_(std::move(cwbvh)), simt_(simt), gpu_(gpu), params_(std::move(params)) {
+             std::string params, const AlphaMasks& alpha)
+      : bvh_(bvh.view()),
+        cwbvh_(std::move(cwbvh)),
+        simt_(simt),
+        gpu_(gpu),
+        params_(std::move(params)),
+        masked_(!alpha.empty()),
+        alpha_{alpha.view()} {
     validate(gpu_);
   }
 
@@ -113,11 +122,16 @@ class SimtTracer final : public Tracer {
           const size_t first = w * simt_.warp_size;
           const auto lanes = static_cast<uint32_t>(std::min<size_t>(simt_.warp_size, count - first));
           per_warp[w - ready] = CoherenceCounters{};
-          if (cwbvh_)
-            simt_trace_warp_cwbvh(cwbvh_->view(), rays + first, lanes, simt_, hits + first, per_warp[w - ready],
-                                  &traces[w]);
+          CoherenceCounters& c = per_warp[w - ready];
+          if (cwbvh_ && masked_)
+            simt_trace_warp_cwbvh(cwbvh_->view(), rays + first, lanes, simt_, hits + first, c, &traces[w], nullptr,
+                                  nullptr, alpha_);
+          else if (cwbvh_)
+            simt_trace_warp_cwbvh(cwbvh_->view(), rays + first, lanes, simt_, hits + first, c, &traces[w]);
+          else if (masked_)
+            simt_trace_warp(bvh_, rays + first, lanes, simt_, hits + first, c, &traces[w], nullptr, nullptr, alpha_);
           else
-            simt_trace_warp(bvh_, rays + first, lanes, simt_, hits + first, per_warp[w - ready], &traces[w]);
+            simt_trace_warp(bvh_, rays + first, lanes, simt_, hits + first, c, &traces[w]);
         }
       });
       replaying.wait();
@@ -159,6 +173,8 @@ class SimtTracer final : public Tracer {
   SimtConfig simt_;
   GpuModelConfig gpu_;
   std::string params_;
+  bool masked_;      // the scene has alpha cut-outs
+  AlphaTest alpha_;  // their any-hit test
   CoherenceCounters counters_;
 };
 
@@ -245,7 +261,7 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, c
   const SimtConfig simt =
       cwbvh ? simt_config(cwbvh->view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes)
             : simt_config(bvh.view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes);
-  return std::make_unique<SimtTracer>(bvh, std::move(cwbvh), simt, gpu, params.canonical());
+  return std::make_unique<SimtTracer>(bvh, std::move(cwbvh), simt, gpu, params.canonical(), scene.alpha);
 }
 
 }  // namespace raycoh

@@ -3,7 +3,8 @@
 // the triangles EXT_mesh_gpu_instancing adds, zero-area triangles and the extensions it requires. Every file must
 // load with exactly that count (less the triangles an alpha MASK cuts out, which the loader counts) or, for the
 // Draco variants, be refused with an error naming the extension. Textured materials must be classified from
-// their texels: DamagedHelmet emits from a few hundred triangles, not all 15,452.
+// their texels: DamagedHelmet emits from a few hundred triangles, not all 15,452. Punctual lights and alpha MASK
+// cut-outs are read (LightsPunctualLamp, GlassVaseFlowers).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -128,6 +129,16 @@ TEST(GltfSamples, EveryFileLoadsWithItsTrueTriangleCountOrIsRefusedByName) {
   // Metal and transmission: the transmission test's glass stays transmissive.
   if (const Scene* t = find(loaded, "TransmissionTest/glTF-Binary/TransmissionTest.glb")) {
     EXPECT_GT(test::used_class_counts(*t)[static_cast<int>(MaterialClass::Transmissive)], 0u);
+  }
+  // Punctual lights light the lamp; no sky is substituted.
+  if (const Scene* lamp = find(loaded, "LightsPunctualLamp/glTF/LightsPunctualLamp.gltf")) {
+    EXPECT_EQ(lamp->lights.size(), 5u);
+    EXPECT_FALSE(lamp->env.enabled);
+  }
+  // Alpha MASK leaves and petals are cut out per texel at every hit, not removed.
+  if (const Scene* vase = find(loaded, "GlassVaseFlowers/glTF-Binary/GlassVaseFlowers.glb")) {
+    EXPECT_EQ(vase->alpha_cut_tris, 0u);
+    EXPECT_GT(vase->alpha.masked_tris, 1000u);
   }
   // Instancing is flattened and reported.
   if (const Scene* inst = find(loaded, "SimpleInstancing/glTF-Binary/SimpleInstancing.glb")) {

@@ -269,8 +269,8 @@ TEST(GltfLoader, CameraFromTrsNodeAndFallbackWithoutScenes) {
   GltfWriter w = one_triangle();
   w.cameras = R"([{"type":"orthographic","orthographic":{"xmag":1,"ymag":1,"zfar":10,"znear":0.1}},
                   {"type":"perspective","perspective":{"yfov":0.5,"znear":0.1}}])";
-  // No scenes: every root node is drawn. The orthographic camera is ignored; the perspective one looks
-  // down its -z, rotated 90 degrees about +y, i.e. towards -x.
+  // No scenes: every root node is drawn. The perspective camera is preferred to the orthographic one met
+  // first; it looks down its -z, rotated 90 degrees about +y, i.e. towards -x.
   w.scenes.clear();
   w.nodes = R"([{"mesh":0},{"camera":0},{"camera":1,"translation":[5,1,0],"rotation":[0,0.70710678,0,0.70710678]}])";
   const Scene s = load_scene(w.write("gltf_camera", "cam.glb").string());
@@ -280,6 +280,13 @@ TEST(GltfLoader, CameraFromTrsNodeAndFallbackWithoutScenes) {
   const Vec3 d = normalize(s.camera.target - s.camera.eye);
   EXPECT_NEAR(d.x, -1.f, 1e-5f);
   EXPECT_NEAR(s.camera.vfov_deg, 0.5f * 180.f / 3.14159265f, 1e-3f);
+  EXPECT_EQ(s.camera.ortho_half_height, 0.f);
+  // Only an orthographic camera: it is used.
+  w.nodes = R"([{"mesh":0},{"camera":0,"translation":[0,0,3]}])";
+  const Scene o = load_scene(w.write("gltf_camera", "ortho.glb").string());
+  EXPECT_TRUE(o.camera.from_file);
+  EXPECT_EQ(o.camera.ortho_half_height, 1.f);
+  EXPECT_TRUE(test::has_note(o, "the first (orthographic) camera in the scene is used")) << join(o.load_notes, " | ");
 }
 
 TEST(GltfLoader, CameraParameterPicksACameraByIndexOrName) {
@@ -293,8 +300,9 @@ TEST(GltfLoader, CameraParameterPicksACameraByIndexOrName) {
   EXPECT_NEAR(load_scene(file + ":camera=2").camera.eye.z, 7.f, 1e-6f);
   EXPECT_NEAR(load_scene(file + ":camera=side").camera.eye.z, 7.f, 1e-6f);
   EXPECT_NEAR(load_scene(file + ":camera=camera1").camera.eye.x, 5.f, 1e-6f);
-  const std::string ortho = test::error_of([&] { load_scene(file + ":camera=ortho"); });
-  EXPECT_NE(ortho.find("orthographic cameras are not supported"), std::string::npos) << ortho;
+  const Scene ortho = load_scene(file + ":camera=ortho");
+  EXPECT_EQ(ortho.camera.ortho_half_height, 1.f);
+  EXPECT_NEAR(ortho.camera.eye.x, 0.f, 1e-6f);
   const std::string bad = test::error_of([&] { load_scene(file + ":camera=9"); });
   EXPECT_NE(bad.find("0, 1, 2, ortho, camera1, side"), std::string::npos) << bad;
 }

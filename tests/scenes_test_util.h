@@ -51,7 +51,7 @@ inline void expect_valid(const Scene& s) {
   for (uint32_t t : s.emissive_tris) EXPECT_EQ(s.materials[s.tri_material[t]].cls, MaterialClass::Emissive);
   EXPECT_FALSE(s.bounds.empty());
   EXPECT_GT(length(s.camera.target - s.camera.eye), 0.f);
-  EXPECT_TRUE(s.env.enabled || !s.emissive_tris.empty());
+  EXPECT_TRUE(s.env.enabled || !s.emissive_tris.empty() || !s.lights.empty());
   EXPECT_NEAR(length(s.env.sun_dir), 1.f, 1e-5f);
 }
 

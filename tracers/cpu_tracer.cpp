@@ -4,6 +4,9 @@
 //
 // Parameters: cpu_params() below (`bvh`: bvh2 | cwbvh, default bvh2).
 //
+// Scenes with alpha MASK cut-outs (Scene::alpha) are traced with the AlphaTest filter of core/alpha_mask.h, which
+// skips hits on transparent texels; every other scene with NoAlphaTest, the same code as without the feature.
+//
 // Follows Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while traversal
 // of a two-boxes-per-node BVH2, with the watertight triangle test of Woop, Benthin and Wald (JCGT 2013). Every
 // ray is independent, so the hits are the same whatever the thread count or scheduling.
@@ -17,6 +20,7 @@
 #include "core/flush_denormals.h"
 #include "core/traverse.h"
 #include "core/traverse_cwbvh.h"
+#include "scenes/scene.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
@@ -25,23 +29,28 @@ namespace {
 // Rays per task: large enough to amortise scheduling, small enough to balance incoherent batches on few cores.
 constexpr size_t kRaysPerBlock = 256;
 
+template <class Filter>
 class CpuTracer final : public Tracer {
  public:
-  explicit CpuTracer(const Bvh& bvh) : bvh_(bvh.view()) {}
+  CpuTracer(const Bvh& bvh, Filter filter) : bvh_(bvh.view()), filter_(filter) {}
 
   void trace(const Ray* rays, size_t count, Hit* hits) override {
     const BvhView bvh = bvh_;
+    const Filter filter = filter_;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kRaysPerBlock), [&](const tbb::blocked_range<size_t>& r) {
       const FlushDenormalsScope ftz;  // same floating-point mode as the Embree tracer, for a fair comparison
-      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit(bvh, rays[i]);
+      NoCounters none;
+      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit(bvh, rays[i], none, filter);
     });
   }
 
   void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) override {
     const BvhView bvh = bvh_;
+    const Filter filter = filter_;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kRaysPerBlock), [&](const tbb::blocked_range<size_t>& r) {
       const FlushDenormalsScope ftz;
-      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit(bvh, rays[order[i]]);
+      NoCounters none;
+      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit(bvh, rays[order[i]], none, filter);
     });
   }
 
@@ -49,25 +58,31 @@ class CpuTracer final : public Tracer {
 
  private:
   BvhView bvh_;
+  Filter filter_;
 };
 
+template <class Filter>
 class CpuCwbvhTracer final : public Tracer {
  public:
-  explicit CpuCwbvhTracer(Cwbvh cwbvh) : cwbvh_(std::move(cwbvh)) {}
+  CpuCwbvhTracer(Cwbvh cwbvh, Filter filter) : cwbvh_(std::move(cwbvh)), filter_(filter) {}
 
   void trace(const Ray* rays, size_t count, Hit* hits) override {
     const CwbvhView bvh = cwbvh_.view();
+    const Filter filter = filter_;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kRaysPerBlock), [&](const tbb::blocked_range<size_t>& r) {
       const FlushDenormalsScope ftz;
-      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit_cwbvh(bvh, rays[i]);
+      NoCounters none;
+      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit_cwbvh(bvh, rays[i], none, filter);
     });
   }
 
   void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) override {
     const CwbvhView bvh = cwbvh_.view();
+    const Filter filter = filter_;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kRaysPerBlock), [&](const tbb::blocked_range<size_t>& r) {
       const FlushDenormalsScope ftz;
-      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit_cwbvh(bvh, rays[order[i]]);
+      NoCounters none;
+      for (size_t i = r.begin(); i != r.end(); ++i) hits[i] = closest_hit_cwbvh(bvh, rays[order[i]], none, filter);
     });
   }
 
@@ -75,6 +90,7 @@ class CpuCwbvhTracer final : public Tracer {
 
  private:
   Cwbvh cwbvh_;
+  Filter filter_;
 };
 
 }  // namespace
@@ -90,8 +106,14 @@ const ParamTable& cpu_params() {
 std::unique_ptr<Tracer> make_cpu_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh) {
   const std::string layout = params.get_choice("bvh");
   params.finish();
-  if (layout == "cwbvh") return std::make_unique<CpuCwbvhTracer>(build_cwbvh(scene, bvh.config));
-  return std::make_unique<CpuTracer>(bvh);
+  if (!scene.alpha.empty()) {
+    const AlphaTest alpha{scene.alpha.view()};
+    if (layout == "cwbvh") return std::make_unique<CpuCwbvhTracer<AlphaTest>>(build_cwbvh(scene, bvh.config), alpha);
+    return std::make_unique<CpuTracer<AlphaTest>>(bvh, alpha);
+  }
+  if (layout == "cwbvh")
+    return std::make_unique<CpuCwbvhTracer<NoAlphaTest>>(build_cwbvh(scene, bvh.config), NoAlphaTest{});
+  return std::make_unique<CpuTracer<NoAlphaTest>>(bvh, NoAlphaTest{});
 }
 
 }  // namespace raycoh

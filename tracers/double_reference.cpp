@@ -60,7 +60,7 @@ void consider(double t, uint32_t prim, RefHit& best) {
 
 }  // namespace
 
-double reference_triangle_t(Vec3 v0, Vec3 v1, Vec3 v2, const Ray& ray) {
+double reference_triangle_t(Vec3 v0, Vec3 v1, Vec3 v2, const Ray& ray, double* b1, double* b2) {
   const double inf = __builtin_huge_val();
   const D3 o = to_d(ray.org), d = to_d(ray.dir);
   const double u = edge_function(v1, v2, o, d), v = edge_function(v2, v0, o, d), w = edge_function(v0, v1, o, d);
@@ -70,6 +70,8 @@ double reference_triangle_t(Vec3 v0, Vec3 v1, Vec3 v2, const Ray& ray) {
   const double denom = dot_d(ng, d);
   if (denom == 0.0 || u + v + w == 0.0) return inf;  // parallel to the plane, or a degenerate triangle
   const double t = dot_d(ng, sub(p0, o)) / denom;
+  if (b1) *b1 = v / (u + v + w);
+  if (b2) *b2 = w / (u + v + w);
   return t > ray.tmin && t < ray.tmax && std::isfinite(t) ? t : inf;
 }
 
@@ -84,7 +86,7 @@ RefHit brute_force_closest_hit(const Scene& scene, const Ray& ray) {
   return best;
 }
 
-RefHit reference_closest_hit(const Bvh& bvh, const Ray& ray) {
+RefHit reference_closest_hit(const Bvh& bvh, const Ray& ray, const AlphaMaskView* alpha) {
   RefHit best;
   if (bvh.nodes.empty()) return best;
   const D3 o = to_d(ray.org), d = to_d(ray.dir);
@@ -98,8 +100,11 @@ RefHit reference_closest_hit(const Bvh& bvh, const Ray& ray) {
       const uint32_t first = leaf_first(ref), count = leaf_count(ref);
       for (uint32_t i = first; i < first + count; ++i) {
         const BvhTriangle& tri = bvh.tris[i];
-        const double t = reference_triangle_t(tri.v0, tri.v1, tri.v2, ray);
-        if (t != inf) consider(t, tri.prim, best);
+        double b1 = 0, b2 = 0;
+        const double t = reference_triangle_t(tri.v0, tri.v1, tri.v2, ray, &b1, &b2);
+        if (t == inf) continue;
+        if (alpha && !alpha_opaque(*alpha, tri.prim, static_cast<float>(b1), static_cast<float>(b2))) continue;
+        consider(t, tri.prim, best);
       }
       continue;
     }

@@ -9,6 +9,8 @@
 // Candidates: reference_closest_hit() walks the BVH in double with every box widened by a relative 1e-9 (no
 // triangle is lost to a box test's rounding) and tests every triangle of every leaf it reaches, keeping the
 // nearest; brute_force_closest_hit() tests every triangle of the scene (for the tests, and small scenes).
+// Alpha MASK cut-outs: with `alpha`, a candidate on a transparent texel (core/alpha_mask.h, at the double
+// barycentrics rounded to float) is skipped, as the tracers skip it.
 #pragma once
 
 #include <cstdint>
@@ -25,13 +27,14 @@ struct RefHit {
   bool valid() const { return prim != kNoHit; }
 };
 
-// t of the ray's hit on triangle (v0, v1, v2) in (tmin, tmax), or +inf when it misses (or is degenerate).
-double reference_triangle_t(Vec3 v0, Vec3 v1, Vec3 v2, const Ray& ray);
+// t of the ray's hit on triangle (v0, v1, v2) in (tmin, tmax), or +inf when it misses (or is degenerate); b1 and
+// b2, when given, get the barycentric weights of v1 and v2 of a hit.
+double reference_triangle_t(Vec3 v0, Vec3 v1, Vec3 v2, const Ray& ray, double* b1 = nullptr, double* b2 = nullptr);
 
 // Nearest hit over every triangle of the scene; ties at equal t go to the lower primitive id.
 RefHit brute_force_closest_hit(const Scene& scene, const Ray& ray);
 
 // The same answer through the BVH's candidates.
-RefHit reference_closest_hit(const Bvh& bvh, const Ray& ray);
+RefHit reference_closest_hit(const Bvh& bvh, const Ray& ray, const AlphaMaskView* alpha = nullptr);
 
 }  // namespace raycoh

@@ -19,7 +19,9 @@
 // do. A ray that misses, or is rejected up front, returns Hit{t = tmax, prim = kNoHit}, exactly like
 // closest_hit(). Rays with tmax <= tmin, a non-finite origin or direction, or a zero direction are rejected here
 // with the same rule as traversal_begin(), so Embree never sees them. Embree requires tmin >= 0; a negative tmin
-// is passed on unchanged and its result is Embree's to define.
+// is passed on unchanged and its result is Embree's to define. Alpha MASK cut-outs (Scene::alpha) are an Embree
+// intersection filter that runs the same test as our traversal (core/alpha_mask.h); scenes without them have no
+// filter.
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -31,6 +33,7 @@
 #include <vector>
 
 #include "bvh/bvh_build.h"
+#include "core/alpha_mask.h"
 #include "core/error.h"
 #include "core/flush_denormals.h"
 #include "embree/embree_device.h"
@@ -90,10 +93,21 @@ inline Hit from_embree(const Ray& r, const RTCRayHit& rh) {
   return h;
 }
 
+// Embree's intersection filter for alpha cut-outs: rejects candidate hits on transparent texels.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* alpha = static_cast<const AlphaTest*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    if (!alpha->accept(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                       RTCHitN_v(args->hit, args->N, i)))
+      args->valid[i] = 0;
+  }
+}
+
 class EmbreeTracer final : public Tracer {
  public:
   EmbreeTracer(const Scene& scene, Mode mode, bool high_quality, std::string params)
-      : mode_(mode), params_(std::move(params)) {
+      : mode_(mode), params_(std::move(params)), alpha_{scene.alpha.view()} {
     RTCDevice device = embree_device();
     if (rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
       throw Error(
@@ -101,6 +115,11 @@ class EmbreeTracer final : public Tracer {
                       "double-sided, so its results would not match (rebuild Embree without "
                       "EMBREE_BACKFACE_CULLING)",
                       embree_version()));
+    if (!scene.alpha.empty() && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+      throw Error(
+          fmt::format("scene '{}' has alpha MASK cut-outs, which need Embree's filter functions; this Embree "
+                      "{} was built without them (EMBREE_FILTER_FUNCTION)",
+                      scene.name, embree_version()));
     // Checked before any Embree object exists, so that a throw leaks nothing.
     for (size_t i = 0; i < scene.indices.size(); ++i)
       if (scene.indices[i] >= scene.positions.size())
@@ -129,6 +148,10 @@ class EmbreeTracer final : public Tracer {
       vertices[3 * i + 2] = scene.positions[i].z;
     }
     std::copy(scene.indices.begin(), scene.indices.begin() + 3 * scene.triangle_count(), indices);
+    if (!scene.alpha.empty()) {
+      rtcSetGeometryUserData(geom.get(), &alpha_);
+      rtcSetGeometryIntersectFilterFunction(geom.get(), alpha_filter);
+    }
     rtcCommitGeometry(geom.get());
     // geomID 0: primID is then the scene's triangle index, as in our BVH.
     rtcAttachGeometryByID(scene_.get(), geom.get(), 0);
@@ -256,6 +279,7 @@ class EmbreeTracer final : public Tracer {
   std::unique_ptr<RTCSceneTy, decltype(&rtcReleaseScene)> scene_{nullptr, rtcReleaseScene};
   Mode mode_;
   std::string params_;
+  AlphaTest alpha_;  // read by alpha_filter through the geometry's user pointer
 };
 
 }  // namespace
