@@ -93,17 +93,14 @@ TextureRef extension_texture(const tinygltf::Model& model, const tinygltf::Exten
   return texture_ref(model, info.Get("index").GetNumberAsInt(), texcoord, nested);
 }
 
-int wrap(int i, int n, int mode) {
-  if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return std::clamp(i, 0, n - 1);
-  if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) {
-    const int period = 2 * n;
-    int k = i % period;
-    if (k < 0) k += period;
-    return k < n ? k : period - 1 - k;
-  }
-  int k = i % n;
-  return k < 0 ? k + n : k;
+uint32_t alpha_wrap_mode(int gltf_wrap) {
+  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return kWrapClamp;
+  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return kWrapMirror;
+  return kWrapRepeat;
 }
+
+// Texel index i of n under a glTF wrap mode: the same rule as the traversal's alpha test (core/alpha_mask.h).
+int wrap(int i, int n, int mode) { return alpha_wrap(i, n, alpha_wrap_mode(mode)); }
 
 // Bilinear RGBA in [0, 1] at texture coordinates (u, v) before the reference's transform.
 std::array<float, 4> sample(const TextureRef& r, float u0, float v0) {
@@ -145,12 +142,6 @@ std::array<std::array<float, 2>, 16> sample_points() {
       if (i + j < 3) out[n++] = {(i + 2.f / 3.f) / 4.f, (j + 2.f / 3.f) / 4.f};  // inverted one
     }
   return out;
-}
-
-uint32_t alpha_wrap_mode(int gltf_wrap) {
-  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return kWrapClamp;
-  if (gltf_wrap == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return kWrapMirror;
-  return kWrapRepeat;
 }
 
 // Quantised values of a derived material: its key, and the values it stands for.
