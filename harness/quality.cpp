@@ -228,6 +228,8 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.rel_var = R > 1 ? (row.rel_mse - m.rel_mse_of_mean) * R / (R - 1) : nan;
   row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.ds8_of_mean) * R / (R - 1) : nan;
   row.bias_excluded = m.has_bias ? m.bias.excluded_fraction : nan;
+  row.bias_excluded_dark = m.has_bias ? m.bias.excluded_dark : nan;
+  row.bias_excluded_bright = m.has_bias ? m.bias.excluded_bright : nan;
   row.bias_excluded_skew = m.has_bias ? m.bias.excluded_skew : nan;
   row.bias_mean = m.has_bias ? m.bias.mean_bias : nan;
   row.bias_mean_ci = m.has_bias ? m.bias.mean_bias_ci : nan;
@@ -351,16 +353,19 @@ void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows)
       "correction: ~5%% without bias, shading/metrics.h); mean luma bias with its 95%% CI; hybrid-diffuse share of the "
       "hit pixels; FLIP (LDR of render 0's display image; HDR of the linear renders, mean over them)\n\n| scene | "
       "generator | ref noise relMSE | share | relMSE−noise | PSNR−noise | ds2 | ds4 | ds8 | ds8/full | var ds8/full | "
-      "bias px | skew-corr. | mean bias | ± | rel | verdict | hybrid-diffuse | FLIP | HDR-FLIP |\n"
-      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n");
+      "bias px | dark / bright | skew-corr. | mean bias | ± | rel | verdict | hybrid-diffuse | FLIP | HDR-FLIP |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n");
   for (const QualityRow& r : rows)
     std::printf(
-        "| %s | %s | %.3g | %.1f%% | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f | %.3f | %.1f%% | %.1f%% | %+.3g | %.2g | "
+        "| %s | %s | %.3g | %.1f%% | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f | %.3f | %.1f%% | %.1f / %.1f%% | %.1f%% "
+        "| "
+        "%+.3g | %.2g | "
         "%+.2f%% | %s | %.1f%% | %.4f | %.4f |\n",
         r.scene.c_str(), r.method.c_str(), r.ref_noise_rel_mse, 100 * r.ref_noise_share, r.rel_mse_corr, r.psnr_corr,
         r.rel_mse_ds2, r.rel_mse_ds4, r.rel_mse_ds8, r.rel_mse_ds8 / r.rel_mse, r.rel_var_ds8 / r.rel_var,
-        100 * r.bias_excluded, 100 * r.bias_excluded_skew, r.bias_mean, r.bias_mean_ci, 100 * r.bias_mean_rel,
-        r.bias_verdict.c_str(), 100 * r.hybrid_diffuse_share, r.flip, r.flip_hdr);
+        100 * r.bias_excluded, 100 * r.bias_excluded_dark, 100 * r.bias_excluded_bright, 100 * r.bias_excluded_skew,
+        r.bias_mean, r.bias_mean_ci, 100 * r.bias_mean_rel, r.bias_verdict.c_str(), 100 * r.hybrid_diffuse_share,
+        r.flip, r.flip_hdr);
 }
 
 class QualityRun {

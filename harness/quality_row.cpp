@@ -55,6 +55,8 @@ const Schema<QualityRow>& quality_schema() {
         column("rel_var", &R::rel_var, G{}),
         column("rel_var_ds8", &R::rel_var_ds8, G{}),
         column("bias_excluded", &R::bias_excluded, G{}),
+        column("bias_excluded_dark", &R::bias_excluded_dark, G{}),
+        column("bias_excluded_bright", &R::bias_excluded_bright, G{}),
         column("bias_excluded_skew", &R::bias_excluded_skew, G{}),
         column("bias_mean", &R::bias_mean, G{}),
         column("bias_mean_ci", &R::bias_mean_ci, G{}),

@@ -351,7 +351,7 @@ BiasReport bias_test(const BiasSamples& s, const Image& ref, const Image* half) 
       }
   BiasReport r;
   r.map = Image(w, h);
-  size_t excluded = 0, excluded_skew = 0, tested = 0;
+  size_t excluded = 0, dark = 0, bright = 0, excluded_skew = 0, tested = 0;
   double z2 = 0;
   for (size_t p = 0; p < P; ++p) {
     const uint32_t n = s.count[p];
@@ -369,11 +369,15 @@ BiasReport bias_test(const BiasSamples& s, const Image& ref, const Image* half) 
     const double t = t_quantile_975(static_cast<int>(n) - 1);
     ++tested;
     excluded += std::abs(z) > t;
+    dark += z < -t;
+    bright += z > t;
     excluded_skew += std::abs(z_h) > t;
     z2 += std::min(z * z, 1e6);
     r.map.set(p, Vec3(static_cast<float>(d), static_cast<float>(sigma), static_cast<float>(z)));
   }
   r.excluded_fraction = tested > 0 ? static_cast<double>(excluded) / tested : std::nan("");
+  r.excluded_dark = tested > 0 ? static_cast<double>(dark) / tested : std::nan("");
+  r.excluded_bright = tested > 0 ? static_cast<double>(bright) / tested : std::nan("");
   r.excluded_skew = tested > 0 ? static_cast<double>(excluded_skew) / tested : std::nan("");
   r.z2 = tested > 0 ? z2 / tested : std::nan("");
   const int F = s.frames();

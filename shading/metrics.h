@@ -145,6 +145,9 @@ struct BiasSamples {
 //     So an unbiased method's share is not 5% but a property of the scene's per-pixel distributions: compare
 //     methods with each other (NoOpt's share is the scene's false-alarm rate: every unbiased method whose
 //     per-pixel samples are distributed as NoOpt's, which reuse keeps, shares it), or use excluded_skew.
+//   excluded_dark, excluded_bright: excluded_fraction split by the sign of d (z below -t, above +t); 2.5% each for
+//     normal d. Rare bright paths make an unbiased method's excess dark (and its bright share small): a dark excess
+//     with a bright deficit is that skewness; a bias shows as an excess on one side without the other's deficit.
 //   excluded_skew: the same share after Hall's skewness-removing transform of each pixel's statistic (P. Hall,
 //     "On the removal of skewness by transformation", JRSS B 54 (1992) 221-228; the monotone form of Johnson's
 //     1978 modified t): z_h = z + k z^2 / 3 + k^2 z^3 / 27 + k / 6 with k the estimated skewness of d, k =
@@ -160,7 +163,8 @@ struct BiasSamples {
 // Throws raycoh::Error on sizes that differ or when there are fewer than 2 frames.
 struct BiasReport {
   Image map;  // per pixel (d, sigma, d / sigma) in (R, G, B)
-  double excluded_fraction = 0, excluded_skew = 0, mean_bias = 0, mean_bias_ci = 0, ref_mean = 0, z2 = 0;
+  double excluded_fraction = 0, excluded_dark = 0, excluded_bright = 0, excluded_skew = 0, mean_bias = 0,
+         mean_bias_ci = 0, ref_mean = 0, z2 = 0;
   bool consistent = true;
 };
 BiasReport bias_test(const BiasSamples& samples, const Image& ref, const Image* ref_first_half);

@@ -235,9 +235,13 @@ TEST(ImageError, SkewCorrectedBiasShareIsCalibratedOnSyntheticPixels) {
   const BiasReport normal = synthetic_bias("normal", 0.0, 7);
   EXPECT_NEAR(normal.excluded_fraction, 0.05, 0.006);
   EXPECT_NEAR(normal.excluded_skew, 0.05, 0.006);
+  EXPECT_NEAR(normal.excluded_dark, 0.025, 0.005);
+  EXPECT_NEAR(normal.excluded_bright, 0.025, 0.005);
+  EXPECT_DOUBLE_EQ(normal.excluded_dark + normal.excluded_bright, normal.excluded_fraction);
   const BiasReport lognormal = synthetic_bias("lognormal", 0.0, 8);
-  EXPECT_GT(lognormal.excluded_fraction, 0.068);  // the plain t band: ~7.7%
-  EXPECT_LT(lognormal.excluded_skew, 0.066);      // corrected: ~6.2% (heavy tail left)
+  EXPECT_GT(lognormal.excluded_dark, 3 * lognormal.excluded_bright);  // skewness: the excess is dark
+  EXPECT_GT(lognormal.excluded_fraction, 0.068);                      // the plain t band: ~7.7%
+  EXPECT_LT(lognormal.excluded_skew, 0.066);                          // corrected: ~6.2% (heavy tail left)
   EXPECT_GT(lognormal.excluded_skew, 0.045);
   const BiasReport rare = synthetic_bias("rare", 0.0, 9);
   EXPECT_GT(rare.excluded_fraction, 0.07);
@@ -247,6 +251,8 @@ TEST(ImageError, SkewCorrectedBiasShareIsCalibratedOnSyntheticPixels) {
   const BiasReport biased = synthetic_bias("normal", 0.17, 7);
   EXPECT_GT(biased.excluded_fraction, 0.5);
   EXPECT_GT(biased.excluded_skew, 0.5);
+  EXPECT_GT(biased.excluded_bright, 0.5);
+  EXPECT_LT(biased.excluded_dark, 0.001);
   EXPECT_FALSE(biased.consistent);
 }
 
