@@ -58,6 +58,7 @@ const Schema<QualityRow>& quality_schema() {
         column("bias_excluded_dark", &R::bias_excluded_dark, G{}),
         column("bias_excluded_bright", &R::bias_excluded_bright, G{}),
         column("bias_excluded_skew", &R::bias_excluded_skew, G{}),
+        column("bias_excluded_ds4", &R::bias_excluded_ds4, G{}),
         column("bias_mean", &R::bias_mean, G{}),
         column("bias_mean_ci", &R::bias_mean_ci, G{}),
         column("bias_mean_rel", &R::bias_mean_rel, G{}),

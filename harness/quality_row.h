@@ -31,8 +31,8 @@ struct QualityRow {
   double rel_mse_ds2 = 0, rel_mse_ds4 = 0, rel_mse_ds8 = 0;  // of the 2x/4x/8x box-downsampled images
   double rel_var = 0, rel_var_ds8 = 0;                       // their variance part (NaN for one render)
   // Bias of the mean of all frames (shading/metrics.h bias_test), luma.
-  double bias_excluded = 0, bias_excluded_dark = 0, bias_excluded_bright = 0, bias_excluded_skew = 0, bias_mean = 0,
-         bias_mean_ci = 0, bias_mean_rel = 0, bias_z2 = 0;
+  double bias_excluded = 0, bias_excluded_dark = 0, bias_excluded_bright = 0, bias_excluded_skew = 0,
+         bias_excluded_ds4 = 0, bias_mean = 0, bias_mean_ci = 0, bias_mean_rel = 0, bias_z2 = 0;
   std::string bias_verdict;       // "consistent" | "biased" | "" (one frame)
   double flip = 0;                // mean LDR-FLIP of render 0's display image (NaN when flip is not available)
   double flip_hdr = 0;            // HDR-FLIP of the linear renders, mean over the R renders (NaN: not available)

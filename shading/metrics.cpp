@@ -293,18 +293,36 @@ void BiasSamples::add_luma(const std::vector<double>& luma) {
   frame_means.push_back(finite > 0 ? image_sum / static_cast<double>(finite) : 0.0);
 }
 
-void BiasSamples::add_frame(const Accumulator& frame) {
-  RAYCOH_CHECK(frame.width() == width && frame.height() == height,
-               fmt::format("frame {}x{} for bias samples of {}x{}", frame.width(), frame.height(), width, height));
-  std::vector<double> luma(sum.size(), std::nan(""));
+std::vector<double> frame_luma(const Accumulator& frame) {
+  const size_t P = static_cast<size_t>(frame.width()) * frame.height();
+  std::vector<double> luma(P, std::nan(""));
   const std::vector<double>& sums = frame.sums();
-  for (size_t p = 0; p < sum.size(); ++p) {
+  for (size_t p = 0; p < P; ++p) {
     const uint32_t n = frame.samples(p);
     if (n == 0) continue;
     luma[p] = luma709(Vec3(static_cast<float>(sums[3 * p] / n), static_cast<float>(sums[3 * p + 1] / n),
                            static_cast<float>(sums[3 * p + 2] / n)));
   }
-  add_luma(luma);
+  return luma;
+}
+
+std::vector<double> box_downsample_luma(const std::vector<double>& luma, int width, int height, int factor) {
+  if (factor < 1 || factor > width || factor > height)
+    throw Error(fmt::format("box_downsample_luma: factor {} for a {}x{} image", factor, width, height));
+  RAYCOH_CHECK(luma.size() == static_cast<size_t>(width) * height, "box_downsample_luma: size");
+  const int w = width / factor, h = height / factor;
+  std::vector<double> out(static_cast<size_t>(w) * h, 0.0);
+  const double inv = 1.0 / (static_cast<double>(factor) * factor);
+  for (int y = 0; y < h * factor; ++y)
+    for (int x = 0; x < w * factor; ++x)
+      out[static_cast<size_t>(y / factor) * w + x / factor] += luma[static_cast<size_t>(y) * width + x] * inv;
+  return out;  // a NaN pixel makes its block NaN
+}
+
+void BiasSamples::add_frame(const Accumulator& frame) {
+  RAYCOH_CHECK(frame.width() == width && frame.height() == height,
+               fmt::format("frame {}x{} for bias samples of {}x{}", frame.width(), frame.height(), width, height));
+  add_luma(frame_luma(frame));
 }
 
 double t_quantile_975(int dof) {

@@ -112,6 +112,12 @@ struct NoiseCorrected {
 };
 NoiseCorrected correct_for_noise(const ReferenceNoise& noise, double mse, double rel_mse, double metric_mse);
 
+// Rec. 709 luma of each pixel's mean in the accumulator (NaN where it has no finite sample).
+std::vector<double> frame_luma(const Accumulator& frame);
+// Mean of each factor x factor block of a width x height luma image (cropped to whole blocks, as box_downsample);
+// NaN for a block with a NaN pixel. Throws unless 1 <= factor <= both sizes.
+std::vector<double> box_downsample_luma(const std::vector<double>& luma, int width, int height, int factor);
+
 // Per-pixel luma of independent frames (one sample per pixel each), for bias_test.
 struct BiasSamples {
   BiasSamples(int width, int height);
@@ -148,6 +154,10 @@ struct BiasSamples {
 //   excluded_dark, excluded_bright: excluded_fraction split by the sign of d (z below -t, above +t); 2.5% each for
 //     normal d. Rare bright paths make an unbiased method's excess dark (and its bright share small): a dark excess
 //     with a bright deficit is that skewness; a bias shows as an excess on one side without the other's deficit.
+//   quality's bias_excluded_ds4 is excluded_fraction of the same test on 4 x 4 box-downsampled frames and reference
+//     (BiasSamples of the frames' block-mean luma): each block's mean holds 16 x more samples, so the mean's
+//     skewness is 4 x smaller and the t band nearer its nominal 5%; the frames stay independent, so it holds for
+//     methods whose errors are correlated between pixels too.
 //   excluded_skew: the same share after Hall's skewness-removing transform of each pixel's statistic (P. Hall,
 //     "On the removal of skewness by transformation", JRSS B 54 (1992) 221-228; the monotone form of Johnson's
 //     1978 modified t): z_h = z + k z^2 / 3 + k^2 z^3 / 27 + k / 6 with k the estimated skewness of d, k =

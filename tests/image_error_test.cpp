@@ -198,7 +198,9 @@ TEST(ImageError, NoiseCorrectionTakesTheReferenceNoiseOut) {
 // bright events, which is what a path-traced pixel's samples look like): the plain t band excludes zero too often
 // (its false-alarm rate is not 5%), Hall's skewness-corrected statistic (excluded_skew) comes back near 5%. A bias
 // of a third of a standard error per sample is found by both.
-BiasReport synthetic_bias(const char* kind, double shift, uint32_t seed) {
+// With `blocks`, the test of the 4 x 4 box-downsampled frames against the downsampled reference (quality's
+// bias_excluded_ds4).
+BiasReport synthetic_bias(const char* kind, double shift, uint32_t seed, bool blocks = false) {
   constexpr int kW = 200, kH = 100, kFrames = 128;
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -208,7 +210,7 @@ BiasReport synthetic_bias(const char* kind, double shift, uint32_t seed) {
   for (size_t p = 0; p < P; ++p) p_event[p] = 0.05 + 0.45 * uniform(rng);
   const std::string k = kind;
   for (size_t p = 0; p < P; ++p) mean[p] = k == "normal" ? 1.0 : k == "lognormal" ? std::exp(0.5) : 1.0;
-  BiasSamples s(kW, kH);
+  BiasSamples s(kW, kH), s4(kW / 4, kH / 4);
   std::vector<double> luma(P);
   for (int f = 0; f < kFrames; ++f) {
     for (size_t p = 0; p < P; ++p) {
@@ -222,13 +224,14 @@ BiasReport synthetic_bias(const char* kind, double shift, uint32_t seed) {
       luma[p] = y + shift;
     }
     s.add_luma(luma);
+    s4.add_luma(box_downsample_luma(luma, kW, kH, 4));
   }
   Image ref(kW, kH);
   for (size_t p = 0; p < P; ++p) {
     const float m = static_cast<float>(mean[p]);
     ref.set(p, Vec3(m, m, m));
   }
-  return bias_test(s, ref, nullptr);
+  return blocks ? bias_test(s4, box_downsample(ref, 4), nullptr) : bias_test(s, ref, nullptr);
 }
 
 TEST(ImageError, SkewCorrectedBiasShareIsCalibratedOnSyntheticPixels) {
@@ -247,6 +250,10 @@ TEST(ImageError, SkewCorrectedBiasShareIsCalibratedOnSyntheticPixels) {
   EXPECT_GT(rare.excluded_fraction, 0.07);
   EXPECT_NEAR(rare.excluded_skew, 0.05, 0.012);
   EXPECT_TRUE(normal.consistent && lognormal.consistent && rare.consistent);
+  // 4 x 4 blocks: 16 x the samples per mean, a quarter of the skewness, near 5% for both skewed kinds (1250 blocks).
+  EXPECT_NEAR(synthetic_bias("lognormal", 0.0, 8, true).excluded_fraction, 0.05, 0.015);
+  EXPECT_NEAR(synthetic_bias("rare", 0.0, 9, true).excluded_fraction, 0.05, 0.015);
+  EXPECT_GT(synthetic_bias("normal", 0.17, 7, true).excluded_fraction, 0.99);
   // A bias of 0.17 (a third of the normal samples' sigma / sqrt(1), ~3.8 standard errors of a 128-sample mean).
   const BiasReport biased = synthetic_bias("normal", 0.17, 7);
   EXPECT_GT(biased.excluded_fraction, 0.5);
