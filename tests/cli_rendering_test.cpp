@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
 
 #include "harness/csv.h"
@@ -148,6 +150,14 @@ TEST(CliRendering, QualityReportsHybridShareAndHdrFlip) {
     EXPECT_NEAR(num(row, "flip_hdr"), 0.2, 1e-12);
     EXPECT_EQ(row.at("flip_hdr_exposure"), "-1.5..2.25/4");
   }
+  // raycoh report shows them per scene and method.
+  const CommandResult rep = run_raycoh("report " + out.string() + " --out " + (dir / "report.html").string());
+  ASSERT_EQ(rep.exit_code, 0) << rep.output;
+  std::ifstream md(dir / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("### Bias and the hybrid rule's exposure"), std::string::npos) << text;
+  EXPECT_NE(text.find("| cornell | noopt | 0.0% |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| 0.2500 | 0.2000 |"), std::string::npos) << text;
 }
 
 }  // namespace
