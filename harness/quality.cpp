@@ -363,8 +363,9 @@ void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows)
                 r.variance, static_cast<unsigned long long>(r.non_finite_samples), r.render_s, r.mray_s);
   std::printf(
       "\nReference noise, structure and bias: relMSE of the 2x/4x/8x box-downsampled images (white noise drops ~4x "
-      "per step, blocky noise does not); pixels whose 95%% bias band excludes zero (plain t, and after the skewness "
-      "correction: ~5%% without bias, shading/metrics.h); mean luma bias with its 95%% CI; hybrid-diffuse share of the "
+      "per step, blocky noise does not); pixels whose 95%% bias band excludes zero (all, darker / brighter, after "
+      "the skewness correction, on 4x4 blocks; not 5%% for an unbiased method on path-traced pixels: compare with "
+      "noopt's, shading/metrics.h); mean luma bias with its 95%% CI; hybrid-diffuse share of the "
       "hit pixels; FLIP (LDR of render 0's display image; HDR of the linear renders, mean over them)\n\n| scene | "
       "generator | ref noise relMSE | share | relMSE−noise | PSNR−noise | ds2 | ds4 | ds8 | ds8/full | var ds8/full | "
       "bias px | dark / bright | skew-corr. | 4x4 blocks | mean bias | ± | rel | verdict | hybrid-diffuse | FLIP | "
