@@ -34,6 +34,14 @@ void tally_ray(uint32_t flags, GenerationStats& stats) {
   stats.non_finite += (flags & kSampleNonFinite) != 0;
 }
 
+size_t hybrid_diffuse_rays(const RayBatch& batch) {
+  if (!batch.has_groups()) return 0;
+  size_t n = 0;
+  for (size_t i = 0; i < batch.size(); ++i)
+    n += batch.group_type[i] == GroupType::Hybrid && batch.material[i] == MaterialClass::Diffuse;
+  return n;
+}
+
 void merge_stats(GenerationStats& into, const GenerationStats& from) {
   into.rays += from.rays;
   into.below_geometric += from.below_geometric;

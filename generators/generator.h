@@ -41,6 +41,10 @@ std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vec
 uint32_t emit_ray(RayBatch& out, size_t i, const ShadingPoint& sp, uint32_t pixel, const DirectionSample& s);
 // Counts one emitted ray and its sample flags.
 void tally_ray(uint32_t flags, GenerationStats& stats);
+// Rays of the batch whose group is Hybrid and whose own material class is diffuse: the pixels the hybrid rule
+// gives another lobe's direction (stability's hybrid_diffuse case, quality's hybrid_diffuse_share). 0 for a batch
+// without groups.
+size_t hybrid_diffuse_rays(const RayBatch& batch);
 // Adds every counter of `from` into `into`.
 void merge_stats(GenerationStats& into, const GenerationStats& from);
 

@@ -55,6 +55,10 @@ struct ConvergeRow {
   double wall_s = 0, trace_s = 0, gen_s = 0, frame_wall_ms = 0, frame_trace_ms = 0;
   uint64_t rays = 0;
   double rel_mse = 0, mse = 0, rmse = 0, psnr = 0, ssim = 0;
+  // The reference's own noise (empty without a half reference) and the figures with it taken out
+  // (shading/metrics.h correct_for_noise, as quality's columns of the same names).
+  double ref_noise_mse = std::nan(""), ref_noise_rel_mse = std::nan(""), ref_noise_share = std::nan(""),
+         mse_corr = std::nan(""), rel_mse_corr = std::nan(""), psnr_corr = std::nan("");
   uint64_t non_finite_samples = 0;
   // Modeled GPU clock (empty without --gpu-model): this frame's modeled generation, trace and total, and the
   // cumulative total. modeled_frame 0: not modeled (--model-every), the last modeled frame's figures held.
@@ -101,6 +105,12 @@ const Schema<ConvergeRow>& converge_schema() {
         column("rmse", &R::rmse, G{}),
         column("psnr", &R::psnr, G{}),
         column("ssim", &R::ssim, G{}),
+        column("ref_noise_mse", &R::ref_noise_mse, G{}),
+        column("ref_noise_rel_mse", &R::ref_noise_rel_mse, G{}),
+        column("ref_noise_share", &R::ref_noise_share, G{}),
+        column("mse_corr", &R::mse_corr, G{}),
+        column("rel_mse_corr", &R::rel_mse_corr, G{}),
+        column("psnr_corr", &R::psnr_corr, G{}),
         column("non_finite_samples", &R::non_finite_samples, Integer<uint64_t>{}),
         column("gpu_model", &R::gpu_model, Text{}),
         column("modeled_frame", &R::modeled_frame, Optional<Integer<int>>{}),
@@ -120,6 +130,12 @@ struct SummaryRow {
   std::string scene, method, baseline, metric, clock;
   double horizon_s = 0, error = 0, baseline_error = 0, equal_time_error_ratio = 0, target_error = 0, time_s = 0,
          baseline_time_s = 0, equal_error_speedup = 0;
+  // The reference's noise (relMSE; empty without a half reference), its share of the smaller of error and
+  // baseline_error, both errors with it taken out and their ratio. equal_error_speedup needs no corrected twin: the
+  // noise is the same constant in both curves, so both reach target_error - noise at the times they reach
+  // target_error.
+  double ref_noise_rel_mse = std::nan(""), ref_noise_share = std::nan(""), error_corr = std::nan(""),
+         baseline_error_corr = std::nan(""), equal_time_error_ratio_corr = std::nan("");
   int frames = 0, baseline_frames = 0;
   Provenance provenance;
 };
@@ -143,6 +159,11 @@ const Schema<SummaryRow>& summary_schema() {
         column("time_s", &R::time_s, G{}),
         column("baseline_time_s", &R::baseline_time_s, G{}),
         column("equal_error_speedup", &R::equal_error_speedup, G{}),
+        column("ref_noise_rel_mse", &R::ref_noise_rel_mse, G{}),
+        column("ref_noise_share", &R::ref_noise_share, G{}),
+        column("error_corr", &R::error_corr, G{}),
+        column("baseline_error_corr", &R::baseline_error_corr, G{}),
+        column("equal_time_error_ratio_corr", &R::equal_time_error_ratio_corr, G{}),
         column("frames", &R::frames, Integer<int>{}),
         column("baseline_frames", &R::baseline_frames, Integer<int>{}),
     };
@@ -213,8 +234,9 @@ class ConvergeRun {
   std::vector<std::unique_ptr<Generator>> generators_;
   std::unique_ptr<LoadedScene> ls_;
   ReferenceImage ref_;
-  ToneMap tm_;                         // resolved on the reference, the same for every generator
-  std::unique_ptr<Tracer> gpu_model_;  // the `simt` tracer of --gpu-model, null for none
+  ToneMap tm_;                           // resolved on the reference, the same for every generator
+  std::optional<ReferenceNoise> noise_;  // the reference's own noise, from its half image
+  std::unique_ptr<Tracer> gpu_model_;    // the `simt` tracer of --gpu-model, null for none
   std::vector<Run> runs_;
   std::vector<bool> owned_;
   std::string fingerprint_;
@@ -239,6 +261,7 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
   fingerprint_ = scene_fingerprint(o.scene);
   ref_ = obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference);
   tm_ = resolved(o.common.tone_map, ref_.image);
+  noise_ = noise_of_reference(ref_, tm_, o.common.metrics);
   provenance_.device = device_of(o.common.tracer);
   if (o.gpu_model != "none") gpu_model_ = make_tracer(parse_plugin_spec(o.gpu_model), ls_->scene, ls_->bvh);
   for (size_t gi = 0; gi < generators_.size(); ++gi) {
@@ -291,6 +314,16 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.rmse = m.rmse;
   r.psnr = m.psnr;
   r.ssim = m.ssim;
+  if (noise_) {
+    const NoiseCorrected c =
+        correct_for_noise(*noise_, m.mse, m.rel_mse, std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+    r.ref_noise_mse = noise_->mse;
+    r.ref_noise_rel_mse = noise_->rel_mse;
+    r.ref_noise_share = c.share;
+    r.mse_corr = c.mse;
+    r.rel_mse_corr = c.rel_mse;
+    r.psnr_corr = c.psnr;
+  }
   r.non_finite_samples = run.total.non_finite;
   if (run.model) {
     r.gpu_model = "simt[" + gpu_model_->params() + "]";
@@ -383,6 +416,16 @@ SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const 
   r.time_s = cc.time;
   r.baseline_time_s = cc.baseline_time;
   r.equal_error_speedup = cc.equal_error_speedup;
+  if (noise_) {
+    const double n = noise_->rel_mse, smaller = std::min(cc.error, cc.baseline_error);
+    r.ref_noise_rel_mse = n;
+    ReferenceNoise relative;  // the summary's figures are relMSE
+    relative.rel_mse = n;
+    r.ref_noise_share = correct_for_noise(relative, 0, smaller, 0).share;
+    r.error_corr = minus_noise(cc.error, n);
+    r.baseline_error_corr = minus_noise(cc.baseline_error, n);
+    r.equal_time_error_ratio_corr = r.baseline_error_corr > 0 ? r.error_corr / r.baseline_error_corr : std::nan("");
+  }
   r.frames = run.frames;
   r.baseline_frames = base.frames;
   r.provenance = provenance_;
@@ -406,27 +449,35 @@ void ConvergeRun::summarize() {
       ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames, ref_.kind.c_str(),
       kRelMseEpsilon, runs_[0].label.c_str(), o_.common.protocol.c_str(), metric_space_name(o_.common.metrics));
   std::printf(
-      "| generator | frames | final relMSE | final PSNR | wall s | modeled GPU ms per frame |\n"
-      "|---|---:|---:|---:|---:|---:|\n");
+      "| generator | frames | final relMSE | relMSE−ref noise | ref noise share | final PSNR | wall s | modeled GPU ms "
+      "per "
+      "frame |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  const double nan = std::nan("");
   for (const Run& r : runs_)
-    if (r.frames > 0)
-      std::printf("| %s | %d | %.4g | %.2f | %.3g | %s |\n", r.label.c_str(), r.frames, r.by_wall.back().error,
+    if (r.frames > 0) {
+      const double e = r.by_wall.back().error;
+      const double share = noise_ ? (e > 0 ? noise_->rel_mse / e : 1.0) : nan;
+      std::printf("| %s | %d | %.4g | %.4g | %.1f%% | %.2f | %.3g | %s |\n", r.label.c_str(), r.frames, e,
+                  noise_ ? minus_noise(e, noise_->rel_mse) : nan, 100 * share,
                   psnr(r.acc.mean(), ref_.image, tm_, o_.common.metrics), r.total.wall_s,
                   r.model ? fmt::format("{:.3g}", r.modeled_s * 1e3 / r.frames).c_str() : "-");
+      warn_reference_noise(fmt::format("{} after {} frames (relMSE)", r.label, r.frames), share);
+    }
   if (gpu_model_)
     std::printf("\nmodeled_gpu: MODELED time on simt[%s] (trace launches + generation, harness/gpu_clock.h)\n",
                 gpu_model_->params().c_str());
   std::printf(
       "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
-      "time s | baseline time s | equal-error speedup |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "time s | baseline time s | equal-error speedup | equal-time ratio, ref noise out |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (size_t gi = 1; gi < runs_.size(); ++gi) {
     if (!owns(gi)) continue;
     for (const std::string& clock : clocks()) {
       const SummaryRow r = compare(runs_[gi], clock);
       summary.write(r);
-      std::printf("| %s | %s | %.3g | %.4g | %.4g | %.3f | %.4g | %.3g | %.3g | %.3f |\n", r.method.c_str(),
+      std::printf("| %s | %s | %.3g | %.4g | %.4g | %.3f | %.4g | %.3g | %.3g | %.3f | %.3f |\n", r.method.c_str(),
                   clock.c_str(), r.horizon_s, r.error, r.baseline_error, r.equal_time_error_ratio, r.target_error,
-                  r.time_s, r.baseline_time_s, r.equal_error_speedup);
+                  r.time_s, r.baseline_time_s, r.equal_error_speedup, r.equal_time_error_ratio_corr);
     }
   }
   summary.finish();

@@ -31,6 +31,7 @@
 // loaded, the reference comes from the cache (its entry lock lets one shard render it while the others wait), its
 // image is written by the shard of the scene's first generator, and `raycoh merge` joins the shards' files.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -58,9 +59,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// ref_noise_share above which quality warns that the reference's noise is a large part of an error figure.
-constexpr double kNoiseWarnShare = 0.1;
 
 void check_quality(const QualityOptions& o) {
   check_common(o.common, true);
@@ -118,6 +116,7 @@ struct Renders {
   double mse_of_mean = 0;                                          // MSE of the mean of the R renders
   double rel_mse_of_mean = 0, ds8_of_mean = 0;                     // relMSE of the mean, full and 8x downsampled
   BiasReport bias;
+  double bias_excluded_ds4 = std::nan("");  // bias_test's share on the 4 x 4 box-downsampled frames
   bool has_bias = false;
   FrameStats total;
   uint64_t non_finite_pixels = 0;
@@ -135,6 +134,8 @@ double downsampled_rel_mse(const Image& img, const Image& ref, int factor) {
 struct ImageSink {
   std::string dir, base;  // base: "<scene>-<generator>"
   const std::vector<Crop>& crops;
+  std::string hdr_dir = "";  // non-empty: every render's linear image also goes there as r<i>.exr, for HDR-FLIP
+  std::string hdr_path(int r) const { return (fs::path(hdr_dir) / fmt::format("r{}.exr", r)).string(); }
   std::string main_path() const { return (fs::path(dir) / (base + display_extension())).string(); }
   void write(const Image& img, const ToneMap& tm) const {
     write_image(img, main_path(), tm);
@@ -156,6 +157,10 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
   Renders out;
   Accumulator mean_acc(o.common.width, o.common.height);
   BiasSamples samples(o.common.width, o.common.height);
+  // The same test on 4 x 4 blocks (shading/metrics.h): frames' block-mean luma against the downsampled reference.
+  constexpr int kBiasBlock = 4;
+  const bool blocks = o.common.width >= kBiasBlock && o.common.height >= kBiasBlock;
+  BiasSamples block_samples(o.common.width / kBiasBlock, o.common.height / kBiasBlock);
   Progress bar;
   const int R = o.bias_renders;
   for (int r = 0; r < R; ++r) {
@@ -165,7 +170,9 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
       Accumulator frame(o.common.width, o.common.height);  // this frame alone, for the bias test's spread
       out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame));
       acc.merge(frame);
-      samples.add_frame(frame);
+      const std::vector<double> luma = frame_luma(frame);
+      samples.add_luma(luma);
+      if (blocks) block_samples.add_luma(box_downsample_luma(luma, o.common.width, o.common.height, kBiasBlock));
       bar.update(item, items, r * o.frames + f, R * o.frames, fmt::format("{} {}", ls.scene.name, label));
     }
     out.non_finite_pixels += acc.pixels_with_non_finite();
@@ -180,6 +187,7 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
     for (int k = 0; k < 3; ++k) out.ds[k].push_back(downsampled_rel_mse(img, ref.image, kDownsample[k]));
     for (size_t p = 0; p < img.pixels(); ++p) mean_acc.add(p, img.at(p));
     if (r == 0) sink.write(img, tm);
+    if (!sink.hdr_dir.empty()) write_image(img, sink.hdr_path(r));
   }
   bar.clear();
   const Image mean_image = mean_acc.mean();
@@ -190,6 +198,12 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
     out.bias = bias_test(samples, ref.image, ref.first_half.empty() ? nullptr : &ref.first_half);
     out.has_bias = true;
     sink.write_bias(out.bias);
+    if (blocks) {
+      const Image ref_blocks = box_downsample(ref.image, kBiasBlock);
+      const Image half_blocks = ref.first_half.empty() ? Image() : box_downsample(ref.first_half, kBiasBlock);
+      out.bias_excluded_ds4 =
+          bias_test(block_samples, ref_blocks, half_blocks.empty() ? nullptr : &half_blocks).excluded_fraction;
+    }
   }
   return out;
 }
@@ -213,12 +227,12 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   const double nan = std::nan("");
   row.ref_noise_mse = noise ? noise->mse : nan;
   row.ref_noise_rel_mse = noise ? noise->rel_mse : nan;
-  row.ref_noise_share =
-      noise ? std::max({noise->mse / row.mse, noise->rel_mse / row.rel_mse, noise->metric_mse / mean_of(m.metric_mse)})
-            : nan;
-  row.mse_corr = noise ? minus_noise(row.mse, noise->mse) : nan;
-  row.rel_mse_corr = noise ? minus_noise(row.rel_mse, noise->rel_mse) : nan;
-  row.psnr_corr = noise ? psnr_from_mse(minus_noise(mean_of(m.metric_mse), noise->metric_mse)) : nan;
+  const NoiseCorrected corr = noise ? correct_for_noise(*noise, row.mse, row.rel_mse, mean_of(m.metric_mse))
+                                    : NoiseCorrected{nan, nan, nan, nan};
+  row.ref_noise_share = corr.share;
+  row.mse_corr = corr.mse;
+  row.rel_mse_corr = corr.rel_mse;
+  row.psnr_corr = corr.psnr;
   row.bias2_corr = noise && R > 1 ? row.bias2 - noise->mse : nan;
   row.rel_mse_ds2 = mean_of(m.ds[0]);
   row.rel_mse_ds4 = mean_of(m.ds[1]);
@@ -227,6 +241,10 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.rel_var = R > 1 ? (row.rel_mse - m.rel_mse_of_mean) * R / (R - 1) : nan;
   row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.ds8_of_mean) * R / (R - 1) : nan;
   row.bias_excluded = m.has_bias ? m.bias.excluded_fraction : nan;
+  row.bias_excluded_dark = m.has_bias ? m.bias.excluded_dark : nan;
+  row.bias_excluded_bright = m.has_bias ? m.bias.excluded_bright : nan;
+  row.bias_excluded_skew = m.has_bias ? m.bias.excluded_skew : nan;
+  row.bias_excluded_ds4 = m.bias_excluded_ds4;
   row.bias_mean = m.has_bias ? m.bias.mean_bias : nan;
   row.bias_mean_ci = m.has_bias ? m.bias.mean_bias_ci : nan;
   row.bias_mean_rel = m.has_bias ? m.bias.mean_bias / m.bias.ref_mean : nan;
@@ -241,6 +259,9 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.mray_s = m.total.trace_s > 0 ? static_cast<double>(m.total.rays()) / m.total.trace_s * 1e-6 : 0.0;
   row.below_geometric = m.total.generation.below_geometric;
   row.reused_rays = m.total.generation.reused_rays;
+  row.hybrid_diffuse_share = m.total.generation.rays > 0 ? static_cast<double>(m.total.hybrid_diffuse) /
+                                                               static_cast<double>(m.total.generation.rays)
+                                                         : nan;
 }
 
 // ꟻLIP (Andersson et al. 2020) through NVIDIA's reference implementation (PyPI flip-evaluator, installed by
@@ -275,6 +296,47 @@ double run_flip(const std::string& program, const std::string& ref, const std::s
   return std::strtod(text.c_str() + at + 5, nullptr);
 }
 
+// HDR-FLIP (flip's mode for EXR input) of linear renders against a linear reference, in one call of the flip
+// program with its defaults: ACES tone mapper, 67 pixels per degree, and the exposure range (start, stop, count)
+// that flip derives from the reference's luminance, which `exposure` reports as "start..stop/count".
+struct HdrFlip {
+  double mean = std::nan("");  // mean over the test images of each image's mean HDR-FLIP
+  std::string exposure;
+};
+HdrFlip run_hdr_flip(const std::string& program, const std::string& ref, const std::vector<std::string>& tests,
+                     const std::string& dir) {
+  std::string cmd = fmt::format("{} -r {} -v 2 -nerm -nexm -d {} -t", quoted(program), quoted(ref), quoted(dir));
+  for (const std::string& t : tests) cmd += " " + quoted(t);
+  cmd += " 2>/dev/null";
+  HdrFlip out;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return out;
+  std::string text;
+  char buf[256];
+  while (std::fgets(buf, sizeof buf, pipe)) text += buf;
+  if (::pclose(pipe) != 0) return out;
+  auto value_after = [&text](const std::string& label, size_t from) {
+    const size_t at = text.find(label, from);
+    return at == std::string::npos ? std::make_pair(std::nan(""), at)
+                                   : std::make_pair(std::strtod(text.c_str() + at + label.size(), nullptr), at);
+  };
+  double sum = 0;
+  size_t found = 0;
+  for (size_t at = 0;;) {
+    const auto [v, where] = value_after("Mean:", at);
+    if (where == std::string::npos) break;
+    sum += v;
+    ++found;
+    at = where + 5;
+  }
+  if (found != tests.size()) return out;
+  out.mean = sum / static_cast<double>(found);
+  const double start = value_after("Start exposure:", 0).first, stop = value_after("Stop exposure:", 0).first,
+               count = value_after("Number of exposures:", 0).first;
+  out.exposure = fmt::format("{:.4g}..{:.4g}/{:.0f}", start, stop, count);
+  return out;
+}
+
 void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows) {
   const bool linear = o.common.metrics == MetricSpace::Linear;
   std::printf(
@@ -301,18 +363,25 @@ void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows)
                 r.variance, static_cast<unsigned long long>(r.non_finite_samples), r.render_s, r.mray_s);
   std::printf(
       "\nReference noise, structure and bias: relMSE of the 2x/4x/8x box-downsampled images (white noise drops ~4x "
-      "per step, blocky noise does not); pixels whose 95%% bias band excludes zero (5%% expected without bias); mean "
-      "luma bias with its 95%% CI\n\n| scene | generator | ref noise relMSE | share | relMSE−noise | PSNR−noise | "
-      "ds2 | ds4 | ds8 | ds8/full | var ds8/full | bias px | mean bias | ± | rel | verdict | FLIP |\n"
-      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|\n");
+      "per step, blocky noise does not); pixels whose 95%% bias band excludes zero (all, darker / brighter, after "
+      "the skewness correction, on 4x4 blocks; not 5%% for an unbiased method on path-traced pixels: compare with "
+      "noopt's, shading/metrics.h); mean luma bias with its 95%% CI; hybrid-diffuse share of the "
+      "hit pixels; FLIP (LDR of render 0's display image; HDR of the linear renders, mean over them)\n\n| scene | "
+      "generator | ref noise relMSE | share | relMSE−noise | PSNR−noise | ds2 | ds4 | ds8 | ds8/full | var ds8/full | "
+      "bias px | dark / bright | skew-corr. | 4x4 blocks | mean bias | ± | rel | verdict | hybrid-diffuse | FLIP | "
+      "HDR-FLIP "
+      "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|"
+      "---:|---:|\n");
   for (const QualityRow& r : rows)
     std::printf(
-        "| %s | %s | %.3g | %.1f%% | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f | %.3f | %.1f%% | %+.3g | %.2g | %+.2f%% "
-        "| %s | "
-        "%.4f |\n",
+        "| %s | %s | %.3g | %.1f%% | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f | %.3f | %.1f%% | %.1f / %.1f%% | %.1f%% "
+        "| "
+        "%.1f%% | %+.3g | %.2g | %+.2f%% | %s | %.1f%% | %.4f | %.4f |\n",
         r.scene.c_str(), r.method.c_str(), r.ref_noise_rel_mse, 100 * r.ref_noise_share, r.rel_mse_corr, r.psnr_corr,
         r.rel_mse_ds2, r.rel_mse_ds4, r.rel_mse_ds8, r.rel_mse_ds8 / r.rel_mse, r.rel_var_ds8 / r.rel_var,
-        100 * r.bias_excluded, r.bias_mean, r.bias_mean_ci, 100 * r.bias_mean_rel, r.bias_verdict.c_str(), r.flip);
+        100 * r.bias_excluded, 100 * r.bias_excluded_dark, 100 * r.bias_excluded_bright, 100 * r.bias_excluded_skew,
+        100 * r.bias_excluded_ds4, r.bias_mean, r.bias_mean_ci, 100 * r.bias_mean_rel, r.bias_verdict.c_str(),
+        100 * r.hybrid_diffuse_share, r.flip, r.flip_hdr);
 }
 
 class QualityRun {
@@ -384,7 +453,13 @@ const QualityRow* QualityRun::finished(const std::string& spec, size_t gi) const
 void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref, const ReferenceNoise* noise,
                                const ToneMap& tm, size_t si, size_t gi) {
   const std::string label = o_.generators[gi].text();
-  const ImageSink sink{image_dir_, fmt::format("{}-{}", safe_name(ls.scene.name), safe_name(label)), o_.crops};
+  ImageSink sink{image_dir_, fmt::format("{}-{}", safe_name(ls.scene.name), safe_name(label)), o_.crops};
+  // HDR-FLIP's inputs: the linear renders and reference as EXR in a folder of their own, removed afterwards.
+  const bool hdr_flip = !flip_.empty() && image_io_available();
+  if (hdr_flip) {
+    sink.hdr_dir = (fs::temp_directory_path() / fmt::format("raycoh-flip-{}-{}", ::getpid(), sink.base)).string();
+    fs::create_directories(sink.hdr_dir);
+  }
   const Renders m = render_generator(o_, ls, *generators_[gi], label, ref, tm, sink, si * o_.generators.size() + gi,
                                      o_.scenes.size() * o_.generators.size());
   QualityRow row = head(o_.scenes[si], gi);
@@ -404,12 +479,20 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
                  ? std::nan("")
                  : run_flip(flip_, ImageSink{image_dir_, safe_name(ls.scene.name) + "-reference", {}}.main_path(),
                             sink.main_path());
+  row.flip_hdr = std::nan("");
+  if (hdr_flip) {
+    const std::string ref_exr = (fs::path(sink.hdr_dir) / "reference.exr").string();
+    write_image(ref.image, ref_exr);
+    std::vector<std::string> tests;
+    for (int r = 0; r < o_.bias_renders; ++r) tests.push_back(sink.hdr_path(r));
+    const HdrFlip f = run_hdr_flip(flip_, ref_exr, tests, sink.hdr_dir);
+    row.flip_hdr = f.mean;
+    row.flip_hdr_exposure = f.exposure;
+    std::error_code ec;
+    fs::remove_all(sink.hdr_dir, ec);
+  }
   csv_.write(row);
-  if (row.ref_noise_share > kNoiseWarnShare)
-    std::fprintf(stderr,
-                 "    warning: %s: the reference's own noise is %.0f%% of an error figure (ref_noise_share); "
-                 "render a longer reference (--ref-frames)\n",
-                 label.c_str(), 100 * row.ref_noise_share);
+  warn_reference_noise(label, row.ref_noise_share);
   rows_.push_back(std::move(row));
   if (m.total.non_finite > 0)
     std::fprintf(stderr, "    warning: %s: %llu NaN/Inf frame samples were left out (counted, not added)\n",
@@ -439,22 +522,13 @@ void QualityRun::run_scene(size_t si) {
   const ToneMap tm = resolved(o_.common.tone_map, ref.image);
   fingerprint_ = scene_fingerprint(spec);
   if (owns(si, 0)) ImageSink{image_dir_, safe_name(ls->scene.name) + "-reference", o_.crops}.write(ref.image, tm);
-  ReferenceNoise noise;
-  if (!ref.first_half.empty()) {
-    noise = reference_noise(ref.image, ref.first_half, tm, o_.common.metrics);
-    std::fprintf(stderr, "    reference noise: MSE %.3g, relMSE %.3g (from its two half-references)\n", noise.mse,
-                 noise.rel_mse);
-  } else {
-    std::fprintf(stderr, "    reference noise: unknown (no half-reference: %s)\n",
-                 ref.kind == "file" ? "no <stem>-half1 image beside --reference"
-                                    : "the reference frames are not two equal halves of whole 64-frame blocks");
-  }
+  const std::optional<ReferenceNoise> noise = noise_of_reference(ref, tm, o_.common.metrics);
   for (size_t gi = 0; gi < o_.generators.size(); ++gi) {
     if (!owns(si, gi)) continue;
     if (const QualityRow* row = finished(spec, gi))
       rows_.push_back(*row);
     else
-      run_generator(*ls, ref, ref.first_half.empty() ? nullptr : &noise, tm, si, gi);
+      run_generator(*ls, ref, noise ? &*noise : nullptr, tm, si, gi);
   }
 }
 

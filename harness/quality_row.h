@@ -31,14 +31,21 @@ struct QualityRow {
   double rel_mse_ds2 = 0, rel_mse_ds4 = 0, rel_mse_ds8 = 0;  // of the 2x/4x/8x box-downsampled images
   double rel_var = 0, rel_var_ds8 = 0;                       // their variance part (NaN for one render)
   // Bias of the mean of all frames (shading/metrics.h bias_test), luma.
-  double bias_excluded = 0, bias_mean = 0, bias_mean_ci = 0, bias_mean_rel = 0, bias_z2 = 0;
-  std::string bias_verdict;  // "consistent" | "biased" | "" (one frame)
-  double flip = 0;           // mean FLIP of render 0 (NaN when flip is not available)
+  double bias_excluded = 0, bias_excluded_dark = 0, bias_excluded_bright = 0, bias_excluded_skew = 0,
+         bias_excluded_ds4 = 0, bias_mean = 0, bias_mean_ci = 0, bias_mean_rel = 0, bias_z2 = 0;
+  std::string bias_verdict;       // "consistent" | "biased" | "" (one frame)
+  double flip = 0;                // mean LDR-FLIP of render 0's display image (NaN when flip is not available)
+  double flip_hdr = 0;            // HDR-FLIP of the linear renders, mean over the R renders (NaN: not available)
+  std::string flip_hdr_exposure;  // the exposures flip chose from the reference: start..stop/count
   uint64_t non_finite_samples = 0, non_finite_pixels = 0, ref_non_finite_samples = 0;
   double render_s = 0, trace_s = 0, gen_ms = 0;
   uint64_t rays = 0;
   double mray_s = 0;
   size_t below_geometric = 0, reused_rays = 0;
+  // Share of the first-bounce rays (one per hit pixel and frame, over all renders) whose group is Hybrid and whose
+  // own class is diffuse (generators/generator.h hybrid_diffuse_rays): the hybrid rule's exposure. 0 for
+  // generators without groups.
+  double hybrid_diffuse_share = 0;
   Provenance provenance;
 };
 

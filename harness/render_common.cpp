@@ -178,4 +178,25 @@ std::string stem_path(const std::string& path) {
 
 std::string display_extension() { return image_io_available() ? ".png" : ".pfm"; }
 
+std::optional<ReferenceNoise> noise_of_reference(const ReferenceImage& ref, const ToneMap& tm, MetricSpace space) {
+  if (ref.first_half.empty()) {
+    std::fprintf(stderr, "    reference noise: unknown (no half-reference: %s)\n",
+                 ref.kind == "file" ? "no <stem>-half1 image beside --reference"
+                                    : "the reference frames are not two equal halves of whole 64-frame blocks");
+    return std::nullopt;
+  }
+  const ReferenceNoise noise = reference_noise(ref.image, ref.first_half, tm, space);
+  std::fprintf(stderr, "    reference noise: MSE %.3g, relMSE %.3g (from its two half-references)\n", noise.mse,
+               noise.rel_mse);
+  return noise;
+}
+
+void warn_reference_noise(const std::string& what, double share) {
+  if (share > kNoiseWarnShare)
+    std::fprintf(stderr,
+                 "    warning: %s: the reference's own noise is %.0f%% of an error figure (ref_noise_share); "
+                 "render a longer reference (--ref-frames)\n",
+                 what.c_str(), 100 * share);
+}
+
 }  // namespace raycoh

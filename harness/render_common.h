@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "generators/generator.h"
 #include "harness/quality.h"
 #include "scenes/scene.h"
+#include "shading/metrics.h"
 #include "shading/path_tracer.h"
 #include "tracers/tracer.h"
 
@@ -60,6 +62,15 @@ struct ReferenceImage {
 // rendered) NoOpt reference of shading/reference.h.
 ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, const RenderCommon& c, int ref_frames,
                                 const std::string& cache_dir, const std::string& explicit_path);
+
+// The share of an error figure (NoiseCorrected::share) above which quality and converge warn that the reference's
+// own noise is a large part of it.
+constexpr double kNoiseWarnShare = 0.1;
+// The reference's own noise (shading/metrics.h reference_noise, in the metric space of tm / space) from its half
+// image, announced on stderr; nullopt, with the reason on stderr, when it has none.
+std::optional<ReferenceNoise> noise_of_reference(const ReferenceImage& ref, const ToneMap& tm, MetricSpace space);
+// The warning (stderr) when share > kNoiseWarnShare; `what` names the figure ("noopt", "noopt at frame 32").
+void warn_reference_noise(const std::string& what, double share);
 
 // "dir/name.csv" -> "dir/name".
 std::string stem_path(const std::string& path);

@@ -629,6 +629,53 @@ std::string error_map_png(const std::string& image, const std::string& reference
   return png_bytes(map, ToneMap{ToneMapKind::Clamp, 1.f, false});
 }
 
+std::string cell(double v, const char* spec);
+
+// Bias, the hybrid rule's exposure, the reference's noise and FLIP per scene and method, from quality CSVs that
+// have those columns (revision 3710ea4 on; older ones: nothing).
+void add_quality_bias(Page& p, const Csv& c) {
+  if (!c.has("hybrid_diffuse_share") || !c.has("bias_verdict")) return;
+  const char* head =
+      "| scene | method | hybrid-diffuse share | mean luma bias | ± 95% | verdict | bias px (dark / bright) | "
+      "ref noise share | FLIP | HDR-FLIP |";
+  p.md += fmt::format(
+      "### Bias and the hybrid rule's exposure: {}\n\nhybrid-diffuse share: hit pixels whose group is hybrid and "
+      "whose own class is diffuse; bias: mean of all frames against the reference (relative to its mean luma); bias "
+      "px: pixels whose 95% band excludes 0 — not 5% for an unbiased method on path-traced pixels (read against "
+      "noopt's; results/README.md)\n\n{}\n|---|---|---:|---:|---:|---|---:|---:|---:|---:|\n",
+      c.path, head);
+  std::string rows;
+  for (const auto& r : c.rows) {
+    const std::string cells[] = {
+        cell(100 * c.num(r, "hybrid_diffuse_share"), "{:.1f}%"),
+        cell(100 * c.num(r, "bias_mean_rel"), "{:+.2f}%"),
+        cell(100 * c.num(r, "bias_mean_ci") / std::abs(c.num(r, "bias_mean") / c.num(r, "bias_mean_rel")), "{:.2f}%"),
+        c.get(r, "bias_verdict").empty() ? "—" : c.get(r, "bias_verdict"),
+        cell(100 * c.num(r, "bias_excluded"), "{:.1f}%") + " (" + cell(100 * c.num(r, "bias_excluded_dark"), "{:.1f}") +
+            " / " + cell(100 * c.num(r, "bias_excluded_bright"), "{:.1f}") + ")",
+        cell(100 * c.num(r, "ref_noise_share"), "{:.1f}%"),
+        cell(c.num(r, "flip"), "{:.4f}"),
+        cell(c.num(r, "flip_hdr"), "{:.4f}")};
+    p.md += fmt::format("| {} | {} |", c.get(r, "scene"), c.get(r, "method"));
+    rows += fmt::format("<tr><td>{}</td><td>{}</td>", html_escape(c.get(r, "scene")), html_escape(c.get(r, "method")));
+    for (const std::string& x : cells) {
+      p.md += " " + x + " |";
+      rows += "<td>" + html_escape(x) + "</td>";
+    }
+    p.md += "\n";
+    rows += "</tr>\n";
+  }
+  p.md += "\n";
+  p.html += fmt::format(
+      "<h3>Bias and the hybrid rule's exposure: {}</h3>\n<p>Hybrid-diffuse share: hit pixels whose group is hybrid "
+      "and whose own class is diffuse. Bias: the mean of all frames against the reference, relative to its mean "
+      "luma, with its 95% CI. Bias px: pixels whose 95% band excludes 0, which is not 5% for an unbiased method on "
+      "path-traced pixels: read it against noopt's.</p>\n<table><tr><th>scene</th><th>method</th><th>hybrid-diffuse "
+      "share</th><th>mean luma bias</th><th>± 95%</th><th>verdict</th><th>bias px (dark / bright)</th><th>ref noise "
+      "share</th><th>FLIP</th><th>HDR-FLIP</th></tr>\n{}</table>\n",
+      html_escape(c.path), rows);
+}
+
 // PSNR per scene and method (the paper's Table 2), and the images side by side when `<csv dir>/quality-images/
 // <scene>-<method>.png` exist (scripts/montage.py's inputs).
 void add_quality(Page& p, const Csv& c) {
@@ -664,6 +711,7 @@ void add_quality(Page& p, const Csv& c) {
   p.html +=
       fmt::format("<h2>Image quality: {}</h2>\n<p>PSNR in dB (higher is closer to the reference); {}</p>\n{}</table>\n",
                   html_escape(c.path), html_escape(join_set(info, "; ")), table);
+  add_quality_bias(p, c);
   const std::filesystem::path dir = std::filesystem::path(c.path).parent_path() / "quality-images";
   for (const std::string& s : scenes) {
     std::string row, crops, errors, reference;

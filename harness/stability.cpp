@@ -285,12 +285,7 @@ class SceneCheck {
     size_t pairs = 0, bad = 0;
     reuse_pairs(batch, pairs, bad);
     if (batch.has_groups()) add(label, "reuse_discontinuity", bad, pairs, -1.0);
-    if (batch.has_groups()) {
-      size_t hybrid_diffuse = 0;
-      for (size_t i = 0; i < n; ++i)
-        hybrid_diffuse += batch.group_type[i] == GroupType::Hybrid && batch.material[i] == MaterialClass::Diffuse;
-      add(label, "hybrid_diffuse", hybrid_diffuse, n, -1.0);
-    }
+    if (batch.has_groups()) add(label, "hybrid_diffuse", hybrid_diffuse_rays(batch), n, -1.0);
     // Key degeneracy: rays whose keys collide with the scene's box beyond those that collide with the batch's own.
     for (const PluginSpec& e : o_.encoders) {
       const auto with_scene = make_encoder(e, EncoderContext{scene_.bounds, &bvh_});

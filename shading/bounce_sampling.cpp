@@ -22,6 +22,7 @@ void generator_directions(FrameContext& ctx, Generator& generator, const GBuffer
   const auto t_gen = Clock::now();
   generator.generate(scene, gbuffer, ctx.settings.seed, batch, ctx.stats.generation);
   ctx.stats.gen_s = seconds_since(t_gen);
+  ctx.stats.hybrid_diffuse = hybrid_diffuse_rays(batch);
   wave.resize(batch.size());
   wave.rays.rays = batch.rays;
   parallel_for_index(batch.size(), [&](size_t i) {

@@ -254,27 +254,75 @@ ReferenceNoise reference_noise(const Image& full, const Image& first_half, const
 
 double minus_noise(double error, double noise) { return std::max(0.0, error - noise); }
 
-BiasSamples::BiasSamples(int w, int h)
-    : width(w), height(h), sum(static_cast<size_t>(w) * h), sum2(sum.size()), count(sum.size()) {}
+NoiseCorrected correct_for_noise(const ReferenceNoise& noise, double mse, double rel_mse, double metric_mse) {
+  auto share = [](double n, double e) { return e > 0 ? n / e : (n > 0 ? 1.0 : 0.0); };
+  NoiseCorrected c;
+  c.share = std::max({share(noise.mse, mse), share(noise.rel_mse, rel_mse), share(noise.metric_mse, metric_mse)});
+  c.mse = minus_noise(mse, noise.mse);
+  c.rel_mse = minus_noise(rel_mse, noise.rel_mse);
+  c.psnr = psnr_from_mse(minus_noise(metric_mse, noise.metric_mse));
+  return c;
+}
 
-void BiasSamples::add_frame(const Accumulator& frame) {
-  RAYCOH_CHECK(frame.width() == width && frame.height() == height,
-               fmt::format("frame {}x{} for bias samples of {}x{}", frame.width(), frame.height(), width, height));
+BiasSamples::BiasSamples(int w, int h)
+    : width(w),
+      height(h),
+      shift(static_cast<size_t>(w) * h, 0.0),
+      sum(shift.size()),
+      sum2(shift.size()),
+      sum3(shift.size()),
+      count(shift.size()) {}
+
+void BiasSamples::add_luma(const std::vector<double>& luma) {
+  RAYCOH_CHECK(luma.size() == sum.size(),
+               fmt::format("{} luma values for bias samples of {}x{}", luma.size(), width, height));
   double image_sum = 0;
   size_t finite = 0;
-  const std::vector<double>& sums = frame.sums();
   for (size_t p = 0; p < sum.size(); ++p) {
-    const uint32_t n = frame.samples(p);
-    if (n == 0) continue;
-    const double y = luma709(Vec3(static_cast<float>(sums[3 * p] / n), static_cast<float>(sums[3 * p + 1] / n),
-                                  static_cast<float>(sums[3 * p + 2] / n)));
-    sum[p] += y;
-    sum2[p] += y * y;
+    const double y = luma[p];
+    if (!std::isfinite(y)) continue;
+    if (count[p] == 0) shift[p] = y;
+    const double u = y - shift[p];
+    sum[p] += u;
+    sum2[p] += u * u;
+    sum3[p] += u * u * u;
     ++count[p];
     image_sum += y;
     ++finite;
   }
   frame_means.push_back(finite > 0 ? image_sum / static_cast<double>(finite) : 0.0);
+}
+
+std::vector<double> frame_luma(const Accumulator& frame) {
+  const size_t P = static_cast<size_t>(frame.width()) * frame.height();
+  std::vector<double> luma(P, std::nan(""));
+  const std::vector<double>& sums = frame.sums();
+  for (size_t p = 0; p < P; ++p) {
+    const uint32_t n = frame.samples(p);
+    if (n == 0) continue;
+    luma[p] = luma709(Vec3(static_cast<float>(sums[3 * p] / n), static_cast<float>(sums[3 * p + 1] / n),
+                           static_cast<float>(sums[3 * p + 2] / n)));
+  }
+  return luma;
+}
+
+std::vector<double> box_downsample_luma(const std::vector<double>& luma, int width, int height, int factor) {
+  if (factor < 1 || factor > width || factor > height)
+    throw Error(fmt::format("box_downsample_luma: factor {} for a {}x{} image", factor, width, height));
+  RAYCOH_CHECK(luma.size() == static_cast<size_t>(width) * height, "box_downsample_luma: size");
+  const int w = width / factor, h = height / factor;
+  std::vector<double> out(static_cast<size_t>(w) * h, 0.0);
+  const double inv = 1.0 / (static_cast<double>(factor) * factor);
+  for (int y = 0; y < h * factor; ++y)
+    for (int x = 0; x < w * factor; ++x)
+      out[static_cast<size_t>(y / factor) * w + x / factor] += luma[static_cast<size_t>(y) * width + x] * inv;
+  return out;  // a NaN pixel makes its block NaN
+}
+
+void BiasSamples::add_frame(const Accumulator& frame) {
+  RAYCOH_CHECK(frame.width() == width && frame.height() == height,
+               fmt::format("frame {}x{} for bias samples of {}x{}", frame.width(), frame.height(), width, height));
+  add_luma(frame_luma(frame));
 }
 
 double t_quantile_975(int dof) {
@@ -321,21 +369,34 @@ BiasReport bias_test(const BiasSamples& s, const Image& ref, const Image* half) 
       }
   BiasReport r;
   r.map = Image(w, h);
-  size_t excluded = 0, tested = 0;
+  size_t excluded = 0, dark = 0, bright = 0, excluded_skew = 0, tested = 0;
   double z2 = 0;
   for (size_t p = 0; p < P; ++p) {
     const uint32_t n = s.count[p];
     if (n < 2) continue;
-    const double mean = s.sum[p] / n, var = std::max(0.0, (s.sum2[p] - n * mean * mean) / (n - 1));
-    const double d = mean - luma709(ref.at(p)), sigma = std::sqrt(var / n + v_ref[p]);
+    const double mu = s.sum[p] / n;  // of u = luma - shift
+    const double var = std::max(0.0, (s.sum2[p] - n * mu * mu) / (n - 1));
+    const double m3 = s.sum3[p] / n - 3 * mu * s.sum2[p] / n + 2 * mu * mu * mu;  // third central moment
+    const double d = s.shift[p] + mu - luma709(ref.at(p)), sigma = std::sqrt(var / n + v_ref[p]);
     if (!std::isfinite(d)) continue;
     const double z = sigma > 0 ? d / sigma : (d == 0 ? 0.0 : std::copysign(1e30, d));
+    // Hall's transform (see metrics.h) with k the skewness of d; none where sigma is 0 or the moment is not finite.
+    const double k = sigma > 0 && std::isfinite(m3) ? m3 / (static_cast<double>(n) * n) / (sigma * sigma * sigma) : 0.0;
+    const double zc = std::clamp(z, -1e6, 1e6);
+    const double z_h = zc + k * zc * zc / 3 + k * k * zc * zc * zc / 27 + k / 6;
+    const double t = t_quantile_975(static_cast<int>(n) - 1);
     ++tested;
-    excluded += std::abs(z) > t_quantile_975(static_cast<int>(n) - 1);
+    excluded += std::abs(z) > t;
+    dark += z < -t;
+    bright += z > t;
+    excluded_skew += std::abs(z_h) > t;
     z2 += std::min(z * z, 1e6);
     r.map.set(p, Vec3(static_cast<float>(d), static_cast<float>(sigma), static_cast<float>(z)));
   }
   r.excluded_fraction = tested > 0 ? static_cast<double>(excluded) / tested : std::nan("");
+  r.excluded_dark = tested > 0 ? static_cast<double>(dark) / tested : std::nan("");
+  r.excluded_bright = tested > 0 ? static_cast<double>(bright) / tested : std::nan("");
+  r.excluded_skew = tested > 0 ? static_cast<double>(excluded_skew) / tested : std::nan("");
   r.z2 = tested > 0 ? z2 / tested : std::nan("");
   const int F = s.frames();
   double fm = 0;

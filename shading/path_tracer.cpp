@@ -50,6 +50,7 @@ void FrameStats::add(const FrameStats& f) {
   shadow_rays += f.shadow_rays;
   non_finite += f.non_finite;
   merge_stats(generation, f.generation);
+  hybrid_diffuse += f.hybrid_diffuse;
 }
 
 PathTracer::PathTracer(const Scene& scene, Tracer& tracer, Generator& generator, const RenderSettings& settings)

@@ -40,6 +40,7 @@ struct FrameStats {
   uint64_t primary_rays = 0, secondary_rays = 0, bounce_rays = 0, shadow_rays = 0;
   uint64_t non_finite = 0;  // pixels whose frame sample was NaN/Inf: counted and not accumulated
   GenerationStats generation;
+  uint64_t hybrid_diffuse = 0;  // first-bounce rays of generators/generator.h hybrid_diffuse_rays (of generation.rays)
   uint64_t rays() const { return primary_rays + secondary_rays + bounce_rays + shadow_rays; }
   void add(const FrameStats& f);
 };

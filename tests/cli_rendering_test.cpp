@@ -1,6 +1,12 @@
 // The rendering commands (`render`, `quality`, `converge`, `compare`) from the command line.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <map>
+
+#include "harness/csv.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {
@@ -49,6 +55,109 @@ TEST(CliRendering, QualityResumesFinishedRowsAndConvergeWritesItsSummary) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(count_lines(conv), 1 + 2 * 2);
   EXPECT_EQ(count_lines(dir / "c-summary.csv"), 1 + 3);  // ours on wall, trace and modeled_gpu
+}
+
+// A CSV file's rows as column -> text.
+std::vector<std::map<std::string, std::string>> csv_rows(const std::filesystem::path& p) {
+  const std::vector<std::string> lines = read_lines(p);
+  std::vector<std::map<std::string, std::string>> rows;
+  if (lines.empty()) return rows;
+  std::vector<std::string> header;
+  csv_parse_line(lines[0], header);
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::vector<std::string> f;
+    csv_parse_line(lines[i], f);
+    std::map<std::string, std::string> row;
+    for (size_t c = 0; c < header.size() && c < f.size(); ++c) row[header[c]] = f[c];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+double num(const std::map<std::string, std::string>& row, const std::string& column) {
+  const auto it = row.find(column);
+  EXPECT_NE(it, row.end()) << column;
+  return it == row.end() || it->second.empty() ? std::nan("") : std::stod(it->second);
+}
+
+// Issue 12: converge's curve and summary carry the reference's noise (a 128-frame reference has two 64-frame
+// halves) with quality's definitions: rel_mse_corr = rel_mse - ref_noise_rel_mse, the share, and the summary's
+// corrected errors and equal-time ratio.
+TEST(CliRendering, ConvergeReportsTheReferenceNoise) {
+  const auto dir = temp_dir("cli_converge_noise");
+  const auto conv = dir / "c.csv";
+  const CommandResult r = run_raycoh(
+      "converge --generators noopt,ours --time 100s --max-frames 3 --ref-frames 128 --res 24x16 "
+      "--gpu-model none --cache " +
+      (dir / "cache").string() + " --out " + conv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("reference noise: MSE"), std::string::npos) << r.output;
+  const auto rows = csv_rows(conv);
+  ASSERT_EQ(rows.size(), 6u);
+  const double noise = num(rows[0], "ref_noise_rel_mse");
+  EXPECT_GT(noise, 0);
+  for (const auto& row : rows) {
+    EXPECT_EQ(num(row, "ref_noise_rel_mse"), noise);
+    // The CSV holds 6 significant digits.
+    EXPECT_NEAR(num(row, "rel_mse_corr"), std::max(0.0, num(row, "rel_mse") - noise), 1e-5 * num(row, "rel_mse"));
+    EXPECT_GE(num(row, "ref_noise_share"), noise / num(row, "rel_mse") * (1 - 1e-5));
+    EXPECT_LE(num(row, "mse_corr"), num(row, "mse"));
+    EXPECT_GE(num(row, "psnr_corr"), num(row, "psnr") - 1e-9);
+  }
+  const auto summary = csv_rows(dir / "c-summary.csv");
+  ASSERT_EQ(summary.size(), 2u);  // ours on wall and trace
+  for (const auto& row : summary) {
+    EXPECT_EQ(num(row, "ref_noise_rel_mse"), noise);
+    const double e = num(row, "error") - noise, b = num(row, "baseline_error") - noise;
+    EXPECT_NEAR(num(row, "error_corr"), e, 1e-5 * num(row, "error"));
+    EXPECT_NEAR(num(row, "baseline_error_corr"), b, 1e-5 * num(row, "baseline_error"));
+    EXPECT_NEAR(num(row, "equal_time_error_ratio_corr"), e / b, 1e-4 * e / b);
+    EXPECT_NEAR(num(row, "ref_noise_share"), noise / std::min(num(row, "error"), num(row, "baseline_error")), 1e-5);
+  }
+}
+
+// Issue 12: quality's hybrid_diffuse_share (0 for NoOpt, which has no groups; cornell's hybrid groups give ours a
+// share) and HDR-FLIP through the flip program: a stand-in flip ($RAYCOH_FLIP) that answers LDR calls (PNG) with
+// one mean and HDR calls with the exposure range and a mean per test image, which must be the linear renders as
+// EXR files (one per render) against an EXR reference; flip_hdr is their mean.
+TEST(CliRendering, QualityReportsHybridShareAndHdrFlip) {
+  const auto dir = temp_dir("cli_quality_flip");
+  const auto fake = dir / "flip";
+  write_file(
+      fake,
+      "#!/bin/sh\n"
+      "case \"$*\" in\n"
+      "  *.png*) echo '     Mean: 0.25' ;;\n"
+      "  *) n=0; for a in \"$@\"; do case \"$a\" in *.exr) test -s \"$a\" || exit 1; n=$((n+1));; esac; done\n"
+      "     test $n -eq 3 || exit 1\n"
+      "     echo '     Start exposure: -1.5'; echo '     Stop exposure: 2.25'; echo '     Number of exposures: 4'\n"
+      "     echo '     Mean: 0.1'; echo '     Weighted median: 0.9'; echo '     Mean: 0.3' ;;\n"
+      "esac\n");
+  std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
+  const auto out = dir / "q.csv";
+  const CommandResult r = run_shell("RAYCOH_FLIP=" + fake.string() +
+                                    " $R quality --scenes cornell --generators noopt,ours --frames 2 --ref-frames 2 "
+                                    "--bias-renders 2 --res 32x24 --cache " +
+                                    (dir / "cache").string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto rows = csv_rows(out);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(num(rows[0], "hybrid_diffuse_share"), 0.0);
+  EXPECT_GT(num(rows[1], "hybrid_diffuse_share"), 0.02);
+  EXPECT_LT(num(rows[1], "hybrid_diffuse_share"), 0.5);
+  for (const auto& row : rows) {
+    EXPECT_EQ(num(row, "flip"), 0.25);
+    EXPECT_NEAR(num(row, "flip_hdr"), 0.2, 1e-12);
+    EXPECT_EQ(row.at("flip_hdr_exposure"), "-1.5..2.25/4");
+  }
+  // raycoh report shows them per scene and method.
+  const CommandResult rep = run_raycoh("report " + out.string() + " --out " + (dir / "report.html").string());
+  ASSERT_EQ(rep.exit_code, 0) << rep.output;
+  std::ifstream md(dir / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("### Bias and the hybrid rule's exposure"), std::string::npos) << text;
+  EXPECT_NE(text.find("| cornell | noopt | 0.0% |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| 0.2500 | 0.2000 |"), std::string::npos) << text;
 }
 
 }  // namespace

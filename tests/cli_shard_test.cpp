@@ -25,12 +25,28 @@ const std::set<std::string> kExperimentTimes = {"gen_ms",     "trace_ms", "trace
                                                 "e2e_mray_s", "host",     "started_utc",  "command_line"};
 
 // quality and converge: measured times (and what is read off them), and where and how a run was started.
-const std::set<std::string> kRenderTimes = {"render_s",      "trace_s",         "gen_ms",
-                                            "mray_s",        "wall_s",          "gen_s",
-                                            "frame_wall_ms", "frame_trace_ms",  "horizon_s",
-                                            "error",         "baseline_error",  "equal_time_error_ratio",
-                                            "time_s",        "baseline_time_s", "equal_error_speedup",
-                                            "host",          "started_utc",     "command_line"};
+const std::set<std::string> kRenderTimes = {"render_s",
+                                            "trace_s",
+                                            "gen_ms",
+                                            "mray_s",
+                                            "wall_s",
+                                            "gen_s",
+                                            "frame_wall_ms",
+                                            "frame_trace_ms",
+                                            "horizon_s",
+                                            "error",
+                                            "baseline_error",
+                                            "equal_time_error_ratio",
+                                            "time_s",
+                                            "baseline_time_s",
+                                            "equal_error_speedup",
+                                            "error_corr",
+                                            "baseline_error_corr",
+                                            "equal_time_error_ratio_corr",
+                                            "ref_noise_share",
+                                            "host",
+                                            "started_utc",
+                                            "command_line"};
 
 // The file's rows with the non-deterministic columns blanked, sorted (header first).
 std::vector<std::string> deterministic_rows(const fs::path& p,

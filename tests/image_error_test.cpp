@@ -177,5 +177,91 @@ TEST(ImageError, BiasMapOfAnUnbiasedGeneratorIsConsistentWithZero) {
             std::string::npos);
 }
 
+// The share of an error figure that is the reference's noise, and the figures without it (quality's and converge's
+// columns, one definition).
+TEST(ImageError, NoiseCorrectionTakesTheReferenceNoiseOut) {
+  ReferenceNoise n;
+  n.mse = 0.01;
+  n.rel_mse = 0.02;
+  n.metric_mse = 0.001;
+  const NoiseCorrected c = correct_for_noise(n, 0.1, 0.1, 0.01);
+  EXPECT_DOUBLE_EQ(c.share, 0.2);  // the largest of 0.1, 0.2, 0.1
+  EXPECT_DOUBLE_EQ(c.mse, 0.09);
+  EXPECT_DOUBLE_EQ(c.rel_mse, 0.08);
+  EXPECT_NEAR(c.psnr, 10 * std::log10(1 / 0.009), 1e-12);
+  EXPECT_EQ(correct_for_noise(n, 0.005, 0.1, 0.01).mse, 0.0);  // never below 0
+  EXPECT_EQ(correct_for_noise(ReferenceNoise{}, 0, 0, 0).share, 0.0);
+}
+
+// Synthetic pixels with a known mean (the reference, without noise), n = 128 frames, fixed seed: the calibration of
+// the per-pixel band. Normal samples: both shares at the nominal 5%. Skewed samples (lognormal, sigma 1; and rare
+// bright events, which is what a path-traced pixel's samples look like): the plain t band excludes zero too often
+// (its false-alarm rate is not 5%), Hall's skewness-corrected statistic (excluded_skew) comes back near 5%. A bias
+// of a third of a standard error per sample is found by both.
+// With `blocks`, the test of the 4 x 4 box-downsampled frames against the downsampled reference (quality's
+// bias_excluded_ds4).
+BiasReport synthetic_bias(const char* kind, double shift, uint32_t seed, bool blocks = false) {
+  constexpr int kW = 200, kH = 100, kFrames = 128;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const size_t P = static_cast<size_t>(kW) * kH;
+  std::vector<double> p_event(P), mean(P);
+  for (size_t p = 0; p < P; ++p) p_event[p] = 0.05 + 0.45 * uniform(rng);
+  const std::string k = kind;
+  for (size_t p = 0; p < P; ++p) mean[p] = k == "normal" ? 1.0 : k == "lognormal" ? std::exp(0.5) : 1.0;
+  BiasSamples s(kW, kH), s4(kW / 4, kH / 4);
+  std::vector<double> luma(P);
+  for (int f = 0; f < kFrames; ++f) {
+    for (size_t p = 0; p < P; ++p) {
+      double y;
+      if (k == "normal")
+        y = 1.0 + 0.5 * normal(rng);
+      else if (k == "lognormal")
+        y = std::exp(normal(rng));
+      else  // rare events: a bright sample of mean 1 / p with probability p, else 0
+        y = uniform(rng) < p_event[p] ? -std::log(1 - uniform(rng)) / p_event[p] : 0.0;
+      luma[p] = y + shift;
+    }
+    s.add_luma(luma);
+    s4.add_luma(box_downsample_luma(luma, kW, kH, 4));
+  }
+  Image ref(kW, kH);
+  for (size_t p = 0; p < P; ++p) {
+    const float m = static_cast<float>(mean[p]);
+    ref.set(p, Vec3(m, m, m));
+  }
+  return blocks ? bias_test(s4, box_downsample(ref, 4), nullptr) : bias_test(s, ref, nullptr);
+}
+
+TEST(ImageError, SkewCorrectedBiasShareIsCalibratedOnSyntheticPixels) {
+  const BiasReport normal = synthetic_bias("normal", 0.0, 7);
+  EXPECT_NEAR(normal.excluded_fraction, 0.05, 0.006);
+  EXPECT_NEAR(normal.excluded_skew, 0.05, 0.006);
+  EXPECT_NEAR(normal.excluded_dark, 0.025, 0.005);
+  EXPECT_NEAR(normal.excluded_bright, 0.025, 0.005);
+  EXPECT_DOUBLE_EQ(normal.excluded_dark + normal.excluded_bright, normal.excluded_fraction);
+  const BiasReport lognormal = synthetic_bias("lognormal", 0.0, 8);
+  EXPECT_GT(lognormal.excluded_dark, 3 * lognormal.excluded_bright);  // skewness: the excess is dark
+  EXPECT_GT(lognormal.excluded_fraction, 0.068);                      // the plain t band: ~7.7%
+  EXPECT_LT(lognormal.excluded_skew, 0.066);                          // corrected: ~6.2% (heavy tail left)
+  EXPECT_GT(lognormal.excluded_skew, 0.045);
+  const BiasReport rare = synthetic_bias("rare", 0.0, 9);
+  EXPECT_GT(rare.excluded_fraction, 0.07);
+  EXPECT_NEAR(rare.excluded_skew, 0.05, 0.012);
+  EXPECT_TRUE(normal.consistent && lognormal.consistent && rare.consistent);
+  // 4 x 4 blocks: 16 x the samples per mean, a quarter of the skewness, near 5% for both skewed kinds (1250 blocks).
+  EXPECT_NEAR(synthetic_bias("lognormal", 0.0, 8, true).excluded_fraction, 0.05, 0.015);
+  EXPECT_NEAR(synthetic_bias("rare", 0.0, 9, true).excluded_fraction, 0.05, 0.015);
+  EXPECT_GT(synthetic_bias("normal", 0.17, 7, true).excluded_fraction, 0.99);
+  // A bias of 0.17 (a third of the normal samples' sigma / sqrt(1), ~3.8 standard errors of a 128-sample mean).
+  const BiasReport biased = synthetic_bias("normal", 0.17, 7);
+  EXPECT_GT(biased.excluded_fraction, 0.5);
+  EXPECT_GT(biased.excluded_skew, 0.5);
+  EXPECT_GT(biased.excluded_bright, 0.5);
+  EXPECT_LT(biased.excluded_dark, 0.001);
+  EXPECT_FALSE(biased.consistent);
+}
+
 }  // namespace
 }  // namespace raycoh
