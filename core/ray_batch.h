@@ -11,16 +11,20 @@
 namespace raycoh {
 
 // One first hit. Normals face the side the camera ray came from (all shared-scene materials are double-sided):
-// ng is the geometric normal, ns the interpolated shading normal flipped into ng's hemisphere.
+// ng is the geometric normal, ns the interpolated shading normal (tilted by a normal map where the material has
+// one) flipped into ng's hemisphere. bsdf and emission are the material at this very point: the triangle's
+// material, or for a textured glTF material the texels at the hit (core/surface_textures.h); every stage, host
+// and device, reads them from here (bsdf.cls is the point's class).
 struct ShadingPoint {
   Vec3 position;
   Vec3 ng;
   Vec3 ns;
   Vec3 wo;  // unit, towards the camera
   uint32_t prim = kNoHit;
-  uint32_t material = 0;
-  MaterialClass cls = MaterialClass::Diffuse;
-  bool front_face = true;  // the camera ray hit the side the triangle's winding faces
+  uint32_t material = 0;  // the triangle's entry in Scene::materials (for a textured one, its 16-texel mean)
+  BsdfParams bsdf;
+  Vec3 emission{0.f, 0.f, 0.f};  // radiance the front face emits
+  bool front_face = true;        // the camera ray hit the side the triangle's winding faces
   bool valid() const { return prim != kNoHit; }
 };
 

@@ -8,6 +8,8 @@
 #include <cmath>
 
 #include "core/sampling.h"
+#include "core/surface_textures.h"
+#include "generators/generator.h"
 #include "generators/primary_ray.h"
 #include "tracers/tracer.h"
 
@@ -63,6 +65,8 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
   g.height = primary.height;
   g.frame = primary.frame;
   g.points.assign(static_cast<size_t>(g.width) * g.height, ShadingPoint{});
+  const bool textured = !scene.textures.empty();
+  const SurfaceTexturesView tex = scene.textures.view();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, primary.rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       const Hit& h = hits[i];
@@ -74,7 +78,6 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
       ShadingPoint& sp = g.points[primary.pixel[i]];
       sp.prim = h.prim;
       sp.material = scene.tri_material[h.prim];
-      sp.cls = scene.materials[sp.material].cls;
       sp.position = v0 * w0 + v1 * h.u + v2 * h.v;
       sp.wo = -ray.dir;
       Vec3 ng = cross(v1 - v0, v2 - v0);
@@ -84,6 +87,21 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
       Vec3 ns = scene.normals[idx[0]] * w0 + scene.normals[idx[1]] * h.u + scene.normals[idx[2]] * h.v;
       ns = dot(ns, ns) > 0.f ? normalize(ns) : ng;
       if (!is_finite(ns)) ns = ng;
+      if (textured && tex.tri_material[h.prim] != kNoTexture) {
+        const SurfaceSample s = surface_at(tex, h.prim, h.u, h.v);
+        sp.bsdf = s.bsdf;
+        sp.emission = s.emission;
+        // A normal-mapped normal that crosses the geometric surface (or turns away from the interpolated one) is
+        // not used: the interpolated normal stays.
+        if (s.has_normal) {
+          const Vec3 mapped = apply_normal_map(tex, h.prim, ns, s.normal_ts);
+          if (dot(mapped, ns) > 0.f && (dot(mapped, ng) > 0.f) == (dot(ns, ng) > 0.f)) ns = mapped;
+        }
+      } else {
+        const Material& m = scene.materials[sp.material];
+        sp.bsdf = bsdf_params(m);
+        sp.emission = m.emission;
+      }
       if (dot(ns, ng) < 0.f) ns = -ns;
       sp.ng = ng;
       sp.ns = ns;

@@ -53,7 +53,7 @@ inline float power_heuristic(float a, float b) {
 
 // Transmissive surfaces are a smooth dielectric: delta lobes only, so no NEE there and MIS weight 1 after them.
 inline bool is_delta(MaterialClass c) { return c == MaterialClass::Transmissive; }
-inline bool is_thin_pane(const Material& m) { return m.cls == MaterialClass::Transmissive && m.thin_walled; }
+inline bool is_thin_pane(const BsdfParams& m) { return m.cls == MaterialClass::Transmissive && m.thin_walled; }
 
 // How the light a ray finds is weighted (MIS state): the pdf and delta flag of the direction chosen at the
 // last scattering event that was not a straight pass through a thin pane, and the distance travelled since that
@@ -114,7 +114,7 @@ struct FrameContext {
   }
   // Radiance a shading point emits towards wo: emitters emit from the front side of their winding only.
   Vec3 emission(const ShadingPoint& sp) const {
-    return sp.cls == MaterialClass::Emissive && sp.front_face ? scene.materials[sp.material].emission : Vec3(0.f);
+    return sp.bsdf.cls == MaterialClass::Emissive && sp.front_face ? sp.emission : Vec3(0.f);
   }
 };
 

@@ -28,7 +28,7 @@ Scene material_scene(float glossy_roughness = 0.3f) {
   g.roughness = glossy_roughness;
   g.metallic = 1.f;
   Material sp = g;
-  sp.cls = MaterialClass::Specular;
+  sp.bsdf.cls = MaterialClass::Specular;
   sp.roughness = 0.f;
   Material t;
   t.cls = MaterialClass::Transmissive;
