@@ -38,7 +38,7 @@ RAYCOH_HD RAYCOH_INLINE uint32_t write_ray(const BatchView& out, size_t slot, co
   out.normal[slot] = r.normal;
   out.pixel[slot] = pixel;
   out.pdf[slot] = s.pdf;
-  out.material[slot] = sp.bsdf.cls;
+  out.material[slot] = sp.cls;
   return r.flags;
 }
 

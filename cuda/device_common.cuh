@@ -71,7 +71,7 @@ inline int round_up_warp(int n) { return (n + 31) / 32 * 32; }
 // The grouping kernel (cuda/device_grouping.cu): one block per tile of `grid`, rays into `out`, statistics into
 // `stats` (kStatCount slots). offsets: first slot of each tile; scanline_slots: per pixel, for scanline order.
 void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
-                         const uint32_t* offsets, const uint32_t* scanline_slots, const BatchView& out,
-                         unsigned long long* stats);
+                         const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
+                         const BatchView& out, unsigned long long* stats);
 
 }  // namespace raycoh::cuda

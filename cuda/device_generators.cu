@@ -47,8 +47,8 @@ __global__ void hit_flags_kernel(const ShadingPoint* points, size_t n, uint32_t*
 
 // ---- noopt ------------------------------------------------------------------------------------------------------
 
-__global__ void noopt_kernel(const ShadingPoint* points, uint32_t seed, uint32_t frame, TileGrid grid,
-                             const uint32_t* offsets, BatchView out, unsigned long long* stats) {
+__global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame,
+                             TileGrid grid, const uint32_t* offsets, BatchView out, unsigned long long* stats) {
   __shared__ uint32_t warp_totals[32];
   const int t = blockIdx.x;
   int x0, y0, w, h;
@@ -65,7 +65,7 @@ __global__ void noopt_kernel(const ShadingPoint* points, uint32_t seed, uint32_t
     const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
     if (hit) {
       const ShadingPoint& sp = points[p];
-      const DirectionSample s = sample_own_lobe(sp.bsdf, sp, seed, frame, p);
+      const DirectionSample s = sample_own_lobe(materials[sp.material], sp, seed, frame, p);
       const uint32_t flags = write_ray(out, next + rank, sp, p, s);
       ++rays;
       below_geometric += (flags & kSampleBelowGeometric) != 0;
@@ -117,6 +117,8 @@ GpuGenerator gpu_generator(const Generator& cpu) {
 void check_gpu_generator(const Generator& cpu) { gpu_generator(cpu); }
 
 struct DeviceGenerator::Impl {
+  DeviceBuffer<BsdfParams> materials;
+  DeviceBuffer<BsdfParams> hit_materials;  // a textured scene's G-buffer table (per frame)
   DeviceBuffer<ShadingPoint> points;
   DeviceBuffer<uint32_t> counts, offsets, flags, slots;
   DeviceBuffer<unsigned char> scan_temp;
@@ -199,9 +201,12 @@ struct DeviceGenerator::Impl {
   }
 };
 
-// Every stage reads a shading point's material from the G-buffer (ShadingPoint::bsdf, the texel at the hit for
-// textured glTF materials), so the device needs no copy of the scene's materials or textures.
-DeviceGenerator::DeviceGenerator(const Scene&) : impl_(std::make_unique<Impl>()) {}
+DeviceGenerator::DeviceGenerator(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  std::vector<BsdfParams> materials;
+  materials.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) materials.push_back(bsdf_params(m));
+  impl_->materials.upload(materials.data(), materials.size());
+}
 
 DeviceGenerator::~DeviceGenerator() = default;
 
@@ -225,6 +230,12 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator&
   const size_t n = g.hits;
   const bool scanline = grouping && config.order == RayOrder::Scanline;
   m.points.upload(g.points.data(), pixels);
+  // A textured scene's points index the G-buffer's own table (the texels at each hit): it goes up with them.
+  const BsdfParams* materials = m.materials.get();
+  if (g.materials && g.materials->per_hit()) {
+    m.hit_materials.upload(g.materials->bsdf.data(), g.materials->bsdf.size());
+    materials = m.hit_materials.get();
+  }
   const BatchView view = m.reserve(n, pixels, tiles, grouping, scanline);
 
   m.timer.start();
@@ -238,11 +249,11 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator&
       m.exclusive_sum(m.flags.get(), m.slots.get(), pixels);
     }
     if (grouping) {
-      launch_group_kernel(config, grid, m.points.get(), m.offsets.get(), m.slots.get(), view, m.stats.get());
+      launch_group_kernel(config, grid, m.points.get(), materials, m.offsets.get(), m.slots.get(), view, m.stats.get());
     } else {
       const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
-      noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), seed, g.frame, grid, m.offsets.get(), view,
-                                                            m.stats.get());
+      noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), materials, seed, g.frame, grid,
+                                                            m.offsets.get(), view, m.stats.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
     }
   }

@@ -37,13 +37,14 @@ __device__ void shared_direction_phase(const TileBlock& b, unsigned long long* s
   __syncthreads();
 }
 
-__global__ void group_kernel(GroupingConfig config, TileGrid grid, const ShadingPoint* points, const uint32_t* offsets,
-                             const uint32_t* scanline_slots, BatchView out, unsigned long long* stats) {
+__global__ void group_kernel(GroupingConfig config, TileGrid grid, const ShadingPoint* points,
+                             const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
+                             BatchView out, unsigned long long* stats) {
   extern __shared__ unsigned char shared_bytes[];
   __shared__ uint32_t warp_totals[32];
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);
   const TileGroups sh = carve_tile_groups(shared_bytes, full_m, (full_m + config.k - 1) / config.k);
-  const TileBlock b = make_tile_block(config, grid, blockIdx.x, points, sh);
+  const TileBlock b = make_tile_block(config, grid, blockIdx.x, points, materials, sh);
 
   const uint32_t i = threadIdx.x;
   const bool hit = i < b.m && phase_assign(b, i);
@@ -65,8 +66,8 @@ __global__ void group_kernel(GroupingConfig config, TileGrid grid, const Shading
 }  // namespace
 
 void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
-                         const uint32_t* offsets, const uint32_t* scanline_slots, const BatchView& out,
-                         unsigned long long* stats) {
+                         const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
+                         const BatchView& out, unsigned long long* stats) {
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);
   if (full_m > static_cast<uint32_t>(kMaxGroupTile) || config.k < 1)
     throw Error("cuda: GPU grouping needs tiles of at most 1024 pixels and k >= 1");
@@ -75,7 +76,7 @@ void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, con
     RAYCOH_CUDA_CHECK(
         cudaFuncSetAttribute(group_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
   group_kernel<<<static_cast<unsigned>(grid.count()), round_up_warp(static_cast<int>(full_m)), shared>>>(
-      config, grid, points, offsets, scanline_slots, out, stats);
+      config, grid, points, materials, offsets, scanline_slots, out, stats);
   RAYCOH_CUDA_CHECK_LAUNCH();
 }
 

@@ -121,7 +121,7 @@ RAYCOH_HD RAYCOH_INLINE uint32_t glossy_rank(const GroupingConfig& c, uint32_t g
 // group's reference normal, read by frame=rotate only).
 RAYCOH_HD RAYCOH_INLINE bool mean_vote(const GroupingConfig& c, const ShadingPoint& sp, const DirectionSample& s,
                                        Vec3 ref, Vec3& local) {
-  if (!is_glossy_like(sp.bsdf.cls) || s.flags != kSampleOk) return false;
+  if (!is_glossy_like(sp.cls) || s.flags != kSampleOk) return false;
   local = to_shared(c, sp.ns, ref, s.dir);
   return shared_cos(c, ref, local) > 0.f;
 }

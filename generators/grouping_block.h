@@ -63,11 +63,13 @@ struct TileBlock {
   uint32_t tile = 0, m = 0, groups = 0;
   int image_width = 0;
   const ShadingPoint* points = nullptr;
+  const BsdfParams* materials = nullptr;
   TileGroups sh;
 };
 
 RAYCOH_HD RAYCOH_INLINE TileBlock make_tile_block(const GroupingConfig& c, const TileGrid& grid, uint32_t t,
-                                                  const ShadingPoint* points, TileGroups sh) {
+                                                  const ShadingPoint* points, const BsdfParams* materials,
+                                                  TileGroups sh) {
   TileBlock b;
   b.config = c;
   b.rect = grid.rect(static_cast<int>(t));
@@ -76,6 +78,7 @@ RAYCOH_HD RAYCOH_INLINE TileBlock make_tile_block(const GroupingConfig& c, const
   b.groups = (b.m + c.k - 1) / c.k;
   b.image_width = grid.width;
   b.points = points;
+  b.materials = materials;
   b.sh = sh;
   return b;
 }
@@ -86,7 +89,7 @@ RAYCOH_HD RAYCOH_INLINE bool phase_assign(const TileBlock& b, uint32_t i) {
   const bool hit = has_hit(sp);
   b.sh.group_of[i] = group_in_tile(b.config, tile_shuffle(b.config, b.m, b.tile), i);
   b.sh.flags[i] = hit ? kPixelHit : 0u;
-  b.sh.cls[i] = sp.bsdf.cls;
+  b.sh.cls[i] = sp.cls;
   return hit;
 }
 
@@ -144,7 +147,7 @@ RAYCOH_HD RAYCOH_INLINE Vec3 group_ref(const TileBlock& b, uint32_t q) { return 
 RAYCOH_HD RAYCOH_INLINE uint32_t phase_own_lobe(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot) {
   const uint32_t p = b.rect.pixel(i, b.image_width);
   const ShadingPoint& sp = b.points[p];
-  const DirectionSample s = sample_own_lobe(sp.bsdf, sp, b.config.seed, b.config.frame, p);
+  const DirectionSample s = sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p);
   if (mean_vote(b.config, sp, s, group_ref(b, b.sh.group_of[i]), b.sh.local[i])) b.sh.flags[i] |= kPixelMeanVote;
   return write_pixel(b, out, i, slot, s);
 }
@@ -166,7 +169,8 @@ RAYCOH_HD RAYCOH_INLINE SharedDirection phase_shared_direction(const TileBlock& 
         continue;
       const uint32_t p = b.rect.pixel(j, b.image_width);
       const ShadingPoint& sp = b.points[p];
-      d = glossy_direction(b.config, sp, sample_own_lobe(sp.bsdf, sp, b.config.seed, b.config.frame, p), ref);
+      d = glossy_direction(b.config, sp,
+                           sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p), ref);
     }
   } else {
     GlossyMean mean;
@@ -186,9 +190,9 @@ RAYCOH_HD RAYCOH_INLINE uint32_t phase_reuse(const TileBlock& b, const BatchView
   SharedDirection d;
   d.local = b.sh.shared_dir[q];
   d.glossy_pdf = b.sh.glossy_pdf[q];
-  return write_pixel(
-      b, out, i, slot,
-      member_direction(b.config, static_cast<GroupType>(b.sh.type[q]), sp.bsdf, sp, p, group_ref(b, q), d));
+  return write_pixel(b, out, i, slot,
+                     member_direction(b.config, static_cast<GroupType>(b.sh.type[q]), b.materials[sp.material], sp, p,
+                                      group_ref(b, q), d));
 }
 
 }  // namespace raycoh

@@ -30,11 +30,12 @@ NoOptGenerator::NoOptGenerator(ParamSet& params) {
   params_ = params.canonical();
 }
 
-void NoOptGenerator::generate(const Scene& /*scene*/, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
+void NoOptGenerator::generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                               GenerationStats& stats) {
+  const MaterialTable materials(scene, gbuffer);
   emit_per_valid_pixel(gbuffer, order_, tile_, out, stats,
                        [&](int, int, uint32_t p, const ShadingPoint& sp, GenerationStats&) {
-                         return sample_own_lobe(sp.bsdf, sp, seed, gbuffer.frame, p);
+                         return sample_own_lobe(materials[sp.material], sp, seed, gbuffer.frame, p);
                        });
 }
 

@@ -67,6 +67,19 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
   g.points.assign(static_cast<size_t>(g.width) * g.height, ShadingPoint{});
   const bool textured = !scene.textures.empty();
   const SurfaceTexturesView tex = scene.textures.view();
+  // The material table: the scene's materials, then (textured scenes) one entry per point slot.
+  auto table = std::make_shared<HitMaterials>();
+  const size_t nm = scene.materials.size();
+  table->scene_count = nm;
+  table->bsdf.reserve(nm + (textured ? g.points.size() : 0));
+  for (const Material& m : scene.materials) {
+    table->bsdf.push_back(bsdf_params(m));
+    table->emission.push_back(m.emission);
+  }
+  if (textured) {
+    table->bsdf.resize(nm + g.points.size());
+    table->emission.resize(nm + g.points.size());
+  }
   tbb::parallel_for(tbb::blocked_range<size_t>(0, primary.rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       const Hit& h = hits[i];
@@ -78,6 +91,7 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
       ShadingPoint& sp = g.points[primary.pixel[i]];
       sp.prim = h.prim;
       sp.material = scene.tri_material[h.prim];
+      sp.cls = scene.materials[sp.material].cls;
       sp.position = v0 * w0 + v1 * h.u + v2 * h.v;
       sp.wo = -ray.dir;
       Vec3 ng = cross(v1 - v0, v2 - v0);
@@ -89,18 +103,17 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
       if (!is_finite(ns)) ns = ng;
       if (textured && tex.tri_material[h.prim] != kNoTexture) {
         const SurfaceSample s = surface_at(tex, h.prim, h.u, h.v);
-        sp.bsdf = s.bsdf;
-        sp.emission = s.emission;
+        const size_t slot = nm + primary.pixel[i];
+        table->bsdf[slot] = s.bsdf;
+        table->emission[slot] = s.emission;
+        sp.material = static_cast<uint32_t>(slot);
+        sp.cls = s.bsdf.cls;
         // A normal-mapped normal that crosses the geometric surface (or turns away from the interpolated one) is
         // not used: the interpolated normal stays.
         if (s.has_normal) {
           const Vec3 mapped = apply_normal_map(tex, h.prim, ns, s.normal_ts);
           if (dot(mapped, ns) > 0.f && (dot(mapped, ng) > 0.f) == (dot(ns, ng) > 0.f)) ns = mapped;
         }
-      } else {
-        const Material& m = scene.materials[sp.material];
-        sp.bsdf = bsdf_params(m);
-        sp.emission = m.emission;
       }
       if (dot(ns, ng) < 0.f) ns = -ns;
       sp.ng = ng;
@@ -108,6 +121,7 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
     }
   });
   for (const ShadingPoint& sp : g.points) g.hits += sp.valid();
+  g.materials = std::move(table);
   return g;
 }
 

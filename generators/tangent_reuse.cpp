@@ -86,6 +86,7 @@ struct Scratch {
 struct FrameJob {
   const GBuffer& g;
   const GroupingConfig& config;
+  const MaterialTable& materials;
   const std::vector<uint32_t>& offsets;  // first slot of each tile
   const std::vector<uint32_t>& slots;    // scanline order: slot of each pixel
   BatchView out;
@@ -124,7 +125,7 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
   const uint32_t group = group_id(c, t, q);
   auto pixel_of = [&](uint32_t j) { return r.pixel(sc.members[j], job.g.width); };
   GroupCensus census;
-  for (uint32_t j = begin; j < end; ++j) census.add(job.g.points[pixel_of(j)].bsdf.cls);
+  for (uint32_t j = begin; j < end; ++j) census.add(job.g.points[pixel_of(j)].cls);
   const GroupType type = census.type();
   ++sc.stats.groups[static_cast<int>(type)];
   // Writes member j's ray straight into its batch slot (group order: members are already grouped).
@@ -137,7 +138,7 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
 
   // The donor (a diffuse member) first: its normal is the reference of frame=rotate.
   DonorSearch donor{donor_rank(c, group, census.diffuse)};
-  for (uint32_t j = begin; j < end && !donor.found; ++j) donor.offer(job.g.points[pixel_of(j)].bsdf.cls, pixel_of(j));
+  for (uint32_t j = begin; j < end && !donor.found; ++j) donor.offer(job.g.points[pixel_of(j)].cls, pixel_of(j));
   const Vec3 ref = job.g.points[donor.found ? donor.pixel : pixel_of(begin)].ns;
   const bool reuse_glossy = type == GroupType::Hybrid && c.hybrid == HybridRule::Glossy;
   const uint32_t pick = glossy_rank(c, group, census.glossy);
@@ -147,12 +148,12 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
   for (uint32_t j = begin; j < end; ++j) {
     const uint32_t p = pixel_of(j);
     const ShadingPoint& sp = job.g.points[p];
-    if (is_diffuse_like(sp.bsdf.cls)) continue;
-    const DirectionSample s = sample_own_lobe(sp.bsdf, sp, c.seed, c.frame, p);
+    if (is_diffuse_like(sp.cls)) continue;
+    const DirectionSample s = sample_own_lobe(job.materials[sp.material], sp, c.seed, c.frame, p);
     emit(j, sp, s);
     Vec3 local;
     if (mean_vote(c, sp, s, ref, local)) mean.add(local);
-    if (reuse_glossy && is_glossy_like(sp.bsdf.cls) && glossy_seen++ == pick) picked = glossy_direction(c, sp, s, ref);
+    if (reuse_glossy && is_glossy_like(sp.cls) && glossy_seen++ == pick) picked = glossy_direction(c, sp, s, ref);
   }
   if (census.diffuse == 0) return;
   const SharedDirection d = reuse_glossy ? picked : shared_direction(c, type, mean, donor.pixel, ref);
@@ -160,7 +161,7 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
   for (uint32_t j = begin; j < end; ++j) {
     const uint32_t p = pixel_of(j);
     const ShadingPoint& sp = job.g.points[p];
-    if (is_diffuse_like(sp.bsdf.cls)) emit(j, sp, member_direction(c, type, sp.bsdf, sp, p, ref, d));
+    if (is_diffuse_like(sp.cls)) emit(j, sp, member_direction(c, type, job.materials[sp.material], sp, p, ref, d));
   }
   sc.stats.reused_rays += reused_members(c, type, d, census.diffuse);
 }
@@ -227,17 +228,18 @@ GroupingConfig TangentSpaceReuse::config(uint32_t seed, uint32_t frame) const {
   return c;
 }
 
-void TangentSpaceReuse::generate(const Scene& /*scene*/, const GBuffer& g, uint32_t seed, RayBatch& out,
+void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, RayBatch& out,
                                  GenerationStats& stats) {
   const TileGrid grid(g.width, g.height, tile_.first, tile_.second);
   const std::vector<uint32_t> offsets = tile_hit_offsets(g, grid);
   const std::vector<uint32_t> slots = order_ == RayOrder::Scanline ? scanline_slots(g) : std::vector<uint32_t>{};
+  const MaterialTable table(scene, g);
   out.width = g.width;
   out.height = g.height;
   out.frame = g.frame;
   out.resize(offsets.back(), true);
   const GroupingConfig c = config(seed, g.frame);
-  const FrameJob job{g, c, offsets, slots, batch_view(out)};
+  const FrameJob job{g, c, table, offsets, slots, batch_view(out)};
 
   tbb::enumerable_thread_specific<Scratch> scratch;
   tbb::parallel_for(tbb::blocked_range<int>(0, grid.count(), 16), [&](const tbb::blocked_range<int>& range) {

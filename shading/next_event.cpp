@@ -81,9 +81,9 @@ ShadowRays make_shadow_rays(const FrameContext& ctx, const Vertices& verts, int 
   RAYCOH_CHECK(!(sun.on && !punctual.empty()), "the sun and punctual lights would share a shadow-ray slot");
   parallel_for_index(nv, [&](size_t i) {
     const ShadingPoint& sp = verts.sp[i];
-    if (is_delta(sp.bsdf.cls)) return;
+    if (is_delta(sp.cls)) return;
     const uint32_t p = verts.pixel[i];
-    const BsdfParams m = sp.bsdf;
+    const BsdfParams& m = verts.bsdf(i);
     if (!ctx.emitters.empty()) {
       const EmitterSample e = ctx.emitters.sample(ctx.scene, sp, ctx.rand(p, bounce, kEmitterPick),
                                                   ctx.rand(p, bounce, kEmitterU), ctx.rand(p, bounce, kEmitterV));
@@ -117,7 +117,7 @@ void trace_shadow_rays(FrameContext& ctx, ShadowRays& shadow) {
     parallel_for_index(n, [&](size_t j) {
       if (!hits[j].valid()) return;
       const ShadingPoint& sp = panes.points[j];
-      const BsdfParams& m = sp.bsdf;
+      const BsdfParams& m = panes.materials->bsdf[sp.material];
       if (!is_thin_pane(m) || shadow.panes_left[j] == 0) return;
       Ray& r = shadow.rays.rays[j];
       r.tmax -= hits[j].t;

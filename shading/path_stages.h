@@ -79,13 +79,15 @@ struct Wave {
   }
 };
 
-// Path vertices of one bounce.
+// Path vertices of one bounce. Their points index the material table of the G-buffer they came from.
 struct Vertices {
+  std::shared_ptr<const HitMaterials> materials;
   std::vector<ShadingPoint> sp;
   std::vector<uint32_t> pixel;
   std::vector<Vec3> beta;
   std::vector<MisState> mis;  // of the ray that arrived here
   size_t size() const { return sp.size(); }
+  const BsdfParams& bsdf(size_t i) const { return materials->bsdf[sp[i].material]; }
 };
 
 // One frame's inputs, its per-pixel sample and its cost.
@@ -112,9 +114,10 @@ struct FrameContext {
   float rand(uint32_t p, int bounce, BounceDim k) const {
     return rng_float(settings.seed, frame, p, kDimFirstFree + kDimsPerBounce * static_cast<uint32_t>(bounce) + k);
   }
-  // Radiance a shading point emits towards wo: emitters emit from the front side of their winding only.
-  Vec3 emission(const ShadingPoint& sp) const {
-    return sp.bsdf.cls == MaterialClass::Emissive && sp.front_face ? sp.emission : Vec3(0.f);
+  // Radiance a shading point of a G-buffer with material table t emits towards wo: emitters emit from the front
+  // side of their winding only.
+  static Vec3 emission(const HitMaterials& t, const ShadingPoint& sp) {
+    return sp.cls == MaterialClass::Emissive && sp.front_face ? t.emission[sp.material] : Vec3(0.f);
   }
 };
 

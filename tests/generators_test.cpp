@@ -97,7 +97,7 @@ TEST(FirstHits, EqualsPrimaryRaysTraceAndGBufferDoneByHand) {
     const bool same = std::memcmp(&a.position, &b.position, sizeof(Vec3)) == 0 &&
                       std::memcmp(&a.ng, &b.ng, sizeof(Vec3)) == 0 && std::memcmp(&a.ns, &b.ns, sizeof(Vec3)) == 0 &&
                       std::memcmp(&a.wo, &b.wo, sizeof(Vec3)) == 0 && a.prim == b.prim && a.material == b.material &&
-                      a.bsdf.cls == b.bsdf.cls && a.front_face == b.front_face;
+                      a.cls == b.cls && a.front_face == b.front_face;
     ASSERT_TRUE(same) << "pixel " << i;
   }
   EXPECT_GE(f.trace_seconds, 0.0);

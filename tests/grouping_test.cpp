@@ -71,10 +71,12 @@ TEST(TileGridShared, TileMajorSlotInvertsThePixelOrder) {
 }
 
 // The CUDA group kernel's phases, thread by thread (cuda/device_grouping.cu does the same with barriers).
-RayBatch block_batch(const Scene& /*scene*/, const GBuffer& g, const GroupingConfig& c, int tw, int th,
+RayBatch block_batch(const Scene& scene, const GBuffer& g, const GroupingConfig& c, int tw, int th,
                      GenerationStats& stats) {
   const TileGrid grid(g.width, g.height, tw, th);
   const std::vector<uint32_t> offsets = tile_hit_offsets(g, grid), slots = scanline_slots(g);
+  std::vector<BsdfParams> materials;
+  for (const Material& m : scene.materials) materials.push_back(bsdf_params(m));
   RayBatch out;
   out.resize(g.hits, true);
   const BatchView view = batch_view(out);
@@ -84,7 +86,7 @@ RayBatch block_batch(const Scene& /*scene*/, const GBuffer& g, const GroupingCon
       carve_tile_groups(reinterpret_cast<unsigned char*>(shared.data()), full_m, (full_m + c.k - 1) / c.k);
   stats = GenerationStats{};
   for (uint32_t t = 0; t < static_cast<uint32_t>(grid.count()); ++t) {
-    const TileBlock b = make_tile_block(c, grid, t, g.points.data(), sh);
+    const TileBlock b = make_tile_block(c, grid, t, g.points.data(), materials.data(), sh);
     std::vector<uint32_t> rank(b.m), hit(b.m);
     uint32_t hits = 0;
     for (uint32_t i = 0; i < b.m; ++i) {

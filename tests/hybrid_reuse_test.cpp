@@ -90,7 +90,7 @@ TEST(HybridRule, GlossyRuleWeightIntegratesTheDiffuseLobe) {
   glossy.roughness = 0.6f;
   diffuse.base_color = Vec3(1.f);
   ShadingPoint g, d;
-  g.bsdf = glossy;
+  g.cls = MaterialClass::Glossy;
   g.ns = g.ng = normalize(Vec3{0.1f, 0.2f, 1.f});
   g.wo = normalize(Vec3{0.6f, -0.3f, 0.7f});
   d.ns = d.ng = normalize(Vec3{-0.3f, 0.1f, 1.f});

@@ -52,7 +52,7 @@ GBuffer flat_gbuffer(const Scene& scene, int w, int h, uint32_t frame, uint32_t 
       p.wo = normalize(Vec3{0.1f, 0.2f, 1.f});
       p.prim = static_cast<uint32_t>(y * w + x);
       p.material = material;
-      p.bsdf = bsdf_params(scene.materials[material]);
+      p.cls = scene.materials[material].cls;
     }
   g.hits = g.points.size();
   return g;
@@ -151,7 +151,7 @@ TEST(Ours, KEqualsOneIsNoOptBitForBit) {
   GBuffer g = flat_gbuffer(scene, 24, 16, 3);
   for (size_t i = 0; i < g.points.size(); ++i) {  // mixed materials and normals
     g.points[i].material = static_cast<uint32_t>(i % 4);
-    g.points[i].bsdf = bsdf_params(scene.materials[g.points[i].material]);
+    g.points[i].cls = scene.materials[g.points[i].material].cls;
     g.points[i].ns = g.points[i].ng = normalize(Vec3{std::sin(0.1f * i), std::cos(0.3f * i), 1.5f});
   }
   const RayBatch a = run("ours:k=1", scene, g, 5);
@@ -238,7 +238,7 @@ TEST(Ours, HybridGroupsGiveDiffuseMembersTheGlossyMean) {
   const Scene scene = material_scene(0.2f);
   GBuffer g = flat_gbuffer(scene, 2, 2, 0);
   g.points[0].material = g.points[1].material = 1;  // two glossy, two diffuse, all in one group (K = 4)
-  g.points[0].bsdf = g.points[1].bsdf = bsdf_params(scene.materials[1]);
+  g.points[0].cls = g.points[1].cls = MaterialClass::Glossy;
   GenerationStats stats;
   const RayBatch b = run("ours:tile=2x2,k=4", scene, g, 3, &stats);
   EXPECT_EQ(stats.groups[static_cast<int>(GroupType::Hybrid)], 1u);
@@ -259,7 +259,7 @@ TEST(Ours, NearlyCancellingGlossyMeanFallsBackToADiffuseDonor) {
   GBuffer g = flat_gbuffer(scene, 2, 2, 0);
   const float c = 0.004f, s = std::sqrt(1.f - c * c);  // grazing views, 89.77 degrees
   g.points[0].material = g.points[1].material = 1;
-  g.points[0].bsdf = g.points[1].bsdf = bsdf_params(scene.materials[1]);
+  g.points[0].cls = g.points[1].cls = MaterialClass::Glossy;
   g.points[0].wo = {s, 0.f, c};  // mirror reflections point in opposite tangent directions
   g.points[1].wo = {-s, 0.f, c};
   GenerationStats stats;
@@ -352,7 +352,7 @@ TEST(Generators, NoNonFiniteRayEverLeaves) {
     for (size_t i = 0; i < g.points.size(); ++i) {
       ShadingPoint& p = g.points[i];
       p.material = static_cast<uint32_t>(i % 4);
-      p.bsdf = bsdf_params(scene.materials[p.material]);
+      p.cls = scene.materials[p.material].cls;
       p.ns = normals[i % normals.size()];
       p.ng = normals[(i / 3) % normals.size()];
       p.wo = i % 5 == 0 ? Vec3{1, 0, 1e-8f} : normalize(Vec3{0.3f, 0.1f, 1.f});  // grazing views too

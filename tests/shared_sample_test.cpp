@@ -38,7 +38,7 @@ GBuffer gbuffer(int w, int h, bool tilted) {
     p.wo = normalize(Vec3{0.1f, 0.2f, 1.f});
     p.prim = static_cast<uint32_t>(i);
     p.material = 0;
-    p.bsdf.cls = MaterialClass::Diffuse;
+    p.cls = MaterialClass::Diffuse;
   }
   g.hits = g.points.size();
   return g;

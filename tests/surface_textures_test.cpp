@@ -79,20 +79,24 @@ TEST(SurfaceTextures, ClassFollowsTheTexelAtTheHit) {
   ASSERT_FALSE(s.textures.empty());
   // v = 0.25 and 0.75 are the texel rows' centres (bilinear gives the pure texel there).
   const GBuffer g = hits_at(s, {{0.25f, 0.25f}, {0.1f, 0.75f}});
-  const ShadingPoint &top = g.points[0], &bottom = g.points[1];
-  ASSERT_TRUE(top.valid() && bottom.valid());
-  EXPECT_EQ(top.bsdf.cls, MaterialClass::Glossy);
-  EXPECT_FLOAT_EQ(top.bsdf.metallic, 1.f);
-  EXPECT_FLOAT_EQ(top.bsdf.roughness, 1.f);
-  EXPECT_EQ(bottom.bsdf.cls, MaterialClass::Specular);
-  EXPECT_FLOAT_EQ(bottom.bsdf.metallic, 0.f);
-  EXPECT_FLOAT_EQ(bottom.bsdf.roughness, 0.f);
+  ASSERT_TRUE(g.points[0].valid() && g.points[1].valid());
+  ASSERT_TRUE(g.materials && g.materials->per_hit());
+  const BsdfParams& top = g.materials->bsdf[g.points[0].material];
+  const BsdfParams& bottom = g.materials->bsdf[g.points[1].material];
+  EXPECT_EQ(g.points[0].cls, MaterialClass::Glossy);
+  EXPECT_EQ(top.cls, MaterialClass::Glossy);
+  EXPECT_FLOAT_EQ(top.metallic, 1.f);
+  EXPECT_FLOAT_EQ(top.roughness, 1.f);
+  EXPECT_EQ(g.points[1].cls, MaterialClass::Specular);
+  EXPECT_EQ(bottom.cls, MaterialClass::Specular);
+  EXPECT_FLOAT_EQ(bottom.metallic, 0.f);
+  EXPECT_FLOAT_EQ(bottom.roughness, 0.f);
   // The generators read the point's class: the batch's material column follows the texel.
   RayBatch batch;
   GenerationStats stats;
   make_generator(parse_plugin_spec("noopt"))->generate(s, g, 1, batch, stats);
   ASSERT_EQ(batch.size(), 2u);
-  for (size_t i = 0; i < batch.size(); ++i) EXPECT_EQ(batch.material[i], g.points[batch.pixel[i]].bsdf.cls);
+  for (size_t i = 0; i < batch.size(); ++i) EXPECT_EQ(batch.material[i], g.points[batch.pixel[i]].cls);
 }
 
 TEST(SurfaceTextures, EmissiveTexelsDecideEmissionAndEmitterPower) {
@@ -167,13 +171,18 @@ TEST(SurfaceTextures, ScenesWithoutTexturesKeepTheirTrianglesMaterials) {
     h.prim = prim;
     h.u = 0.2f;
     h.v = 0.3f;
-    const ShadingPoint sp = make_gbuffer(s, rays, {h}).points[0];
+    const GBuffer g = make_gbuffer(s, rays, {h});
+    const ShadingPoint& sp = g.points[0];
+    ASSERT_TRUE(g.materials && !g.materials->per_hit());
+    EXPECT_EQ(sp.material, s.tri_material[prim]);
     const Material& m = s.materials[s.tri_material[prim]];
-    EXPECT_EQ(sp.bsdf.cls, m.cls);
-    EXPECT_EQ(sp.bsdf.base_color.x, m.base_color.x);
-    EXPECT_EQ(sp.bsdf.roughness, m.roughness);
-    EXPECT_EQ(sp.bsdf.metallic, m.metallic);
-    EXPECT_EQ(sp.emission.y, m.emission.y);
+    const BsdfParams& b = g.materials->bsdf[sp.material];
+    EXPECT_EQ(sp.cls, m.cls);
+    EXPECT_EQ(b.cls, m.cls);
+    EXPECT_EQ(b.base_color.x, m.base_color.x);
+    EXPECT_EQ(b.roughness, m.roughness);
+    EXPECT_EQ(b.metallic, m.metallic);
+    EXPECT_EQ(g.materials->emission[sp.material].y, m.emission.y);
   }
 }
 
