@@ -87,6 +87,23 @@ RAYCOH_HD RAYCOH_INLINE void lookup(const SurfaceTexturesView& v, uint32_t ti, c
   texel_rgba(tex, v.texels, u, w, out);
 }
 
+// The hit's coordinates of both sets on textured triangle prim at barycentrics (b1, b2).
+RAYCOH_HD RAYCOH_INLINE void hit_uv(const SurfaceTexturesView& v, uint32_t prim, float b1, float b2, float uv[2][2]) {
+  const float* t = v.tri_uv + 12 * static_cast<uint64_t>(prim);
+  const float b0 = 1.f - b1 - b2;
+  for (int set = 0; set < 2; ++set)
+    for (int c = 0; c < 2; ++c) uv[set][c] = t[6 * set + c] * b0 + t[6 * set + 2 + c] * b1 + t[6 * set + 4 + c] * b2;
+}
+
+// Emitted radiance of material m at the hit's coordinates: emissiveFactor x strength x the emissive texel.
+RAYCOH_HD RAYCOH_INLINE Vec3 emission_of(const SurfaceTexturesView& v, const TexturedMaterial& m,
+                                         const float uv[2][2]) {
+  if (m.emissive == kNoTexture || !(max_component(m.emission) > 0.f)) return m.emission;
+  float texel[4];
+  lookup(v, m.emissive, uv, texel);
+  return Vec3{srgb_to_linear(texel[0]), srgb_to_linear(texel[1]), srgb_to_linear(texel[2])} * m.emission;
+}
+
 // What the textures say at one hit.
 struct SurfaceSample {
   BsdfParams bsdf;
@@ -98,11 +115,8 @@ struct SurfaceSample {
 // The material of textured triangle prim (tri_material[prim] != kNoTexture) at barycentrics (b1, b2).
 RAYCOH_HD RAYCOH_INLINE SurfaceSample surface_at(const SurfaceTexturesView& v, uint32_t prim, float b1, float b2) {
   const TexturedMaterial& m = v.materials[v.tri_material[prim]];
-  const float* t = v.tri_uv + 12 * static_cast<uint64_t>(prim);
-  const float b0 = 1.f - b1 - b2;
   float uv[2][2];
-  for (int set = 0; set < 2; ++set)
-    for (int c = 0; c < 2; ++c) uv[set][c] = t[6 * set + c] * b0 + t[6 * set + 2 + c] * b1 + t[6 * set + 4 + c] * b2;
+  hit_uv(v, prim, b1, b2, uv);
   SurfaceSample s;
   float texel[4];
   s.bsdf.base_color = m.base_color;
@@ -118,11 +132,7 @@ RAYCOH_HD RAYCOH_INLINE SurfaceSample surface_at(const SurfaceTexturesView& v, u
     s.bsdf.roughness = texel[1] * m.roughness;
     s.bsdf.metallic = texel[2] * m.metallic;
   }
-  s.emission = m.emission;
-  if (m.emissive != kNoTexture && max_component(m.emission) > 0.f) {
-    lookup(v, m.emissive, uv, texel);
-    s.emission = Vec3{srgb_to_linear(texel[0]), srgb_to_linear(texel[1]), srgb_to_linear(texel[2])} * m.emission;
-  }
+  s.emission = emission_of(v, m, uv);
   float transmission = m.transmission_factor;
   if (m.transmission != kNoTexture && transmission > 0.f) {
     lookup(v, m.transmission, uv, texel);

@@ -233,7 +233,9 @@ void GltfReader::emitter_means() {
     const int n = static_cast<int>(std::clamp(std::ceil(std::sqrt(std::isfinite(texels) ? texels : 0.0)), 4.0, 64.0));
     double sum[3] = {0, 0, 0};
     for_subtriangle_centroids(n, [&](float b1, float b2) {
-      const Vec3 e = surface_at(view, static_cast<uint32_t>(t), b1, b2).emission;
+      float uv[2][2];
+      hit_uv(view, static_cast<uint32_t>(t), b1, b2, uv);
+      const Vec3 e = emission_of(view, m, uv);
       for (int k = 0; k < 3; ++k) sum[k] += e[k];
     });
     const double inv = 1.0 / (static_cast<double>(n) * n);

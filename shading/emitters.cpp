@@ -154,8 +154,14 @@ EmitterSample EmitterDistribution::sample(const Scene& scene, const ShadingPoint
   // The squared distance of the sample itself: pdf() squares a traced distance instead, which rounds differently.
   s.pdf = pmf_by_prim[t] / area * dist2 / cos_y;
   // What a ray hitting this point finds (make_gbuffer): the texel's emission on a textured triangle.
-  s.emission = scene.textures.textured(t) ? surface_at(scene.textures.view(), t, b1, b2).emission
-                                          : scene.materials[scene.tri_material[t]].emission;
+  if (scene.textures.textured(t)) {
+    const SurfaceTexturesView view = scene.textures.view();
+    float uv[2][2];
+    hit_uv(view, t, b1, b2, uv);
+    s.emission = emission_of(view, view.materials[view.tri_material[t]], uv);
+  } else {
+    s.emission = scene.materials[scene.tri_material[t]].emission;
+  }
   s.found = true;
   return s;
 }
