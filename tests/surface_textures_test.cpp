@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -136,6 +137,62 @@ TEST(SurfaceTextures, EmissiveTexelsDecideEmissionAndEmitterPower) {
     const float su = std::sqrt(u), b1 = 1.f - su, b2 = 0.5f * su;
     EXPECT_FLOAT_EQ(es.emission.x, surface_at(view, 1, b1, b2).emission.x);
   }
+}
+
+// Radical inverse in base b of i (a low-discrepancy coordinate).
+double radical_inverse(uint32_t i, uint32_t b) {
+  double r = 0.0, f = 1.0 / b;
+  for (; i > 0; i /= b, f /= b) r += f * (i % b);
+  return r;
+}
+
+TEST(SurfaceTextures, NextEventEstimationOfTexturedEmittersIsUnbiased) {
+  // The pmf weighs triangles by their mean emission and samples them uniformly by area, but a sample carries its
+  // texel's emission: the estimator L(y) cos_x / pdf must still average to the integral of L(y) cos_x cos_y / d^2
+  // over both triangles. A receiver close to B's bright corner makes the texel matter: B's mean there would be
+  // about a third too low. Reference: both triangles integrated directly (area-uniform grid, no pmf, no pdf).
+  const std::vector<float> xyz = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 2, 1, 0};
+  const std::vector<float> uv = {0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f, 0.75f};
+  const Scene s = textured("emissive_nee", xyz, uv, R"({"emissiveFactor":[2,2,2],"emissiveTexture":{"index":0}})",
+                           R"({"wrapS":33071,"wrapT":33071})");
+  const EmitterDistribution e(s);
+  ASSERT_EQ(e.tris.size(), 2u);
+  const SurfaceTexturesView view = s.textures.view();
+  const Vec3 x{2.1f, 0.1f, 0.15f};  // the receiver, facing -z (down onto the emitters, which face +z)
+  ShadingPoint sp;
+  sp.position = x;
+  sp.ng = sp.ns = {0.f, 0.f, -1.f};
+  const uint32_t n = 1u << 16;
+  double nee = 0.0, worst_pdf = 0.0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const float u_pick = static_cast<float>((i + 0.5) / n);
+    const EmitterSample es =
+        e.sample(s, sp, u_pick, static_cast<float>(radical_inverse(i, 2)), static_cast<float>(radical_inverse(i, 3)));
+    if (!es.found) continue;
+    nee += es.emission.x * -es.dir.z / es.pdf / n;
+    // What multiple importance sampling weighs a BSDF hit at that point with (hit_gathering.cpp) is this pdf.
+    const float hit_pdf = e.pdf(e.tris[e.pick(u_pick)], es.dist, -es.dir.z);
+    worst_pdf = std::max(worst_pdf, std::fabs(hit_pdf / es.pdf - 1.0));
+  }
+  EXPECT_LT(worst_pdf, 1e-4);
+  double direct = 0.0, direct_mean = 0.0;
+  const int m = 256;
+  for (uint32_t t = 0; t < 2; ++t) {
+    const uint32_t* idx = &s.indices[3 * t];
+    const Vec3 v0 = s.positions[idx[0]], v1 = s.positions[idx[1]], v2 = s.positions[idx[2]];
+    const double area = 0.5 * length(cross(v1 - v0, v2 - v0));
+    for (int a = 0; a < m; ++a) {
+      for (int b = 0; b < m; ++b) {
+        const float su = std::sqrt((a + 0.5f) / m), b1 = 1.f - su, b2 = (b + 0.5f) / m * su;  // area-uniform
+        const Vec3 d = v0 * (1.f - b1 - b2) + v1 * b1 + v2 * b2 - x;
+        const double d2 = dot(d, d), g = (x.z * x.z) / (d2 * d2);  // cos_x cos_y / d^2, both cosines h / d
+        direct += area / (m * m) * surface_at(view, t, b1, b2).emission.x * g;
+        direct_mean += area / (m * m) * s.textures.tri_emission[t].x * g;
+      }
+    }
+  }
+  EXPECT_NEAR(nee, direct, 0.01 * direct) << "triangle means alone would give " << direct_mean;
+  EXPECT_GT(std::fabs(direct_mean - direct), 0.1 * direct);  // the test can tell texels from means
 }
 
 TEST(SurfaceTextures, NormalMapTiltsTheShadingNormal) {
