@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -11,7 +12,11 @@
 namespace raycoh {
 
 // One first hit. Normals face the side the camera ray came from (all shared-scene materials are double-sided):
-// ng is the geometric normal, ns the interpolated shading normal flipped into ng's hemisphere.
+// ng is the geometric normal, ns the interpolated shading normal (tilted by a normal map where the material has
+// one) flipped into ng's hemisphere. material indexes the material table of the G-buffer the point belongs to
+// (GBuffer::materials): its first entries are the scene's materials in Scene::materials order, and a hit on a
+// textured glTF material has an entry of its own holding the texels at the hit (core/surface_textures.h). cls is
+// that entry's class.
 struct ShadingPoint {
   Vec3 position;
   Vec3 ng;
@@ -24,12 +29,25 @@ struct ShadingPoint {
   bool valid() const { return prim != kNoHit; }
 };
 
+// The materials a G-buffer's points index: the scene's materials (entries [0, scene_count)) and, in a scene with
+// textures, one entry per point slot i at scene_count + i for the texel its hit found. Shared (read-only) by the
+// G-buffer, the path vertices made from it and the generators.
+struct HitMaterials {
+  std::vector<BsdfParams> bsdf;
+  std::vector<Vec3> emission;  // radiance an entry's front face emits
+  size_t scene_count = 0;
+  bool per_hit() const { return bsdf.size() > scene_count; }
+};
+
 // Per pixel (index y * width + x).
 struct GBuffer {
   int width = 0, height = 0;
   uint32_t frame = 0;
   std::vector<ShadingPoint> points;
   size_t hits = 0;
+  // make_gbuffer's table; null in a G-buffer built by hand, whose points index the scene's materials (readers
+  // then take Scene::materials: generators/generator.h material_table).
+  std::shared_ptr<const HitMaterials> materials;
 };
 
 // How a group of pixels shares directions (the paper, section 3.2): all-diffuse groups share one tangent-space

@@ -118,6 +118,7 @@ void check_gpu_generator(const Generator& cpu) { gpu_generator(cpu); }
 
 struct DeviceGenerator::Impl {
   DeviceBuffer<BsdfParams> materials;
+  DeviceBuffer<BsdfParams> hit_materials;  // a textured scene's G-buffer table (per frame)
   DeviceBuffer<ShadingPoint> points;
   DeviceBuffer<uint32_t> counts, offsets, flags, slots;
   DeviceBuffer<unsigned char> scan_temp;
@@ -229,6 +230,12 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator&
   const size_t n = g.hits;
   const bool scanline = grouping && config.order == RayOrder::Scanline;
   m.points.upload(g.points.data(), pixels);
+  // A textured scene's points index the G-buffer's own table (the texels at each hit): it goes up with them.
+  const BsdfParams* materials = m.materials.get();
+  if (g.materials && g.materials->per_hit()) {
+    m.hit_materials.upload(g.materials->bsdf.data(), g.materials->bsdf.size());
+    materials = m.hit_materials.get();
+  }
   const BatchView view = m.reserve(n, pixels, tiles, grouping, scanline);
 
   m.timer.start();
@@ -242,11 +249,10 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator&
       m.exclusive_sum(m.flags.get(), m.slots.get(), pixels);
     }
     if (grouping) {
-      launch_group_kernel(config, grid, m.points.get(), m.materials.get(), m.offsets.get(), m.slots.get(), view,
-                          m.stats.get());
+      launch_group_kernel(config, grid, m.points.get(), materials, m.offsets.get(), m.slots.get(), view, m.stats.get());
     } else {
       const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
-      noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), m.materials.get(), seed, g.frame, grid,
+      noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), materials, seed, g.frame, grid,
                                                             m.offsets.get(), view, m.stats.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
     }

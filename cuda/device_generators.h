@@ -56,7 +56,8 @@ void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
 // ours or contiguous, and for ours / contiguous tiles of more than 1024 pixels (one thread per pixel).
 void check_gpu_generator(const Generator& cpu);
 
-// The scene's materials on the device (uploaded once), the G-buffer and batch buffers (grown on demand).
+// The scene's materials on the device (uploaded once), the G-buffer (with its material table when the scene has
+// textures, per frame) and batch buffers (grown on demand).
 class DeviceGenerator {
  public:
   explicit DeviceGenerator(const Scene& scene);

@@ -15,6 +15,18 @@ BsdfParams bsdf_params(const Material& m) {
   return b;
 }
 
+MaterialTable::MaterialTable(const Scene& scene, const GBuffer& gbuffer) {
+  if (gbuffer.materials) {
+    data_ = gbuffer.materials->bsdf.data();
+    size_ = gbuffer.materials->bsdf.size();
+    return;
+  }
+  own_.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) own_.push_back(bsdf_params(m));
+  data_ = own_.data();
+  size_ = own_.size();
+}
+
 std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vector<uint32_t>& order) {
   std::vector<uint32_t> pixels;
   pixels.reserve(gbuffer.hits);

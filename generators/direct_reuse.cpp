@@ -39,6 +39,7 @@ DirectReuse::DirectReuse(ParamSet& params) {
 
 void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, RayBatch& out, GenerationStats& stats) {
   const TileGrid grid(g.width, g.height, tile_.first, tile_.second);
+  const MaterialTable materials(scene, g);
   const std::vector<uint32_t> offsets = tile_hit_offsets(g, grid);
   out.width = g.width;
   out.height = g.height;
@@ -65,7 +66,7 @@ void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, 
     --donor;
     auto own_sample = [&](uint32_t p) {
       const ShadingPoint& sp = g.points[p];
-      return sample_own_lobe(bsdf_params(scene.materials[sp.material]), sp, seed, frame, p);
+      return sample_own_lobe(materials[sp.material], sp, seed, frame, p);
     };
     const DirectionSample shared = own_sample(donor);
     uint32_t slot = offsets[t];
@@ -80,7 +81,7 @@ void DirectReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, 
         } else if (sp.cls == MaterialClass::Transmissive) {
           s = own_sample(p);
         } else {
-          s = evaluate_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, shared.dir);
+          s = evaluate_direction(materials[sp.material], sp.ns, sp.ng, sp.wo, shared.dir);
         }
         tally_ray(emit_ray(out, slot, sp, p, s), partial.local());
         out.tile[slot] = static_cast<uint32_t>(t);

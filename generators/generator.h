@@ -33,6 +33,20 @@ std::unique_ptr<Generator> make_generator(const PluginSpec& spec);
 
 // Helpers shared by generators (generators/common.cpp).
 BsdfParams bsdf_params(const Material& m);
+// The BSDF parameters a G-buffer's points index (ShadingPoint::material): its own table, or for a G-buffer
+// without one (built by hand) the scene's materials.
+class MaterialTable {
+ public:
+  MaterialTable(const Scene& scene, const GBuffer& gbuffer);
+  const BsdfParams& operator[](uint32_t material) const { return data_[material]; }
+  const BsdfParams* data() const { return data_; }
+  size_t size() const { return size_; }
+
+ private:
+  std::vector<BsdfParams> own_;
+  const BsdfParams* data_ = nullptr;
+  size_t size_ = 0;
+};
 // Hit pixels of gbuffer in the given pixel order.
 std::vector<uint32_t> hit_pixels_in_order(const GBuffer& gbuffer, const std::vector<uint32_t>& order);
 // Writes ray i of the batch from a shading point and the direction chosen for it. The origin is offset along

@@ -32,9 +32,10 @@ NoOptGenerator::NoOptGenerator(ParamSet& params) {
 
 void NoOptGenerator::generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                               GenerationStats& stats) {
+  const MaterialTable materials(scene, gbuffer);
   emit_per_valid_pixel(gbuffer, order_, tile_, out, stats,
                        [&](int, int, uint32_t p, const ShadingPoint& sp, GenerationStats&) {
-                         return sample_own_lobe(bsdf_params(scene.materials[sp.material]), sp, seed, gbuffer.frame, p);
+                         return sample_own_lobe(materials[sp.material], sp, seed, gbuffer.frame, p);
                        });
 }
 

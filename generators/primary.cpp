@@ -8,6 +8,8 @@
 #include <cmath>
 
 #include "core/sampling.h"
+#include "core/surface_textures.h"
+#include "generators/generator.h"
 #include "generators/primary_ray.h"
 #include "tracers/tracer.h"
 
@@ -63,6 +65,21 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
   g.height = primary.height;
   g.frame = primary.frame;
   g.points.assign(static_cast<size_t>(g.width) * g.height, ShadingPoint{});
+  const bool textured = !scene.textures.empty();
+  const SurfaceTexturesView tex = scene.textures.view();
+  // The material table: the scene's materials, then (textured scenes) one entry per point slot.
+  auto table = std::make_shared<HitMaterials>();
+  const size_t nm = scene.materials.size();
+  table->scene_count = nm;
+  table->bsdf.reserve(nm + (textured ? g.points.size() : 0));
+  for (const Material& m : scene.materials) {
+    table->bsdf.push_back(bsdf_params(m));
+    table->emission.push_back(m.emission);
+  }
+  if (textured) {
+    table->bsdf.resize(nm + g.points.size());
+    table->emission.resize(nm + g.points.size());
+  }
   tbb::parallel_for(tbb::blocked_range<size_t>(0, primary.rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       const Hit& h = hits[i];
@@ -84,12 +101,27 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
       Vec3 ns = scene.normals[idx[0]] * w0 + scene.normals[idx[1]] * h.u + scene.normals[idx[2]] * h.v;
       ns = dot(ns, ns) > 0.f ? normalize(ns) : ng;
       if (!is_finite(ns)) ns = ng;
+      if (textured && tex.tri_material[h.prim] != kNoTexture) {
+        const SurfaceSample s = surface_at(tex, h.prim, h.u, h.v);
+        const size_t slot = nm + primary.pixel[i];
+        table->bsdf[slot] = s.bsdf;
+        table->emission[slot] = s.emission;
+        sp.material = static_cast<uint32_t>(slot);
+        sp.cls = s.bsdf.cls;
+        // A normal-mapped normal that crosses the geometric surface (or turns away from the interpolated one) is
+        // not used: the interpolated normal stays.
+        if (s.has_normal) {
+          const Vec3 mapped = apply_normal_map(tex, h.prim, ns, s.normal_ts);
+          if (dot(mapped, ns) > 0.f && (dot(mapped, ng) > 0.f) == (dot(ns, ng) > 0.f)) ns = mapped;
+        }
+      }
       if (dot(ns, ng) < 0.f) ns = -ns;
       sp.ng = ng;
       sp.ns = ns;
     }
   });
   for (const ShadingPoint& sp : g.points) g.hits += sp.valid();
+  g.materials = std::move(table);
   return g;
 }
 

@@ -47,13 +47,14 @@ class SharedSampleGenerator final : public Generator {
 
   void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                 GenerationStats& stats) override {
+    const MaterialTable materials(scene, gbuffer);
     const bool all_own = sharing_ == Sharing::Sadeghi &&
                          uint64_t(interleave_) * uint64_t(interleave_) >= uint64_t(gbuffer.width) * gbuffer.height;
     emit_per_valid_pixel(gbuffer, order_, tile_, out, stats,
                          [&](int x, int y, uint32_t p, const ShadingPoint& sp, GenerationStats& local) {
                            float u[3];
                            numbers(seed, gbuffer.frame, x, y, p, u);
-                           const BsdfParams m = bsdf_params(scene.materials[sp.material]);
+                           const BsdfParams& m = materials[sp.material];
                            if (!all_own) ++local.reused_rays;
                            return sample_direction(m, sp.ns, sp.ng, sp.wo, sp.front_face, u[0], u[1], u[2]);
                          });

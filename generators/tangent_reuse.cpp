@@ -86,7 +86,7 @@ struct Scratch {
 struct FrameJob {
   const GBuffer& g;
   const GroupingConfig& config;
-  const std::vector<BsdfParams>& materials;
+  const MaterialTable& materials;
   const std::vector<uint32_t>& offsets;  // first slot of each tile
   const std::vector<uint32_t>& slots;    // scanline order: slot of each pixel
   BatchView out;
@@ -233,14 +233,13 @@ void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t 
   const TileGrid grid(g.width, g.height, tile_.first, tile_.second);
   const std::vector<uint32_t> offsets = tile_hit_offsets(g, grid);
   const std::vector<uint32_t> slots = order_ == RayOrder::Scanline ? scanline_slots(g) : std::vector<uint32_t>{};
-  std::vector<BsdfParams> materials;
-  for (const Material& m : scene.materials) materials.push_back(bsdf_params(m));
+  const MaterialTable table(scene, g);
   out.width = g.width;
   out.height = g.height;
   out.frame = g.frame;
   out.resize(offsets.back(), true);
   const GroupingConfig c = config(seed, g.frame);
-  const FrameJob job{g, c, materials, offsets, slots, batch_view(out)};
+  const FrameJob job{g, c, table, offsets, slots, batch_view(out)};
 
   tbb::enumerable_thread_specific<Scratch> scratch;
   tbb::parallel_for(tbb::blocked_range<int>(0, grid.count(), 16), [&](const tbb::blocked_range<int>& range) {

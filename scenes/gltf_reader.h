@@ -128,6 +128,11 @@ class GltfReader {
   // gltf_textures.cpp
   void append_texcoords(const tinygltf::Primitive& prim, const std::string& where, size_t count);
   void apply_textures();
+  // The unit tangent (dP/du of texture tex's coordinates) and bitangent sign of triangle idx into out[4]; left
+  // as it is when the triangle has no UV frame.
+  void triangle_tangent(const SurfaceTexture& tex, const uint32_t* idx, const float* corner_uv, float* out) const;
+  // Scene::textures.tri_emission: each emissive-textured triangle's mean texel emission.
+  void emitter_means();
 
   // gltf_meshes.cpp
   void read_mesh(int mesh_index, const Mat4& world, const std::vector<double>& node_weights);

@@ -1,14 +1,21 @@
-// glTF textures deciding materials, per triangle: the base colour, metallic-roughness, emissive and transmission
-// textures (TEXCOORD_0/1, KHR_texture_transform, the sampler's wrap modes, bilinear) are sampled at 16 points
-// spread over each triangle (the centroids of its 16 sub-triangles after two midpoint subdivisions), and the
-// mean of those texels times the factors becomes the triangle's material. Triangles with equal quantised values
-// share one derived material, so every stage, the CUDA generators included, reads textured materials through the
-// usual per-triangle material index, and emitter sampling weighs each triangle by its mean emissive texel.
+// glTF textures deciding materials. Two uses of the same decoded textures (TEXCOORD_0/1, KHR_texture_transform,
+// the sampler's wrap modes, bilinear):
+// - Per hit (Scene::textures, core/surface_textures.h): every triangle of a material with a decoded base colour,
+//   metallic-roughness, emissive, transmission or normal texture keeps its texture coordinates and its
+//   material's textures, and the G-buffer looks the texels up at each hit: a shading point's BSDF parameters,
+//   emission, class and normal are those of the texel it hit. Emitter sampling weighs each triangle by the mean
+//   of its emissive texels (sampled at a density that follows the triangle's texel footprint) times its area.
+// - Per triangle: the textures are also sampled at 16 points spread over each triangle (the centroids of its 16
+//   sub-triangles after two midpoint subdivisions), and the mean of those texels times the factors becomes the
+//   triangle's material (triangles with equal quantised values share one derived material). That average is
+//   what `scenes info` counts per class, and what the scene's material table says; shading reads the per-hit
+//   values.
 // Alpha MASK: a triangle of a MASK material with a base-colour texture keeps its texture coordinates and the
 // texture's alpha in Scene::alpha, and the tracers test every candidate hit against alphaCutoff (any-hit, per
-// texel: core/alpha_mask.h); its material is the mean of its opaque samples only (of all 16 if none is). A
+// texel: core/alpha_mask.h); its derived material is the mean of its opaque samples only (of all 16 if none is). A
 // MASK material without a texture has one alpha: below the cutoff its triangles are removed whole. BLEND is
-// traced as opaque. Normal and occlusion maps are not read. Part of the glTF loader, the one adapter for tinygltf.
+// traced as opaque. Occlusion maps are not read; the TANGENT attribute is not read (normal maps use the tangent
+// from each triangle's UV derivatives). Part of the glTF loader, the one adapter for tinygltf.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -128,9 +135,34 @@ std::array<float, 4> sample(const TextureRef& r, float u0, float v0) {
 
 // The decoded textures of one material.
 struct MaterialTextures {
-  TextureRef base, metal_rough, emissive, transmission;
+  TextureRef base, metal_rough, emissive, transmission, normal;
+  float normal_scale = 1.f;
   bool any() const { return base || metal_rough || emissive || transmission; }
+  bool at_hit() const { return any() || normal; }
 };
+
+// Barycentric (b1, b2) of the centroids of the n x n sub-triangles of a triangle split n times along each edge.
+template <typename F>
+void for_subtriangle_centroids(int n, F&& f) {
+  const float s = 1.f / static_cast<float>(n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      f((i + 1.f / 3.f) * s, (j + 1.f / 3.f) * s);
+      if (i + j < n - 1) f((i + 2.f / 3.f) * s, (j + 2.f / 3.f) * s);
+    }
+}
+
+SurfaceTexture surface_texture(const TextureRef& r, uint64_t offset) {
+  SurfaceTexture t;
+  t.width = static_cast<uint32_t>(r.image->width);
+  t.height = static_cast<uint32_t>(r.image->height);
+  t.offset = offset;
+  t.wrap_s = alpha_wrap_mode(r.wrap_s);
+  t.wrap_t = alpha_wrap_mode(r.wrap_t);
+  t.texcoord = static_cast<uint32_t>(std::clamp(r.texcoord, 0, 1));
+  for (int k = 0; k < 6; ++k) t.m[k] = static_cast<float>(r.m[k]);
+  return t;
+}
 
 // Barycentric (b1, b2) of the 16 sample points: centroids of the 16 sub-triangles of a 4 x 4 subdivision.
 std::array<std::array<float, 2>, 16> sample_points() {
@@ -149,6 +181,68 @@ constexpr float kColourSteps = 64.f, kFactorSteps = 32.f, kEmissionSteps = 256.f
 int q(float v, float steps) { return static_cast<int>(std::lround(v * steps)); }
 
 }  // namespace
+
+void GltfReader::triangle_tangent(const SurfaceTexture& tex, const uint32_t* idx, const float* corner_uv,
+                                  float* out) const {
+  // The normal texture's coordinates at the corners, through its transform.
+  float u[3], v[3];
+  for (int k = 0; k < 3; ++k) {
+    const float* c = corner_uv + 6 * tex.texcoord + 2 * k;
+    u[k] = tex.m[0] * c[0] + tex.m[1] * c[1] + tex.m[2];
+    v[k] = tex.m[3] * c[0] + tex.m[4] * c[1] + tex.m[5];
+  }
+  const Vec3 p0 = scene_.positions[idx[0]];
+  const Vec3 e1 = scene_.positions[idx[1]] - p0, e2 = scene_.positions[idx[2]] - p0;
+  const float du1 = u[1] - u[0], dv1 = v[1] - v[0], du2 = u[2] - u[0], dv2 = v[2] - v[0];
+  const float det = du1 * dv2 - du2 * dv1;
+  if (!(std::fabs(det) > 0.f) || !std::isfinite(det)) return;  // no UV frame: the map is not applied
+  const float inv = 1.f / det;
+  const Vec3 dpdu = (e1 * dv2 - e2 * dv1) * inv;
+  const Vec3 dpdv = (e2 * du1 - e1 * du2) * inv;
+  const float len = length(dpdu);
+  if (!(len > 0.f) || !std::isfinite(len)) return;
+  const Vec3 t = dpdu * (1.f / len);
+  // glTF's v points down the image and normal maps' +Y up it: the bitangent is -dP/dv.
+  const Vec3 n = cross(e1, e2);
+  const float sign = dot(cross(n, t), -dpdv) < 0.f ? -1.f : 1.f;
+  out[0] = t.x, out[1] = t.y, out[2] = t.z, out[3] = sign;
+}
+
+void GltfReader::emitter_means() {
+  SurfaceTextures& st = scene_.textures;
+  const bool any = std::any_of(st.materials.begin(), st.materials.end(), [](const TexturedMaterial& m) {
+    return m.emissive != kNoTexture && max_component(m.emission) > 0.f;
+  });
+  if (!any) return;
+  const SurfaceTexturesView view = st.view();
+  st.tri_emission.assign(st.tri_material.size(), Vec3(0.f));
+  for (size_t t = 0; t < st.tri_material.size(); ++t) {
+    if (st.tri_material[t] == kNoTexture) continue;
+    const TexturedMaterial& m = st.materials[st.tri_material[t]];
+    if (m.emissive == kNoTexture || !(max_component(m.emission) > 0.f)) continue;
+    // As many samples as the triangle covers texels (its area in the emissive texture), 16 to 4096.
+    const SurfaceTexture& tex = st.textures[m.emissive];
+    const float* c = &st.tri_uv[12 * t + 6 * tex.texcoord];
+    float u[3], v[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = tex.m[0] * c[2 * k] + tex.m[1] * c[2 * k + 1] + tex.m[2];
+      v[k] = tex.m[3] * c[2 * k] + tex.m[4] * c[2 * k + 1] + tex.m[5];
+    }
+    const double texels =
+        0.5 * std::fabs((u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0])) * tex.width * tex.height;
+    const int n = static_cast<int>(std::clamp(std::ceil(std::sqrt(std::isfinite(texels) ? texels : 0.0)), 4.0, 64.0));
+    double sum[3] = {0, 0, 0};
+    for_subtriangle_centroids(n, [&](float b1, float b2) {
+      float uv[2][2];
+      hit_uv(view, static_cast<uint32_t>(t), b1, b2, uv);
+      const Vec3 e = emission_of(view, m, uv);
+      for (int k = 0; k < 3; ++k) sum[k] += e[k];
+    });
+    const double inv = 1.0 / (static_cast<double>(n) * n);
+    st.tri_emission[t] =
+        Vec3{static_cast<float>(sum[0] * inv), static_cast<float>(sum[1] * inv), static_cast<float>(sum[2] * inv)};
+  }
+}
 
 void GltfReader::append_texcoords(const tinygltf::Primitive& prim, const std::string& where, size_t count) {
   for (int set = 0; set < 2; ++set) {
@@ -169,7 +263,7 @@ void GltfReader::append_texcoords(const tinygltf::Primitive& prim, const std::st
 void GltfReader::apply_textures() {
   const size_t nm = model_.materials.size();
   std::vector<MaterialTextures> tex(nm);
-  size_t textured = 0, referenced = 0;
+  size_t textured = 0, referenced = 0, normal_mapped = 0;
   for (size_t i = 0; i < nm; ++i) {
     const tinygltf::Material& gm = model_.materials[i];
     const auto& pbr = gm.pbrMetallicRoughness;
@@ -180,7 +274,10 @@ void GltfReader::apply_textures() {
     tex[i].emissive =
         texture_ref(model_, gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions);
     tex[i].transmission = extension_texture(model_, gm.extensions, "KHR_materials_transmission", "transmissionTexture");
+    tex[i].normal = texture_ref(model_, gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.extensions);
+    tex[i].normal_scale = static_cast<float>(gm.normalTexture.scale);
     textured += tex[i].any();
+    normal_mapped += tex[i].normal && !tex[i].any();
     referenced += scene_.materials[i].has_texture;
   }
   auto& notes = scene_.load_notes;
@@ -192,7 +289,8 @@ void GltfReader::apply_textures() {
     normal_maps |= gm.normalTexture.index >= 0;
     blend |= gm.alphaMode == "BLEND";
   }
-  if (normal_maps) notes.push_back("normal maps are not applied: shading normals are the interpolated vertex normals");
+  if (normal_maps && std::none_of(tex.begin(), tex.end(), [](const MaterialTextures& t) { return bool(t.normal); }))
+    notes.push_back("normal maps were not decoded: shading normals are the interpolated vertex normals");
   if (blend) notes.push_back("alpha BLEND materials are traced as opaque surfaces");
   // MASK materials: the alpha factor, and the mask texture of those with a base-colour texture.
   std::vector<uint32_t> mask_texture(nm, kNoAlphaMask);
@@ -232,17 +330,54 @@ void GltfReader::apply_textures() {
       ++mask_materials;
     }
   }
-  if (textured == 0 && std::find(cut_whole.begin(), cut_whole.end(), 1) == cut_whole.end()) return;
+  if (textured + normal_mapped == 0 && std::find(cut_whole.begin(), cut_whole.end(), 1) == cut_whole.end()) return;
+
+  // The per-hit textures: every decoded image's RGBA once, a SurfaceTexture per reference, a TexturedMaterial per
+  // material with a texture.
+  SurfaceTextures& st = scene_.textures;
+  std::vector<uint32_t> hit_material(nm, kNoTexture);
+  {
+    std::map<const tinygltf::Image*, uint64_t> image_offset;
+    auto add = [&](const TextureRef& r) {
+      if (!r) return kNoTexture;
+      auto [at, fresh] = image_offset.try_emplace(r.image, st.texels.size());
+      if (fresh) st.texels.insert(st.texels.end(), r.image->image.begin(), r.image->image.end());
+      st.textures.push_back(surface_texture(r, at->second));
+      return static_cast<uint32_t>(st.textures.size() - 1);
+    };
+    for (size_t i = 0; i < nm; ++i) {
+      if (!tex[i].at_hit()) continue;
+      Material f = scene_.materials[i];
+      sanitize_material(f);
+      TexturedMaterial m;
+      m.base = add(tex[i].base);
+      m.metal_rough = add(tex[i].metal_rough);
+      m.emissive = add(tex[i].emissive);
+      m.transmission = add(tex[i].transmission);
+      m.normal = add(tex[i].normal);
+      m.base_color = f.base_color;
+      m.roughness = f.roughness;
+      m.metallic = f.metallic;
+      m.transmission_factor = f.transmission;
+      m.emission = f.emission;
+      m.normal_scale = std::isfinite(tex[i].normal_scale) ? tex[i].normal_scale : 1.f;
+      m.ior = f.ior;
+      m.thin_walled = f.thin_walled;
+      hit_material[i] = static_cast<uint32_t>(st.materials.size());
+      st.materials.push_back(m);
+    }
+  }
 
   const auto points = sample_points();
   std::map<std::array<int, 11>, uint32_t> derived;
   std::vector<uint32_t> kept_indices, kept_materials;
   kept_indices.reserve(scene_.indices.size());
   kept_materials.reserve(scene_.tri_material.size());
-  size_t cut = 0, retextured = 0;
+  size_t cut = 0;
   for (size_t t = 0; t < scene_.tri_material.size(); ++t) {
     const uint32_t* idx = &scene_.indices[3 * t];
     uint32_t mat = scene_.tri_material[t];
+    const uint32_t orig = mat;
     if (mat < nm && cut_whole[mat]) {
       ++cut;
       continue;
@@ -347,8 +482,22 @@ void GltfReader::apply_textures() {
         scene_.materials.push_back(d);
       }
       mat = it->second;
-      ++retextured;
     }
+    const uint32_t hm = orig < nm ? hit_material[orig] : kNoTexture;
+    st.tri_material.push_back(hm);
+    float corner_uv[12] = {};
+    float tangent[4] = {0.f, 0.f, 0.f, 1.f};
+    if (hm != kNoTexture) {
+      for (int set = 0; set < 2; ++set)
+        for (int k = 0; k < 3; ++k) {
+          corner_uv[6 * set + 2 * k] = uv_[set][2 * idx[k]];
+          corner_uv[6 * set + 2 * k + 1] = uv_[set][2 * idx[k] + 1];
+        }
+      if (tex[orig].normal) triangle_tangent(st.textures[st.materials[hm].normal], idx, corner_uv, tangent);
+      ++st.textured_tris;
+    }
+    st.tri_uv.insert(st.tri_uv.end(), corner_uv, corner_uv + 12);
+    st.tri_tangent.insert(st.tri_tangent.end(), tangent, tangent + 4);
     kept_indices.insert(kept_indices.end(), idx, idx + 3);
     kept_materials.push_back(mat);
   }
@@ -361,11 +510,19 @@ void GltfReader::apply_textures() {
   } else {
     masks = AlphaMasks{};
   }
-  if (textured > 0)
-    notes.push_back(
-        fmt::format("textures: {} triangle(s) of {} textured material(s) take the mean of 16 texels each "
-                    "(base colour, metallic-roughness, emissive, transmission), {} derived material(s)",
-                    retextured, textured, derived.size()));
+  if (st.textured_tris == 0) {
+    st = SurfaceTextures{};
+  } else {
+    emitter_means();
+    size_t normal_tris = 0;
+    for (size_t t = 0; t < st.tri_material.size(); ++t)
+      normal_tris += st.tri_material[t] != kNoTexture && st.materials[st.tri_material[t]].normal != kNoTexture;
+    notes.push_back(fmt::format(
+        "textures: {} triangle(s) of {} material(s) read base colour, metallic-roughness, emissive and transmission "
+        "at the texel of every hit ({} with a normal map; {} MiB of texels); the material table holds each "
+        "triangle's mean of 16 texels ({} derived material(s))",
+        st.textured_tris, st.materials.size(), normal_tris, (st.texels.size() + (1 << 20) - 1) >> 20, derived.size()));
+  }
   if (masks.masked_tris > 0)
     notes.push_back(fmt::format(
         "alpha MASK: {} triangle(s) of {} material(s) cut out per texel at every hit (any-hit test in traversal, "

@@ -41,6 +41,8 @@ float luminance(Vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; 
 
 float sanitize(float v, float def, float lo, float hi) { return std::isfinite(v) ? std::clamp(v, lo, hi) : def; }
 
+}  // namespace
+
 void sanitize_material(Material& m) {
   for (int i = 0; i < 3; ++i) {
     m.base_color[i] = sanitize(m.base_color[i], 0.8f, 0.f, 1.f);
@@ -53,6 +55,8 @@ void sanitize_material(Material& m) {
   m.ior = m.ior >= 1.f && std::isfinite(m.ior) ? std::min(m.ior, 4.f) : 1.5f;
   m.cls = classify_material(m);
 }
+
+namespace {
 
 // Camera values from a file can be NaN or place the target on the eye; such a view is replaced by the default.
 bool camera_usable(const Camera& c) {
@@ -177,12 +181,7 @@ const char* to_string(LightType t) {
 }
 
 MaterialClass classify_material(const Material& m) {
-  if (max_component(m.emission) > 0.f) return MaterialClass::Emissive;
-  // KHR_materials_transmission: transmission replaces only the dielectric part, so a metal stays a metal.
-  if (m.transmission * (1.f - m.metallic) > 0.5f) return MaterialClass::Transmissive;
-  if (m.roughness <= kSpecularRoughness) return MaterialClass::Specular;
-  if (m.roughness <= kGlossyRoughness || m.metallic >= 0.5f) return MaterialClass::Glossy;
-  return MaterialClass::Diffuse;
+  return classify(max_component(m.emission), m.transmission, m.metallic, m.roughness);
 }
 
 namespace {
@@ -300,10 +299,14 @@ bool collect_emitters(Scene& scene, const std::vector<float>& areas) {
   for (size_t t = 0; t < scene.triangle_count(); ++t) {
     total_area += areas[t];
     const Material& m = scene.materials[scene.tri_material[t]];
+    // An emissive texture decides by the triangle's mean texel emission, else the material's class does.
+    const bool textured = scene.textures.emission_textured(t);
+    const Vec3 e = textured ? scene.textures.tri_emission[t] : m.emission;
+    const bool emits = textured ? max_component(e) > 0.f : m.cls == MaterialClass::Emissive;
     // Zero-area emitters can never be hit or sampled, so they are left out of the emitter list.
-    if (m.cls == MaterialClass::Emissive && areas[t] > 0.f) {
+    if (emits && areas[t] > 0.f) {
       scene.emissive_tris.push_back(static_cast<uint32_t>(t));
-      emitted += 3.14159265358979 * areas[t] * luminance(m.emission);
+      emitted += 3.14159265358979 * areas[t] * luminance(e);
     }
   }
   return total_area > 0.0 ? emitted / total_area < kMinEmitterExitance : true;

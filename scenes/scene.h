@@ -8,15 +8,12 @@
 
 #include "core/alpha_mask.h"
 #include "core/material.h"
+#include "core/surface_textures.h"
 #include "core/vec.h"
 
 namespace raycoh {
 
 const char* to_string(MaterialClass c);
-
-// Roughness at or below which a glossy lobe is called specular, and above which a non-metal is diffuse.
-constexpr float kSpecularRoughness = 0.05f;
-constexpr float kGlossyRoughness = 0.4f;
 
 struct Material {
   std::string name;
@@ -31,8 +28,11 @@ struct Material {
   bool has_texture = false;      // references an image texture (not decoded unless a stage needs it)
 };
 
-// Classification rule, one place: emissive > transmissive > specular/glossy (rough enough or metallic) > diffuse.
+// Classification rule (core/material.h classify): emissive > transmissive > specular/glossy (rough enough or
+// metallic) > diffuse.
 MaterialClass classify_material(const Material& m);
+// Non-finite or out-of-range values replaced or clamped, then classified (every loader's materials go through it).
+void sanitize_material(Material& m);
 
 struct Camera {
   Vec3 eye{0.f, 0.f, 1.f};
@@ -89,6 +89,31 @@ struct AlphaMasks {
   AlphaMaskView view() const { return {tri_texture.data(), tri_uv.data(), textures.data(), texels.data()}; }
 };
 
+// glTF textures looked up at every hit (core/surface_textures.h): triangles of materials with a decoded base
+// colour, metallic-roughness, emissive, transmission or normal texture. Empty (no arrays) when the scene has none:
+// then every shading point takes its triangle's material as before.
+struct SurfaceTextures {
+  std::vector<uint32_t> tri_material;  // per triangle: index into materials, or kNoTexture
+  std::vector<float> tri_uv;           // 12 per triangle
+  std::vector<float> tri_tangent;      // 4 per triangle
+  std::vector<TexturedMaterial> materials;
+  std::vector<SurfaceTexture> textures;
+  std::vector<uint8_t> texels;  // RGBA8
+  // Per triangle (empty when no material has an emissive texture): the mean emitted radiance over the triangle,
+  // from its emissive texels (kNoTexture triangles, and those of materials without an emissive texture: unused).
+  std::vector<Vec3> tri_emission;
+  size_t textured_tris = 0;
+  bool empty() const { return tri_material.empty(); }
+  bool textured(size_t t) const { return !tri_material.empty() && tri_material[t] != kNoTexture; }
+  // Whether triangle t's emission comes from an emissive texture (then tri_emission[t] is its mean).
+  bool emission_textured(size_t t) const {
+    return textured(t) && !tri_emission.empty() && materials[tri_material[t]].emissive != kNoTexture;
+  }
+  SurfaceTexturesView view() const {
+    return {tri_material.data(), tri_uv.data(), tri_tangent.data(), materials.data(), textures.data(), texels.data()};
+  }
+};
+
 struct Scene {
   std::string name;                    // short name (file stem or procedural name)
   std::string source;                  // path or procedural spec it was made from
@@ -105,6 +130,7 @@ struct Scene {
   uint32_t degenerate_tris = 0;  // zero-area triangles (kept; they are never hit)
   size_t alpha_cut_tris = 0;     // triangles removed whole by an alpha MASK (constant alpha below the cutoff)
   AlphaMasks alpha;              // per-texel cut-outs, tested in traversal
+  SurfaceTextures textures;      // materials looked up per texel at every hit
   bool generated_normals = false;
   // What the loader did that changes the workload or the materials, one line each, for `scenes info`: each glTF
   // extension used (supported / mapped / ignored), dropped primitives by kind, instancing, tinygltf's warnings.

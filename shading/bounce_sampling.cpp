@@ -30,13 +30,12 @@ void generator_directions(FrameContext& ctx, Generator& generator, const GBuffer
     wave.beta[i] = batch.weight[i];
     // A camera ray arrived here, so a pass through a pane keeps the camera's state (delta: weight 1).
     const ShadingPoint& sp = gbuffer.points[batch.pixel[i]];
-    const bool pass = is_thin_pane(scene.materials[sp.material]) && dot(batch.rays[i].dir, sp.ng) < 0.f;
+    const bool pass = is_thin_pane(gbuffer.materials->bsdf[sp.material]) && dot(batch.rays[i].dir, sp.ng) < 0.f;
     wave.mis[i] = pass ? MisState{} : MisState{batch.pdf[i], is_delta(batch.material[i]), 0.f};
   });
 }
 
 void sample_directions(FrameContext& ctx, const Vertices& verts, int bounce, Wave& wave) {
-  const Scene& scene = ctx.scene;
   const size_t nv = verts.size();
   wave.resize(nv);
   std::vector<uint8_t> keep(nv, 0);
@@ -45,8 +44,8 @@ void sample_directions(FrameContext& ctx, const Vertices& verts, int bounce, Wav
     const ShadingPoint& sp = verts.sp[i];
     const uint32_t p = verts.pixel[i];
     const DirectionSample s =
-        sample_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo, sp.front_face,
-                         ctx.rand(p, bounce, kDirU), ctx.rand(p, bounce, kDirV), ctx.rand(p, bounce, kLobe));
+        sample_direction(verts.bsdf(i), sp.ns, sp.ng, sp.wo, sp.front_face, ctx.rand(p, bounce, kDirU),
+                         ctx.rand(p, bounce, kDirV), ctx.rand(p, bounce, kLobe));
     Vec3 beta = verts.beta[i] * s.weight;
     if (!(max_component(beta) > 0.f)) return;
     if (roulette) {
@@ -61,7 +60,7 @@ void sample_directions(FrameContext& ctx, const Vertices& verts, int bounce, Wav
     r.tmax = __builtin_huge_valf();
     wave.pixel[i] = p;
     wave.beta[i] = beta;
-    const bool pass = (s.flags & kSampleTransmitted) != 0 && is_thin_pane(scene.materials[sp.material]);
+    const bool pass = (s.flags & kSampleTransmitted) != 0 && is_thin_pane(verts.bsdf(i));
     wave.mis[i] = pass ? verts.mis[i] : MisState{s.pdf, is_delta(sp.cls), 0.f};
     keep[i] = 1;
   });

@@ -17,13 +17,14 @@ GBuffer camera_pass(FrameContext& ctx, const std::vector<uint32_t>& order, Verti
   ctx.stats.primary_rays += first.primary.rays.size();
   const PixelRays& primary = first.primary;
   const GBuffer& gbuffer = first.gbuffer;
+  verts.materials = gbuffer.materials;
   for (size_t i = 0; i < primary.rays.size(); ++i) {
     const uint32_t p = primary.pixel[i];
     if (!first.hits[i].valid()) {
       ctx.radiance[p] = environment_radiance(ctx.scene.env, primary.rays[i].dir);
       continue;
     }
-    ctx.radiance[p] = ctx.emission(gbuffer.points[p]);
+    ctx.radiance[p] = FrameContext::emission(*gbuffer.materials, gbuffer.points[p]);
     verts.sp.push_back(gbuffer.points[p]);
     verts.pixel.push_back(p);
     verts.beta.push_back(Vec3(1.f));

@@ -111,7 +111,10 @@ EmitterDistribution::EmitterDistribution(const Scene& scene) : punctual(scene) {
     const Vec3 e1 = scene.positions[idx[1]] - scene.positions[idx[0]];
     const Vec3 e2 = scene.positions[idx[2]] - scene.positions[idx[0]];
     const double a = 0.5 * static_cast<double>(length(cross(e1, e2)));
-    const double p = a * luminance(scene.materials[scene.tri_material[t]].emission);
+    // An emissive texture's triangle: the mean of its emissive texels (the loader's, at its texel density).
+    const Vec3 e = scene.textures.emission_textured(t) ? scene.textures.tri_emission[t]
+                                                       : scene.materials[scene.tri_material[t]].emission;
+    const double p = a * luminance(e);
     if (!(p > 0.0) || !std::isfinite(p)) continue;
     tris.push_back(t);
     power.push_back(p);
@@ -150,7 +153,15 @@ EmitterSample EmitterDistribution::sample(const Scene& scene, const ShadingPoint
   if (!(cos_y > 0.f)) return s;
   // The squared distance of the sample itself: pdf() squares a traced distance instead, which rounds differently.
   s.pdf = pmf_by_prim[t] / area * dist2 / cos_y;
-  s.emission = scene.materials[scene.tri_material[t]].emission;
+  // What a ray hitting this point finds (make_gbuffer): the texel's emission on a textured triangle.
+  if (scene.textures.textured(t)) {
+    const SurfaceTexturesView view = scene.textures.view();
+    float uv[2][2];
+    hit_uv(view, t, b1, b2, uv);
+    s.emission = emission_of(view, view.materials[view.tri_material[t]], uv);
+  } else {
+    s.emission = scene.materials[scene.tri_material[t]].emission;
+  }
   s.found = true;
   return s;
 }

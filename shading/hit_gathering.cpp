@@ -24,8 +24,9 @@ Vec3 missed_light(const Environment& env, Vec3 dir, const MisState& mis) {
 }
 
 // Emission seen at a hit t along a ray with MIS state mis.
-Vec3 emitted_light(const FrameContext& ctx, const ShadingPoint& sp, const MisState& mis, float t) {
-  const Vec3 le = ctx.emission(sp);
+Vec3 emitted_light(const FrameContext& ctx, const HitMaterials& table, const ShadingPoint& sp, const MisState& mis,
+                   float t) {
+  const Vec3 le = FrameContext::emission(table, sp);
   if (!(max_component(le) > 0.f)) return Vec3(0.f);
   float w = 1.f;
   if (!mis.delta && !ctx.emitters.empty() && ctx.emitters.pmf_by_prim[sp.prim] > 0.f) {
@@ -70,11 +71,12 @@ void gather_hits(FrameContext& ctx, Wave& wave, int bounce, Vertices& verts) {
     if (!hits[i].valid()) {
       light = missed_light(ctx.scene.env, wave.rays.rays[i].dir, wave.mis[i]);
     } else {
-      light = emitted_light(ctx, next.points[i], wave.mis[i], hits[i].t);
+      light = emitted_light(ctx, *next.materials, next.points[i], wave.mis[i], hits[i].t);
       keep[i] = !last;
     }
     ctx.radiance[wave.pixel[i]] += beta * light;  // one ray per pixel in a wave
   });
+  verts.materials = next.materials;
   verts.sp.resize(nr);
   verts.pixel = wave.pixel;
   verts.beta = wave.beta;

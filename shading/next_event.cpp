@@ -44,7 +44,7 @@ struct LightSample {
 
 // Fraction of light a thin pane lets through straight, seen along wo from the side of ns (core/bsdf.h's
 // thin-walled dielectric: transmitted with probability 1 - F and weight base colour).
-Vec3 pane_transmittance(const Material& m, const ShadingPoint& sp) {
+Vec3 pane_transmittance(const BsdfParams& m, const ShadingPoint& sp) {
   const float cos_i = std::clamp(dot(sp.wo, sp.ns), 0.f, 1.f);
   return m.base_color * (1.f - fresnel_dielectric(cos_i, m.ior));
 }
@@ -83,7 +83,7 @@ ShadowRays make_shadow_rays(const FrameContext& ctx, const Vertices& verts, int 
     const ShadingPoint& sp = verts.sp[i];
     if (is_delta(sp.cls)) return;
     const uint32_t p = verts.pixel[i];
-    const BsdfParams m = bsdf_params(ctx.scene.materials[sp.material]);
+    const BsdfParams& m = verts.bsdf(i);
     if (!ctx.emitters.empty()) {
       const EmitterSample e = ctx.emitters.sample(ctx.scene, sp, ctx.rand(p, bounce, kEmitterPick),
                                                   ctx.rand(p, bounce, kEmitterU), ctx.rand(p, bounce, kEmitterV));
@@ -117,7 +117,7 @@ void trace_shadow_rays(FrameContext& ctx, ShadowRays& shadow) {
     parallel_for_index(n, [&](size_t j) {
       if (!hits[j].valid()) return;
       const ShadingPoint& sp = panes.points[j];
-      const Material& m = ctx.scene.materials[sp.material];
+      const BsdfParams& m = panes.materials->bsdf[sp.material];
       if (!is_thin_pane(m) || shadow.panes_left[j] == 0) return;
       Ray& r = shadow.rays.rays[j];
       r.tmax -= hits[j].t;

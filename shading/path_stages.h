@@ -53,7 +53,7 @@ inline float power_heuristic(float a, float b) {
 
 // Transmissive surfaces are a smooth dielectric: delta lobes only, so no NEE there and MIS weight 1 after them.
 inline bool is_delta(MaterialClass c) { return c == MaterialClass::Transmissive; }
-inline bool is_thin_pane(const Material& m) { return m.cls == MaterialClass::Transmissive && m.thin_walled; }
+inline bool is_thin_pane(const BsdfParams& m) { return m.cls == MaterialClass::Transmissive && m.thin_walled; }
 
 // How the light a ray finds is weighted (MIS state): the pdf and delta flag of the direction chosen at the
 // last scattering event that was not a straight pass through a thin pane, and the distance travelled since that
@@ -79,13 +79,15 @@ struct Wave {
   }
 };
 
-// Path vertices of one bounce.
+// Path vertices of one bounce. Their points index the material table of the G-buffer they came from.
 struct Vertices {
+  std::shared_ptr<const HitMaterials> materials;
   std::vector<ShadingPoint> sp;
   std::vector<uint32_t> pixel;
   std::vector<Vec3> beta;
   std::vector<MisState> mis;  // of the ray that arrived here
   size_t size() const { return sp.size(); }
+  const BsdfParams& bsdf(size_t i) const { return materials->bsdf[sp[i].material]; }
 };
 
 // One frame's inputs, its per-pixel sample and its cost.
@@ -112,9 +114,10 @@ struct FrameContext {
   float rand(uint32_t p, int bounce, BounceDim k) const {
     return rng_float(settings.seed, frame, p, kDimFirstFree + kDimsPerBounce * static_cast<uint32_t>(bounce) + k);
   }
-  // Radiance a shading point emits towards wo: emitters emit from the front side of their winding only.
-  Vec3 emission(const ShadingPoint& sp) const {
-    return sp.cls == MaterialClass::Emissive && sp.front_face ? scene.materials[sp.material].emission : Vec3(0.f);
+  // Radiance a shading point of a G-buffer with material table t emits towards wo: emitters emit from the front
+  // side of their winding only.
+  static Vec3 emission(const HitMaterials& t, const ShadingPoint& sp) {
+    return sp.cls == MaterialClass::Emissive && sp.front_face ? t.emission[sp.material] : Vec3(0.f);
   }
 };
 

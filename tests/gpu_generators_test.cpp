@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -231,6 +232,10 @@ TEST(GpuGenerators, BatchesEqualTheCpuByteForByte) {
   std::vector<std::string> scenes = {"cornell", "voxels:size=48"};
   for (const auto& path : test::shared_scene_files())
     if (path.filename() == "sibenik.glb") scenes.push_back(path.string());
+  // Materials per texel at the hit (the G-buffer's own material table goes up with its points).
+  const std::filesystem::path helmet = std::filesystem::path(RAYCOH_SHARED_SCENES).parent_path() / "gltf-samples" /
+                                       "DamagedHelmet" / "glTF-Binary" / "DamagedHelmet.glb";
+  if (std::filesystem::exists(helmet)) scenes.push_back(helmet.string());
   for (const std::string& name : scenes) {
     SCOPED_TRACE(name);
     const Scene scene = load_scene(name);

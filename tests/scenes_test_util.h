@@ -48,7 +48,18 @@ inline void expect_valid(const Scene& s) {
   for (const Vec3& p : s.positions) ASSERT_TRUE(is_finite(p));
   for (const Vec3& n : s.normals) ASSERT_NEAR(length(n), 1.f, 1e-4f);
   for (const Material& m : s.materials) EXPECT_EQ(m.cls, classify_material(m)) << m.name;
-  for (uint32_t t : s.emissive_tris) EXPECT_EQ(s.materials[s.tri_material[t]].cls, MaterialClass::Emissive);
+  // An emitter's material emits, or (emissive texture) the mean of its emissive texels does.
+  for (uint32_t t : s.emissive_tris) {
+    if (s.textures.emission_textured(t))
+      EXPECT_GT(max_component(s.textures.tri_emission[t]), 0.f) << "triangle " << t;
+    else
+      EXPECT_EQ(s.materials[s.tri_material[t]].cls, MaterialClass::Emissive) << "triangle " << t;
+  }
+  if (!s.textures.empty()) {
+    ASSERT_EQ(s.textures.tri_material.size(), s.triangle_count());
+    ASSERT_EQ(s.textures.tri_uv.size(), 12 * s.triangle_count());
+    ASSERT_EQ(s.textures.tri_tangent.size(), 4 * s.triangle_count());
+  }
   EXPECT_FALSE(s.bounds.empty());
   EXPECT_GT(length(s.camera.target - s.camera.eye), 0.f);
   EXPECT_TRUE(s.env.enabled || !s.emissive_tris.empty() || !s.lights.empty());
