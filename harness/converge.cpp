@@ -136,6 +136,9 @@ struct SummaryRow {
   // target_error.
   double ref_noise_rel_mse = std::nan(""), ref_noise_share = std::nan(""), error_corr = std::nan(""),
          baseline_error_corr = std::nan(""), equal_time_error_ratio_corr = std::nan("");
+  // The noise estimate's standard error over the smaller error: the share of error_corr that is still the
+  // reference's noise.
+  double ref_noise_residual_share = std::nan("");
   int frames = 0, baseline_frames = 0;
   Provenance provenance;
 };
@@ -161,6 +164,7 @@ const Schema<SummaryRow>& summary_schema() {
         column("equal_error_speedup", &R::equal_error_speedup, G{}),
         column("ref_noise_rel_mse", &R::ref_noise_rel_mse, G{}),
         column("ref_noise_share", &R::ref_noise_share, G{}),
+        column("ref_noise_residual_share", &R::ref_noise_residual_share, G{}),
         column("error_corr", &R::error_corr, G{}),
         column("baseline_error_corr", &R::baseline_error_corr, G{}),
         column("equal_time_error_ratio_corr", &R::equal_time_error_ratio_corr, G{}),
@@ -421,7 +425,10 @@ SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const 
     r.ref_noise_rel_mse = n;
     ReferenceNoise relative;  // the summary's figures are relMSE
     relative.rel_mse = n;
-    r.ref_noise_share = correct_for_noise(relative, 0, smaller, 0).share;
+    relative.rel_mse_se = noise_->rel_mse_se;
+    const NoiseCorrected c = correct_for_noise(relative, 0, smaller, 0);
+    r.ref_noise_share = c.share;
+    r.ref_noise_residual_share = c.residual_share;
     r.error_corr = minus_noise(cc.error, n);
     r.baseline_error_corr = minus_noise(cc.baseline_error, n);
     r.equal_time_error_ratio_corr = r.baseline_error_corr > 0 ? r.error_corr / r.baseline_error_corr : std::nan("");

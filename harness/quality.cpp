@@ -228,8 +228,9 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.ref_noise_mse = noise ? noise->mse : nan;
   row.ref_noise_rel_mse = noise ? noise->rel_mse : nan;
   const NoiseCorrected corr = noise ? correct_for_noise(*noise, row.mse, row.rel_mse, mean_of(m.metric_mse))
-                                    : NoiseCorrected{nan, nan, nan, nan};
+                                    : NoiseCorrected{nan, nan, nan, nan, nan};
   row.ref_noise_share = corr.share;
+  row.ref_noise_residual_share = corr.residual_share;
   row.mse_corr = corr.mse;
   row.rel_mse_corr = corr.rel_mse;
   row.psnr_corr = corr.psnr;

@@ -45,6 +45,7 @@ const Schema<QualityRow>& quality_schema() {
         column("ref_noise_mse", &R::ref_noise_mse, G{}),
         column("ref_noise_rel_mse", &R::ref_noise_rel_mse, G{}),
         column("ref_noise_share", &R::ref_noise_share, G{}),
+        column("ref_noise_residual_share", &R::ref_noise_residual_share, G{}),
         column("mse_corr", &R::mse_corr, G{}),
         column("rel_mse_corr", &R::rel_mse_corr, G{}),
         column("psnr_corr", &R::psnr_corr, G{}),

@@ -28,6 +28,9 @@ struct QualityRow {
   // The reference's own noise (NaN without a half reference) and the figures with it taken out.
   double ref_noise_mse = 0, ref_noise_rel_mse = 0, ref_noise_share = 0, mse_corr = 0, rel_mse_corr = 0, psnr_corr = 0,
          bias2_corr = 0;
+  // The standard error of the noise estimate over the figure (largest over mse, rel_mse, the PSNR's MSE): the share
+  // of a *_corr figure that is still the reference's noise.
+  double ref_noise_residual_share = 0;
   double rel_mse_ds2 = 0, rel_mse_ds4 = 0, rel_mse_ds8 = 0;  // of the 2x/4x/8x box-downsampled images
   double rel_var = 0, rel_var_ds8 = 0;                       // their variance part (NaN for one render)
   // Bias of the mean of all frames (shading/metrics.h bias_test), luma.

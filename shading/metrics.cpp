@@ -235,21 +235,37 @@ Image box_downsample(const Image& image, int factor) {
 
 ReferenceNoise reference_noise(const Image& full, const Image& first_half, const ToneMap& tm, MetricSpace space) {
   check_same_size(first_half, full);
-  double s_mse = 0, s_rel = 0, s_metric = 0;
+  // Per-pixel terms (mean over the channels) and their squares, for the means and their standard errors.
+  double s[3] = {0, 0, 0}, s2[3] = {0, 0, 0};
   uint64_t n = 0;
   for (size_t p = 0; p < full.pixels(); ++p) {
     if (!finite_pixel(full, p) || !finite_pixel(first_half, p)) continue;
     ++n;
+    double q[3] = {0, 0, 0};
     for (int c = 0; c < 3; ++c) {
       const double f = full.rgb[3 * p + c], a = first_half.rgb[3 * p + c], b = 2 * f - a;
       const double d2 = (a - b) * (a - b) / 4;
-      s_mse += d2;
-      s_rel += d2 / (f * f + kRelMseEpsilon);
+      q[0] += d2 / 3;
+      q[1] += d2 / (f * f + kRelMseEpsilon) / 3;
       const double dm = metric_value(static_cast<float>(a), tm, space) - metric_value(static_cast<float>(b), tm, space);
-      s_metric += dm * dm / 4;
+      q[2] += dm * dm / 4 / 3;
+    }
+    for (int k = 0; k < 3; ++k) {
+      s[k] += q[k];
+      s2[k] += q[k] * q[k];
     }
   }
-  return {mean_over_channels(s_mse, n), mean_over_channels(s_rel, n), mean_over_channels(s_metric, n)};
+  ReferenceNoise r;
+  if (n == 0) return {std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan("")};
+  double mean[3], se[3];
+  for (int k = 0; k < 3; ++k) {
+    mean[k] = s[k] / static_cast<double>(n);
+    const double var = n > 1 ? std::max(0.0, (s2[k] - n * mean[k] * mean[k]) / static_cast<double>(n - 1)) : 0.0;
+    se[k] = std::sqrt(var / static_cast<double>(n));
+  }
+  r.mse = mean[0], r.rel_mse = mean[1], r.metric_mse = mean[2];
+  r.mse_se = se[0], r.rel_mse_se = se[1], r.metric_mse_se = se[2];
+  return r;
 }
 
 double minus_noise(double error, double noise) { return std::max(0.0, error - noise); }
@@ -258,6 +274,8 @@ NoiseCorrected correct_for_noise(const ReferenceNoise& noise, double mse, double
   auto share = [](double n, double e) { return e > 0 ? n / e : (n > 0 ? 1.0 : 0.0); };
   NoiseCorrected c;
   c.share = std::max({share(noise.mse, mse), share(noise.rel_mse, rel_mse), share(noise.metric_mse, metric_mse)});
+  c.residual_share =
+      std::max({share(noise.mse_se, mse), share(noise.rel_mse_se, rel_mse), share(noise.metric_mse_se, metric_mse)});
   c.mse = minus_noise(mse, noise.mse);
   c.rel_mse = minus_noise(rel_mse, noise.rel_mse);
   c.psnr = psnr_from_mse(minus_noise(metric_mse, noise.metric_mse));

@@ -98,6 +98,10 @@ struct ReferenceNoise {
   double mse = 0;         // linear
   double rel_mse = 0;     // as rel_mse, against the full reference
   double metric_mse = 0;  // the MSE that PSNR uses in the metric space (display values when tone-mapped)
+  // Standard errors of the three estimates (spread of the per-pixel terms / sqrt(pixels); the halves' noise is
+  // independent between pixels for a NoOpt reference): what is left of the reference's noise in a figure once the
+  // estimate is subtracted.
+  double mse_se = 0, rel_mse_se = 0, metric_mse_se = 0;
 };
 ReferenceNoise reference_noise(const Image& full, const Image& first_half, const ToneMap& tm = {},
                                MetricSpace space = MetricSpace::ToneMapped);
@@ -107,8 +111,10 @@ double minus_noise(double error, double noise);
 // the metric space), with the reference's noise taken out, and the noise's share: the largest of noise / figure
 // over the three (1 when a figure is 0 and the noise is not, 0 when both are). One definition for quality and
 // converge.
+// residual_share: the largest of the estimates' standard error / figure, the share of a corrected figure that is
+// still the reference's noise (the uncertainty of the subtraction).
 struct NoiseCorrected {
-  double share = 0, mse = 0, rel_mse = 0, psnr = 0;
+  double share = 0, mse = 0, rel_mse = 0, psnr = 0, residual_share = 0;
 };
 NoiseCorrected correct_for_noise(const ReferenceNoise& noise, double mse, double rel_mse, double metric_mse);
 

@@ -44,6 +44,7 @@ const std::set<std::string> kRenderTimes = {"render_s",
                                             "baseline_error_corr",
                                             "equal_time_error_ratio_corr",
                                             "ref_noise_share",
+                                            "ref_noise_residual_share",
                                             "host",
                                             "started_utc",
                                             "command_line"};

@@ -86,6 +86,33 @@ TEST(ImageError, HalfReferenceNoiseMatchesTheKnownNoise) {
   EXPECT_EQ(minus_noise(0.1, 0.2), 0.0);
 }
 
+// The noise estimate's standard error (what is left of the reference's noise in a corrected figure) is the spread
+// the estimate really has: 24 independent pairs of halves, small images so that the spread is visible.
+TEST(ImageError, ReferenceNoiseStandardErrorIsTheEstimatesSpread) {
+  const Image t = truth(24, 16);
+  const float s = 0.04f;
+  std::vector<double> est;
+  double se = 0;
+  for (uint32_t k = 0; k < 24; ++k) {
+    const Image a = noisy(t, s, 1, 100 + 2 * k), b = noisy(t, s, 1, 101 + 2 * k);
+    Image full = a;
+    for (size_t i = 0; i < full.rgb.size(); ++i) full.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
+    const ReferenceNoise n = reference_noise(full, a);
+    est.push_back(n.mse);
+    se += n.mse_se / 24;
+    EXPECT_GT(n.rel_mse_se, 0);
+    EXPECT_GT(n.metric_mse_se, 0);
+  }
+  double mean = 0, var = 0;
+  for (double e : est) mean += e / est.size();
+  for (double e : est) var += (e - mean) * (e - mean) / (est.size() - 1);
+  EXPECT_NEAR(se / std::sqrt(var), 1.0, 0.35);  // the spread of 24 estimates is itself known to ~15%
+  // The residual share: standard error over the figure.
+  ReferenceNoise n;
+  n.mse = 0.01, n.mse_se = 0.001;
+  EXPECT_DOUBLE_EQ(correct_for_noise(n, 0.1, 0, 0).residual_share, 0.01);
+}
+
 TEST(ImageError, LinearMetricsUseTheLinearMseAndPeakOne) {
   const Image t = truth(16, 16), x = noisy(t, 0.1f, 1, 3);
   EXPECT_NEAR(psnr(x, t, {}, MetricSpace::Linear), -10 * std::log10(mse(x, t)), 1e-9);
