@@ -134,4 +134,8 @@ expect_error "nothing to do" "$scripts/plot_quality.py" quality.csv
 expect_error "missing column" "$scripts/plot_validate.py" table.csv --out fig/x.png
 grep "^table1" validate.csv > table1_only.csv && sed -i "1i $(head -1 validate.csv)" table1_only.csv
 expect_error "needs table1 and table3" "$scripts/plot_validate.py" table1_only.csv --out fig/x.png
+# scripts/paper-protocol refuses bad input before it renders or creates anything.
+expect_error "usage: scripts/paper-protocol" "$scripts/paper-protocol" build 480x270
+expect_error "no scene file ../shared/scenes/no_such_scene" "$scripts/paper-protocol" build 480x270 "$work/refs" no_such_scene
+[[ ! -e $work/refs ]] || { echo "scripts_test: paper-protocol created $work/refs on bad input"; exit 1; }
 echo "scripts_test: all plot scripts wrote their figures"
