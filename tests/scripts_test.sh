@@ -134,6 +134,13 @@ expect_error "nothing to do" "$scripts/plot_quality.py" quality.csv
 expect_error "missing column" "$scripts/plot_validate.py" table.csv --out fig/x.png
 grep "^table1" validate.csv > table1_only.csv && sed -i "1i $(head -1 validate.csv)" table1_only.csv
 expect_error "needs table1 and table3" "$scripts/plot_validate.py" table1_only.csv --out fig/x.png
+# converge_seeds.py: mean and standard error over seeds' summaries.
+printf 'scene,method,baseline,metric,clock,equal_time_error_ratio,equal_error_speedup\ns,ours,noopt,rel_mse,modeled_gpu,0.9,1.1\n' > seed1-summary.csv
+printf 'scene,method,baseline,metric,clock,equal_time_error_ratio,equal_error_speedup\ns,ours,noopt,rel_mse,modeled_gpu,1.0,1.0\n' > seed2-summary.csv
+"$scripts/converge_seeds.py" seed1-summary.csv seed2-summary.csv --md seeds.md > /dev/null
+grep -q "| s | ours vs noopt | modeled_gpu (MODELED) | 2 | 0.950 ± 0.050 | 1/2 | 1.050 ± 0.050 |" seeds.md ||
+  { echo "scripts_test: converge_seeds.py table wrong: $(cat seeds.md)"; exit 1; }
+expect_error "missing column" "$scripts/converge_seeds.py" table.csv
 # scripts/paper-protocol refuses bad input before it renders or creates anything.
 expect_error "usage: scripts/paper-protocol" "$scripts/paper-protocol" build 480x270
 expect_error "no scene file ../shared/scenes/no_such_scene" "$scripts/paper-protocol" build 480x270 "$work/refs" no_such_scene
