@@ -19,8 +19,11 @@
 // traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles;
 // Ylitie, Karras & Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs" (HPG 2017).
 //
-// Scenes with alpha MASK cut-outs (Scene::alpha) are refused with a one-line error: the kernels do not run the
-// any-hit alpha test of core/alpha_mask.h (the textures are not uploaded), and a GPU run must not differ silently.
+// Scenes with alpha MASK cut-outs (Scene::alpha): the mask arrays are uploaded once with the BVH and every kernel
+// (persistent, simple, counting; BVH2 and CWBVH) runs the AlphaTest any-hit filter of core/alpha_mask.h, the same
+// test as the cpu, simt and embree tracers, so hits still equal the `cpu` tracer's bit for bit. Scenes without
+// masks run the NoAlphaTest kernels (the code that ran before). The counting kernel's counters count traversal
+// steps and BVH fetches only; texel reads are not counted (as in simt).
 #include "cuda/cuda_tracer.h"
 
 #include <fmt/format.h>
@@ -117,21 +120,30 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   if (cwbvh && counting)
     throw Error(fmt::format("{}: counters=on has no CWBVH kernel (bvh=cwbvh); count CWBVH steps with the simt tracer",
                             params.owner()));
-  // The device has no copy of the alpha textures: tracing such a scene would silently ignore its cut-outs.
-  if (!scene.alpha.empty())
-    throw Error(
-        fmt::format("{}: scene '{}' has alpha MASK cut-outs ({} triangles), which the GPU kernels do not "
-                    "test yet; use the cpu, simt or embree tracer",
-                    params.owner(), scene.name, scene.alpha.masked_tris));
   if (cuda::device_count() == 0)
     throw Error(
         fmt::format("{}: no CUDA device (this machine has no usable GPU); use the cpu or simt tracer", params.owner()));
   // The addresses the simt tracer counts with, so that lines and sectors are the same units (32-byte sectors as
   // in both cache presets).
   const SimtConfig layout = simt_config(bvh.view(), 32, line, 32);
+  // Alpha MASK arrays (empty when the scene has none), uploaded with the BVH.
+  cuda::AlphaMaskArrays alpha;
+  if (!scene.alpha.empty()) {
+    const AlphaMasks& a = scene.alpha;
+    alpha.tri_texture = a.tri_texture.data();
+    alpha.tri_uv = a.tri_uv.data();
+    alpha.tri_count = a.tri_texture.size();
+    alpha.textures = a.textures.data();
+    alpha.texture_count = a.textures.size();
+    alpha.texels = a.texels.data();
+    alpha.texel_count = a.texels.size();
+    RAYCOH_CHECK(a.tri_uv.size() == 6 * a.tri_texture.size(),
+                 fmt::format("scene '{}': {} alpha uv values for {} triangles", scene.name, a.tri_uv.size(),
+                             a.tri_texture.size()));
+  }
   // The CWBVH's host copy is dropped once uploaded.
-  auto device = cwbvh ? std::make_unique<cuda::DeviceTracer>(build_cwbvh(scene, bvh.config).view())
-                      : std::make_unique<cuda::DeviceTracer>(bvh.view());
+  auto device = cwbvh ? std::make_unique<cuda::DeviceTracer>(build_cwbvh(scene, bvh.config).view(), alpha)
+                      : std::make_unique<cuda::DeviceTracer>(bvh.view(), alpha);
   return std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, params.canonical());
 }
 

@@ -14,6 +14,11 @@
 // Distinct lines and sectors of a step are counted exactly as the size of the union of the lanes' unit ranges:
 // a unit of lane i counts unless a lower active lane's range covers it (32 __shfl_sync rounds per step). This is
 // one rule for nodes and triangles, for any line and sector size, including triangles straddling two lines.
+//
+// Alpha MASK cut-outs: every kernel is a template on the traversal's filter policy (core/alpha_mask.h) and gets
+// the filter by value. AlphaTest holds the device copies of the scene's mask arrays and runs alpha_opaque() of
+// the shared header at each candidate hit, exactly as the CPU tracers do; NoAlphaTest (scenes without masks) is
+// empty and compiles to the kernels that ran before masks existed.
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
 #include <cuda_runtime.h>
 
@@ -50,21 +55,31 @@ __device__ __forceinline__ void store_hit(Hit* hits, size_t i, const Hit& h) {
   reinterpret_cast<float4*>(hits)[i] = make_float4(h.t, __uint_as_float(h.prim), h.u, h.v);
 }
 
-// The closest hit of one ray in either layout: the shared traversals, unchanged.
-__device__ __forceinline__ Hit trace_ray(const BvhView& bvh, const Ray& r) { return closest_hit(bvh, r); }
-__device__ __forceinline__ Hit trace_ray(const CwbvhView& bvh, const Ray& r) { return closest_hit_cwbvh(bvh, r); }
+// The closest hit of one ray in either layout under the filter: the shared traversals, unchanged (with
+// NoAlphaTest these are closest_hit(bvh, r) and closest_hit_cwbvh(bvh, r), the same instantiations).
+template <class Filter>
+__device__ __forceinline__ Hit trace_ray(const BvhView& bvh, const Ray& r, const Filter& filter) {
+  NoCounters none;
+  return closest_hit(bvh, r, none, filter);
+}
+template <class Filter>
+__device__ __forceinline__ Hit trace_ray(const CwbvhView& bvh, const Ray& r, const Filter& filter) {
+  NoCounters none;
+  return closest_hit_cwbvh(bvh, r, none, filter);
+}
 
-template <bool Indirect, class View>
-__global__ void simple_kernel(View bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
+template <bool Indirect, class View, class Filter>
+__global__ void simple_kernel(View bvh, Filter filter, const Ray* rays, const uint32_t* order, size_t count,
+                              Hit* hits) {
   const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
   if (i >= count) return;
-  store_hit(hits, i, trace_ray(bvh, load_ray(rays, Indirect ? order[i] : i)));
+  store_hit(hits, i, trace_ray(bvh, load_ray(rays, Indirect ? order[i] : i), filter));
 }
 
 // blockDim.x is a multiple of 32, so every warp is full and reaches the __shfl_sync with all 32 lanes.
-template <bool Indirect, class View>
-__global__ void persistent_kernel(View bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits,
-                                  unsigned long long* next_ray) {
+template <bool Indirect, class View, class Filter>
+__global__ void persistent_kernel(View bvh, Filter filter, const Ray* rays, const uint32_t* order, size_t count,
+                                  Hit* hits, unsigned long long* next_ray) {
   const unsigned lane = threadIdx.x & (kWarp - 1);
   for (;;) {
     unsigned long long base = 0;
@@ -72,7 +87,7 @@ __global__ void persistent_kernel(View bvh, const Ray* rays, const uint32_t* ord
     base = __shfl_sync(kFullMask, base, 0);
     if (base >= count) return;
     const size_t i = static_cast<size_t>(base) + lane;
-    if (i < count) store_hit(hits, i, trace_ray(bvh, load_ray(rays, Indirect ? order[i] : i)));
+    if (i < count) store_hit(hits, i, trace_ray(bvh, load_ray(rays, Indirect ? order[i] : i), filter));
   }
 }
 
@@ -107,9 +122,9 @@ __device__ __forceinline__ uint32_t units_of(bool active, uint64_t addr, uint32_
   return distinct_units(active, first, last);
 }
 
-template <bool Indirect>
-__global__ void counting_kernel(BvhView bvh, const Ray* rays, const uint32_t* order, size_t count, Hit* hits,
-                                SimtConfig layout, WarpStepCounters* out, size_t warps) {
+template <bool Indirect, class Filter>
+__global__ void counting_kernel(BvhView bvh, Filter filter, const Ray* rays, const uint32_t* order, size_t count,
+                                Hit* hits, SimtConfig layout, WarpStepCounters* out, size_t warps) {
   // A whole warp leaves together here: blockDim.x is a multiple of 32.
   const size_t warp = (blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x) / kWarp;
   if (warp >= warps) return;
@@ -161,7 +176,7 @@ __global__ void counting_kernel(BvhView bvh, const Ray* rays, const uint32_t* or
         c.triangle_lines += units_of(in_sub, addr, kTriBytes, layout.line_bytes);
         c.triangle_fetches += units_of(in_sub, addr, kTriBytes, layout.sector_bytes);
       }
-      if (in_l) leaf_step(st, bvh, rc);
+      if (in_l) leaf_step(st, bvh, rc, filter);
       l = __ballot_sync(kFullMask, in_l && traversal_has_leaf(st));
     }
     live = __ballot_sync(kFullMask, valid && !traversal_done(st));
@@ -186,6 +201,16 @@ unsigned grid_for(size_t threads, int block) {
   return static_cast<unsigned>(blocks);
 }
 
+template <class Filter>
+void launch_counting(const BvhView& bvh, const Filter& filter, unsigned blocks, int block, const Ray* rays,
+                     const uint32_t* order, size_t count, Hit* hits, const SimtConfig& layout, WarpStepCounters* out,
+                     size_t warps) {
+  if (order)
+    counting_kernel<true><<<blocks, block>>>(bvh, filter, rays, order, count, hits, layout, out, warps);
+  else
+    counting_kernel<false><<<blocks, block>>>(bvh, filter, rays, nullptr, count, hits, layout, out, warps);
+}
+
 }  // namespace
 
 struct DeviceTracer::Impl {
@@ -194,6 +219,12 @@ struct DeviceTracer::Impl {
   DeviceBuffer<BvhTriangle> tris;
   uint32_t node_count = 0, tri_count = 0;
   bool cwbvh = false;
+  // The scene's alpha MASK arrays (empty: no masks, and the kernels run NoAlphaTest).
+  DeviceBuffer<uint32_t> alpha_tri_texture;
+  DeviceBuffer<float> alpha_tri_uv;
+  DeviceBuffer<AlphaTexture> alpha_textures;
+  DeviceBuffer<uint8_t> alpha_texels;
+  bool masked = false;
   DeviceBuffer<Ray> rays;
   DeviceBuffer<uint32_t> order;
   DeviceBuffer<Hit> hits;
@@ -203,7 +234,16 @@ struct DeviceTracer::Impl {
   float last_ms = -1.f;
   int sms = 0;
 
-  void init(const BvhTriangle* host_tris, uint32_t triangles, uint32_t node_total) {
+  void init(const BvhTriangle* host_tris, uint32_t triangles, uint32_t node_total, const AlphaMaskArrays& alpha) {
+    if (!alpha.empty()) {
+      const std::string error = alpha_arrays_error(alpha, host_tris, triangles);
+      if (!error.empty()) throw Error("cuda: alpha MASK arrays: " + error);
+      alpha_tri_texture.upload(alpha.tri_texture, alpha.tri_count);
+      alpha_tri_uv.upload(alpha.tri_uv, 6 * alpha.tri_count);
+      alpha_textures.upload(alpha.textures, alpha.texture_count);
+      alpha_texels.upload(alpha.texels, alpha.texel_count);
+      masked = true;
+    }
     tris.upload(host_tris, triangles);
     node_count = node_total;
     tri_count = triangles;
@@ -213,23 +253,29 @@ struct DeviceTracer::Impl {
   }
   BvhView view() const { return BvhView{nodes.get(), tris.get(), node_count, tri_count}; }
   CwbvhView cwbvh_view() const { return CwbvhView{cwbvh_nodes.get(), tris.get(), node_count, tri_count}; }
+  AlphaTest alpha_test() const {
+    return AlphaTest{
+        AlphaMaskView{alpha_tri_texture.get(), alpha_tri_uv.get(), alpha_textures.get(), alpha_texels.get()}};
+  }
 
-  // Resident blocks per SM of this layout's persistent kernel.
-  int persistent_blocks_per_sm(int block) const {
+  // Resident blocks per SM of this layout's persistent kernel (the instance that trace_device launches).
+  template <class View, class Filter>
+  static int blocks_per_sm(int block) {
     int per_sm = 0;
-    if (cwbvh)
-      RAYCOH_CUDA_CHECK(
-          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, CwbvhView>, block, 0));
-    else
-      RAYCOH_CUDA_CHECK(
-          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, BvhView>, block, 0));
+    RAYCOH_CUDA_CHECK(
+        cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, View, Filter>, block, 0));
     return per_sm;
+  }
+  int persistent_blocks_per_sm(int block) const {
+    if (cwbvh)
+      return masked ? blocks_per_sm<CwbvhView, AlphaTest>(block) : blocks_per_sm<CwbvhView, NoAlphaTest>(block);
+    return masked ? blocks_per_sm<BvhView, AlphaTest>(block) : blocks_per_sm<BvhView, NoAlphaTest>(block);
   }
 
   // Launches the chosen kernel between the timer's events; persistent_blocks: the resident blocks of the GPU.
-  template <class View>
-  void launch(const View& bvh, const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
-              const TraceLaunch& launch, int persistent_blocks) {
+  template <class View, class Filter>
+  void launch(const View& bvh, const Filter& filter, const Ray* d_rays, const uint32_t* d_order, size_t count,
+              Hit* d_hits, const TraceLaunch& launch, int persistent_blocks) {
     if (launch.kernel == TraceKernel::Persistent) {
       // Resident blocks only, and no more warps than the batch has: every warp fetches at least once.
       const unsigned blocks =
@@ -237,9 +283,9 @@ struct DeviceTracer::Impl {
       RAYCOH_CUDA_CHECK(cudaMemset(next_ray.get(), 0, sizeof(unsigned long long)));
       timer.start();
       if (d_order)
-        persistent_kernel<true><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits, next_ray.get());
+        persistent_kernel<true><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
       else
-        persistent_kernel<false><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits, next_ray.get());
+        persistent_kernel<false><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
       timer.stop();
     } else {
@@ -247,9 +293,9 @@ struct DeviceTracer::Impl {
       timer.start();
       if (blocks > 0) {
         if (d_order)
-          simple_kernel<true><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits);
+          simple_kernel<true><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits);
         else
-          simple_kernel<false><<<blocks, launch.block>>>(bvh, d_rays, d_order, count, d_hits);
+          simple_kernel<false><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits);
         RAYCOH_CUDA_CHECK_LAUNCH();
       }
       timer.stop();
@@ -257,20 +303,22 @@ struct DeviceTracer::Impl {
   }
 };
 
-DeviceTracer::DeviceTracer(const BvhView& bvh) : impl_(std::make_unique<Impl>()) {
+DeviceTracer::DeviceTracer(const BvhView& bvh, const AlphaMaskArrays& alpha) : impl_(std::make_unique<Impl>()) {
   impl_->nodes.upload(bvh.nodes, bvh.node_count);
-  impl_->init(bvh.tris, bvh.tri_count, bvh.node_count);
+  impl_->init(bvh.tris, bvh.tri_count, bvh.node_count, alpha);
 }
 
-DeviceTracer::DeviceTracer(const CwbvhView& bvh) : impl_(std::make_unique<Impl>()) {
+DeviceTracer::DeviceTracer(const CwbvhView& bvh, const AlphaMaskArrays& alpha) : impl_(std::make_unique<Impl>()) {
   impl_->cwbvh = true;
   impl_->cwbvh_nodes.upload(bvh.nodes, bvh.node_count);
-  impl_->init(bvh.tris, bvh.tri_count, bvh.node_count);
+  impl_->init(bvh.tris, bvh.tri_count, bvh.node_count, alpha);
 }
 
 DeviceTracer::~DeviceTracer() = default;
 
 float DeviceTracer::last_kernel_ms() const { return impl_->last_ms; }
+
+bool DeviceTracer::alpha_masked() const { return impl_->masked; }
 
 int DeviceTracer::persistent_blocks(int block) const {
   check_block(block);
@@ -282,10 +330,14 @@ float DeviceTracer::trace_device(const Ray* d_rays, const uint32_t* d_order, siz
   check_block(launch.block);
   Impl& m = *impl_;
   const int blocks = launch.kernel == TraceKernel::Persistent ? persistent_blocks(launch.block) : 0;
-  if (m.cwbvh)
-    m.launch(m.cwbvh_view(), d_rays, d_order, count, d_hits, launch, blocks);
+  if (m.cwbvh && m.masked)
+    m.launch(m.cwbvh_view(), m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
+  else if (m.cwbvh)
+    m.launch(m.cwbvh_view(), NoAlphaTest{}, d_rays, d_order, count, d_hits, launch, blocks);
+  else if (m.masked)
+    m.launch(m.view(), m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
   else
-    m.launch(m.view(), d_rays, d_order, count, d_hits, launch, blocks);
+    m.launch(m.view(), NoAlphaTest{}, d_rays, d_order, count, d_hits, launch, blocks);
   m.last_ms = m.timer.elapsed_ms();  // synchronises: kernel faults surface here
   return m.last_ms;
 }
@@ -313,12 +365,12 @@ void DeviceTracer::trace_counting(const Ray* rays, const uint32_t* order, size_t
   const BvhView bvh = m.view();
   m.timer.start();
   if (blocks > 0) {
-    if (order)
-      counting_kernel<true><<<blocks, block>>>(bvh, m.rays.get(), m.order.get(), count, m.hits.get(), layout,
-                                               m.warp_counters.get(), warp_count);
+    if (m.masked)
+      launch_counting(bvh, m.alpha_test(), blocks, block, m.rays.get(), order ? m.order.get() : nullptr, count,
+                      m.hits.get(), layout, m.warp_counters.get(), warp_count);
     else
-      counting_kernel<false><<<blocks, block>>>(bvh, m.rays.get(), nullptr, count, m.hits.get(), layout,
-                                                m.warp_counters.get(), warp_count);
+      launch_counting(bvh, NoAlphaTest{}, blocks, block, m.rays.get(), order ? m.order.get() : nullptr, count,
+                      m.hits.get(), layout, m.warp_counters.get(), warp_count);
     RAYCOH_CUDA_CHECK_LAUNCH();
   }
   m.timer.stop();

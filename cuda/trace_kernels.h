@@ -17,13 +17,20 @@
 // CWBVH (Ylitie, Karras & Laine, HPG 2017; core/cwbvh.h): a DeviceTracer made from a CwbvhView runs the same
 // persistent and simple kernels with core/traverse_cwbvh.h's closest_hit_cwbvh unchanged in place of closest_hit,
 // so its hits equal the `cpu:bvh=cwbvh` tracer's bit for bit. It has no counting kernel (trace_counting throws).
+//
+// Alpha MASK cut-outs (core/alpha_mask.h): a DeviceTracer made with a scene's AlphaMaskArrays uploads them once
+// with the BVH and runs every kernel (persistent, simple, counting; BVH2 and CWBVH) with the AlphaTest filter, the
+// same any-hit test the CPU tracers run, so its hits equal theirs bit for bit on masked scenes too. Without masks
+// (empty arrays) the kernels are the NoAlphaTest instances, the code that ran before masks existed.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "core/alpha_mask.h"
 #include "core/bvh.h"
 #include "core/cwbvh.h"
 #include "core/ray.h"
@@ -38,12 +45,50 @@ struct TraceLaunch {
   int block = 128;  // threads per block: a multiple of 32 in [32, 1024]
 };
 
+// A scene's alpha MASK arrays on the host (scenes/scene.h AlphaMasks); tri_count == 0: no masks.
+struct AlphaMaskArrays {
+  const uint32_t* tri_texture = nullptr;  // tri_count entries: texture index, or kNoAlphaMask
+  const float* tri_uv = nullptr;          // 6 * tri_count
+  size_t tri_count = 0;
+  const AlphaTexture* textures = nullptr;
+  size_t texture_count = 0;
+  const uint8_t* texels = nullptr;
+  size_t texel_count = 0;
+  bool empty() const { return tri_count == 0; }
+};
+
+// Why the device could not test these arrays without reading out of bounds (empty when it can): every BVH
+// triangle's prim has an entry, every entry names a texture or none, every texture is non-empty and lies inside
+// the texels. Plain host code (the DeviceTracer checks before it uploads; tests run it without a GPU).
+inline std::string alpha_arrays_error(const AlphaMaskArrays& a, const BvhTriangle* tris, uint32_t tri_count) {
+  for (uint32_t i = 0; i < tri_count; ++i)
+    if (tris[i].prim >= a.tri_count)
+      return "triangle " + std::to_string(tris[i].prim) + " has no alpha entry (" + std::to_string(a.tri_count) +
+             " entries)";
+  for (size_t i = 0; i < a.tri_count; ++i)
+    if (a.tri_texture[i] != kNoAlphaMask && a.tri_texture[i] >= a.texture_count)
+      return "triangle " + std::to_string(i) + " names alpha texture " + std::to_string(a.tri_texture[i]) + " of " +
+             std::to_string(a.texture_count);
+  for (size_t i = 0; i < a.texture_count; ++i) {
+    const AlphaTexture& t = a.textures[i];
+    const uint64_t size = uint64_t{t.width} * t.height;
+    if (size == 0 || t.width > 0x7fffffffu || t.height > 0x7fffffffu || t.offset > a.texel_count ||
+        size > a.texel_count - t.offset)
+      return "alpha texture " + std::to_string(i) + " (" + std::to_string(t.width) + " x " + std::to_string(t.height) +
+             " at " + std::to_string(t.offset) + ") is not inside the " + std::to_string(a.texel_count) + " texels";
+  }
+  return "";
+}
+
 // The BVH on the device (uploaded once by the constructor) and reusable ray/hit buffers (grown on demand).
 // Throws raycoh::Error on any CUDA error, including "no device".
 class DeviceTracer {
  public:
-  explicit DeviceTracer(const BvhView& bvh);
-  explicit DeviceTracer(const CwbvhView& bvh);  // the compressed 8-wide layout (no counting kernel)
+  // alpha: the scene's MASK arrays (uploaded too; every kernel then runs the AlphaTest filter), or empty. Throws
+  // raycoh::Error when alpha_arrays_error() finds them inconsistent with the BVH.
+  explicit DeviceTracer(const BvhView& bvh, const AlphaMaskArrays& alpha = {});
+  // The compressed 8-wide layout (no counting kernel).
+  explicit DeviceTracer(const CwbvhView& bvh, const AlphaMaskArrays& alpha = {});
   ~DeviceTracer();
   DeviceTracer(const DeviceTracer&) = delete;
   DeviceTracer& operator=(const DeviceTracer&) = delete;
@@ -64,6 +109,8 @@ class DeviceTracer {
   float last_kernel_ms() const;
   // Blocks the persistent kernel launches with this block size (SMs x resident blocks per SM).
   int persistent_blocks(int block) const;
+  // Whether the kernels run the alpha MASK test (the tracer was made with non-empty AlphaMaskArrays).
+  bool alpha_masked() const;
 
  private:
   struct Impl;

@@ -1,10 +1,10 @@
 // Alpha MASK cut-outs as an any-hit test (core/alpha_mask.h): a glTF card whose texture is transparent on its left
 // half, in front of a wall. Rays through the cut-out half hit the wall behind it, rays through the opaque half
 // hit the card, on every host tracer (cpu and simt, BVH2 and CWBVH, embree) and in the double-precision
-// reference (the cuda tracer refuses the scene); a point light shines through the cut-out onto the wall and is
-// blocked by the rest. Also: a MASK
-// material without a texture is removed whole when its alpha is below the cutoff, a texture opaque everywhere
-// needs no test, and a scene without masks has no alpha arrays at all.
+// reference (the cuda tracer where a GPU exists; tests/gpu_alpha_test.cpp compares it with cpu); a point light
+// shines through the cut-out onto the wall and is blocked by the rest. Also: a MASK material without a texture
+// is removed whole when its alpha is below the cutoff, a texture opaque everywhere needs no test, a scene without
+// masks has no alpha arrays at all, and the cuda tracer's host check of the arrays it uploads.
 #include "core/alpha_mask.h"
 
 #include <fmt/format.h>
@@ -12,13 +12,16 @@
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bvh/bvh_build.h"
+#include "cuda/trace_kernels.h"
 #include "generators/generator.h"
 #include "scenes/scene.h"
 #include "shading/path_tracer.h"
+#include "tests/alpha_card.h"
 #include "tests/scenes_test_util.h"
 #include "tests/shading_test_util.h"
 #include "tests/test_util.h"
@@ -28,50 +31,8 @@
 namespace raycoh {
 namespace {
 
-namespace fs = std::filesystem;
-
-// 4 x 1 RGBA PNG: texels 0 and 1 red with alpha 0, texels 2 and 3 green with alpha 255. Bilinear alpha crosses
-// 0.5 at u = 0.5.
-const std::vector<uint8_t> kHalfCutPng = {
-    137, 80, 78, 71, 13,  10,  26, 10,  0,   0, 0,   13, 73, 72, 68, 82, 0,   0,   0,  4,   0,   0,   0,   1,  8,
-    6,   0,  0,  0,  249, 60,  15, 205, 0,   0, 0,   17, 73, 68, 65, 84, 120, 218, 99, 248, 207, 192, 192, 0,  194,
-    64,  2,  12, 1,  43,  229, 5,  251, 188, 8, 204, 4,  0,  0,  0,  0,  73,  69,  78, 68,  174, 66,  96,  130};
-
-// The card: x, y in [0, 1] at z = 0 with u = x, v = y, material 0; the wall at z = -1, material 1. Material 0 is
-// `card_material` (JSON), using texture 0 = kHalfCutPng.
-fs::path write_card(const std::string& name, const std::string& card_material) {
-  test::GltfWriter w;
-  const int card = w.positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});
-  const int uv = w.add(std::vector<float>{0, 0, 1, 0, 1, 1, 0, 1}, 5126, "SCALAR");
-  w.accessors[static_cast<size_t>(uv)] =
-      fmt::format(R"({{"bufferView":{},"componentType":5126,"count":4,"type":"VEC2"}})", uv);
-  const int wall = w.positions({-5, -5, -1, 5, -5, -1, 5, 5, -1, -5, 5, -1});
-  const int idx = w.u16({0, 1, 2, 0, 2, 3});
-  const int png = w.add(kHalfCutPng, 5121, "SCALAR");
-  w.meshes = fmt::format(
-      R"([{{"primitives":[{{"attributes":{{"POSITION":{0},"TEXCOORD_0":{1}}},"indices":{3},"material":0}},
-                          {{"attributes":{{"POSITION":{2}}},"indices":{3},"material":1}}]}}])",
-      card, uv, wall, idx);
-  w.materials = fmt::format(R"([{},{{"name":"wall","pbrMetallicRoughness":{{"metallicFactor":0}}}}])", card_material);
-  w.extra = fmt::format(
-      R"(,"samplers":[{{"wrapS":33071,"wrapT":33071}}],"textures":[{{"source":0,"sampler":0}}],
-          "images":[{{"bufferView":{},"mimeType":"image/png"}}])",
-      png);
-  return w.write("alpha_mask", name);
-}
-
-constexpr const char* kMaskCard =
-    R"({"name":"card","alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})";
-
-// Rays along -z from z = 1 at x = 0.05, 0.15, ..., 0.95 (y = 0.5): the first five through the cut-out.
-std::vector<Ray> rays_through_card() {
-  std::vector<Ray> rays;
-  for (int i = 0; i < 10; ++i) rays.push_back(Ray{{0.05f + 0.1f * i, 0.5f, 1.f}, 0.f, {0.f, 0.f, -1.f}, 10.f});
-  return rays;
-}
-
 TEST(AlphaMask, RaysThroughTheCutOutHitWhatIsBehindItOnEveryHostTracer) {
-  const Scene s = load_scene(write_card("card.glb", kMaskCard).string());
+  const Scene s = load_scene(test::write_card("alpha_mask", "card.glb", test::kMaskCard).string());
   test::expect_valid(s);
   ASSERT_EQ(s.triangle_count(), 4u);
   EXPECT_EQ(s.alpha_cut_tris, 0u);
@@ -85,7 +46,7 @@ TEST(AlphaMask, RaysThroughTheCutOutHitWhatIsBehindItOnEveryHostTracer) {
   EXPECT_GT(card.base_color.y, 0.5f);
 
   const Bvh bvh = build_bvh(s);
-  const std::vector<Ray> rays = rays_through_card();
+  const std::vector<Ray> rays = test::rays_through_card();
   for (const char* name : {"cpu", "cpu:bvh=cwbvh", "simt", "simt:bvh=cwbvh", "embree", "embree:mode=packet16"}) {
     SCOPED_TRACE(name);
     auto tracer = make_tracer(parse_plugin_spec(name), s, bvh);
@@ -97,12 +58,20 @@ TEST(AlphaMask, RaysThroughTheCutOutHitWhatIsBehindItOnEveryHostTracer) {
       EXPECT_EQ(hits[i].prim >= 2u, i < 5) << i;  // triangles 2 and 3 are the wall
     }
   }
-  // The GPU kernels do not test alpha: a CUDA build refuses the scene by name (before it looks for a GPU), a
-  // build without CUDA has no such tracer.
-  const std::string refused = test::error_of([&] { make_tracer(parse_plugin_spec("cuda"), s, bvh); });
-  EXPECT_TRUE(refused.find("alpha MASK cut-outs") != std::string::npos ||
-              refused.find("has no CUDA") != std::string::npos)
-      << refused;
+  // The cuda tracer runs the same test in its kernels (gpu_alpha_test compares it with cpu on a device): here it
+  // either traces the card as cpu does, or says that there is no CUDA build or device; it no longer refuses masks.
+  {
+    std::unique_ptr<Tracer> cuda;
+    const std::string why = test::error_of([&] { cuda = make_tracer(parse_plugin_spec("cuda"), s, bvh); });
+    if (cuda) {
+      std::vector<Hit> hits(rays.size());
+      cuda->trace(rays.data(), rays.size(), hits.data());
+      for (size_t i = 0; i < rays.size(); ++i) EXPECT_NEAR(hits[i].t, i < 5 ? 2.f : 1.f, 1e-6f) << i;
+    } else {
+      EXPECT_TRUE(why.find("has no CUDA") != std::string::npos || why.find("no CUDA device") != std::string::npos)
+          << why;
+    }
+  }
   for (size_t i = 0; i < rays.size(); ++i) {
     const AlphaMaskView view = s.alpha.view();
     EXPECT_NEAR(reference_closest_hit(bvh, rays[i], &view).t, i < 5 ? 2.0 : 1.0, 1e-9) << i;
@@ -114,7 +83,7 @@ TEST(AlphaMask, LightShinesThroughTheCutOut) {
   // A point light in front of the card's middle, the camera between card and wall looking at the wall: behind the
   // cut-out half the wall is lit (L = albedo / pi x I cos / r^2, albedo 1), behind the opaque half it is in the
   // card's shadow. Direct light only.
-  Scene s = load_scene(write_card("lit.glb", kMaskCard).string());
+  Scene s = load_scene(test::write_card("alpha_mask", "lit.glb", test::kMaskCard).string());
   s.lights = {PunctualLight{}};
   s.lights[0].position = {0.5f, 0.5f, 2.f};
   s.lights[0].intensity = Vec3(10.f);
@@ -142,25 +111,58 @@ TEST(AlphaMask, LightShinesThroughTheCutOut) {
 }
 
 TEST(AlphaMask, ConstantAlphaRemovesWholeTrianglesAndOpaqueTexturesNeedNoTest) {
-  const Scene cut = load_scene(
-      write_card("constant.glb",
-                 R"({"alphaMode":"MASK","alphaCutoff":0.5,"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.2]}})")
-          .string());
+  const Scene cut =
+      load_scene(test::write_card(
+                     "alpha_mask", "constant.glb",
+                     R"({"alphaMode":"MASK","alphaCutoff":0.5,"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.2]}})")
+                     .string());
   EXPECT_EQ(cut.triangle_count(), 2u);
   EXPECT_EQ(cut.alpha_cut_tris, 2u);
   EXPECT_TRUE(cut.alpha.empty());
   EXPECT_TRUE(test::has_note(cut, "2 triangle(s) removed whole"));
   // A cutoff of 0: every texel passes.
-  const Scene opaque = load_scene(
-      write_card("opaque.glb",
-                 R"({"alphaMode":"MASK","alphaCutoff":0,"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})")
-          .string());
+  const Scene opaque =
+      load_scene(test::write_card(
+                     "alpha_mask", "opaque.glb",
+                     R"({"alphaMode":"MASK","alphaCutoff":0,"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})")
+                     .string());
   EXPECT_EQ(opaque.triangle_count(), 4u);
   EXPECT_TRUE(opaque.alpha.empty());
   // OPAQUE (the default) ignores alpha altogether.
-  const Scene plain =
-      load_scene(write_card("plain.glb", R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})").string());
+  const Scene plain = load_scene(
+      test::write_card("alpha_mask", "plain.glb", R"({"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}})")
+          .string());
   EXPECT_TRUE(plain.alpha.empty());
+}
+
+// What the cuda tracer checks on the host before it uploads the mask arrays (a device read out of bounds would
+// not be reported): the card's arrays pass; a missing entry, a texture index past the end and a texture past the
+// texels are named.
+TEST(AlphaMask, DeviceUploadCheckNamesInconsistentArrays) {
+  const Scene s = load_scene(test::write_card("alpha_mask", "upload.glb", test::kMaskCard).string());
+  const Bvh bvh = build_bvh(s);
+  const AlphaMasks& m = s.alpha;
+  const cuda::AlphaMaskArrays good{m.tri_texture.data(), m.tri_uv.data(), m.tri_texture.size(), m.textures.data(),
+                                   m.textures.size(),    m.texels.data(), m.texels.size()};
+  const BvhView v = bvh.view();
+  EXPECT_EQ(cuda::alpha_arrays_error(good, v.tris, v.tri_count), "");
+
+  cuda::AlphaMaskArrays short_arrays = good;
+  short_arrays.tri_count = 2;  // the wall's triangles 2 and 3 have no entry
+  EXPECT_NE(cuda::alpha_arrays_error(short_arrays, v.tris, v.tri_count).find("has no alpha entry"), std::string::npos);
+
+  std::vector<uint32_t> bad_index = m.tri_texture;
+  bad_index[1] = 7;
+  cuda::AlphaMaskArrays bad_texture = good;
+  bad_texture.tri_texture = bad_index.data();
+  EXPECT_NE(cuda::alpha_arrays_error(bad_texture, v.tris, v.tri_count).find("names alpha texture 7 of 1"),
+            std::string::npos);
+
+  std::vector<AlphaTexture> past = m.textures;
+  past[0].offset = m.texels.size() - 1;
+  cuda::AlphaMaskArrays bad_offset = good;
+  bad_offset.textures = past.data();
+  EXPECT_NE(cuda::alpha_arrays_error(bad_offset, v.tris, v.tri_count).find("is not inside the"), std::string::npos);
 }
 
 TEST(AlphaMask, BilinearAlphaWithWrapModes) {
