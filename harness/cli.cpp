@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "shading/reference.h"
 
 namespace raycoh {
 
@@ -111,6 +112,20 @@ void resolve_protocol(CLI::App* cmd, const ProtocolText& t, RenderCommon& c, int
       },
       c, frames, frames_option, ref_frames, ref_option);
   if (!t.metrics.empty()) c.metrics = parse_metric_space("--metrics", t.metrics);
+}
+
+bool adopt_reference_frames(CLI::App* cmd, const std::string& reference, int* ref_frames) {
+  if (reference.empty()) return true;
+  const int n = reference_file_frames(reference);
+  if (n == 0) return false;
+  const CLI::Option* opt = cmd->get_option_no_throw("--ref-frames");
+  if (opt && opt->count() > 0 && *ref_frames != n)
+    throw Error(
+        fmt::format("--reference {}: it holds {} frames (its cache sidecar says so) but --ref-frames is {}; "
+                    "leave --ref-frames out or give {}",
+                    reference, n, *ref_frames, n));
+  *ref_frames = n;
+  return true;
 }
 
 std::vector<Crop> parse_crops(const std::vector<std::string>& texts) {

@@ -43,5 +43,9 @@ struct ProtocolText {
 void bind_protocol(CLI::App* cmd, ProtocolText& text, bool metrics);
 void resolve_protocol(CLI::App* cmd, const ProtocolText& text, RenderCommon& c, int* frames, const char* frames_option,
                       int* ref_frames, const char* ref_option);
+// --reference FILE of quality and converge: when FILE's cache sidecar gives its frame count (shading/reference.h
+// reference_file_frames), *ref_frames becomes that count; an explicit --ref-frames that differs is refused. Returns
+// false when the count is unknown (a file without its sidecar), true otherwise (also without --reference).
+bool adopt_reference_frames(CLI::App* cmd, const std::string& reference, int* ref_frames);
 
 }  // namespace raycoh

@@ -299,7 +299,7 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.width = o_.common.width;
   r.height = o_.common.height;
   r.seed = o_.common.seed;
-  if (ref_.kind != "file") r.ref_frames = o_.ref_frames;
+  if (o_.ref_frames_known) r.ref_frames = o_.ref_frames;
   r.max_depth = o_.common.max_depth;
   r.rr_depth = o_.common.rr_depth;
   r.tone_map = describe(tm_);
@@ -450,10 +450,12 @@ void ConvergeRun::summarize() {
                 o_.shard.text().c_str(), o_.out.c_str(), summary_path.c_str());
     return;
   }
+  const std::string ref_frames_text =
+      o_.ref_frames_known ? fmt::format("{} frames", o_.ref_frames) : std::string("of unknown frames");
   std::printf(
-      "\n%s, %dx%d, %.3g s per generator, reference %d frames (%s); error = relMSE (eps %.2g), "
+      "\n%s, %dx%d, %.3g s per generator, reference %s (%s); error = relMSE (eps %.2g), "
       "baseline %s; protocol %s, PSNR on %s\n\n",
-      ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, o_.ref_frames, ref_.kind.c_str(),
+      ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, ref_frames_text.c_str(), ref_.kind.c_str(),
       kRelMseEpsilon, runs_[0].label.c_str(), o_.common.protocol.c_str(), metric_space_name(o_.common.metrics));
   std::printf(
       "| generator | frames | final relMSE | relMSE−ref noise | ref noise share | final PSNR | wall s | modeled GPU ms "
@@ -554,6 +556,7 @@ BoundCommand bind_converge(CLI::App& parent) {
             // The ci protocol leaves --max-frames unlimited (converge runs by time); paper stops at 128 frames.
             resolve_protocol(cmd, s->protocol, s->o.common, s->protocol.protocol == "ci" ? nullptr : &s->o.max_frames,
                              "--max-frames", &s->o.ref_frames, "--ref-frames");
+            s->o.ref_frames_known = adopt_reference_frames(cmd, s->o.reference, &s->o.ref_frames);
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.time_s = parse_duration("--time", s->time);
             return run_converge(s->o, provenance);

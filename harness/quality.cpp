@@ -601,6 +601,7 @@ BoundCommand bind_quality(CLI::App& parent) {
             resolve_render_common(s->o.common, s->text);
             s->o.shard = parse_shard("--shard", s->shard);
             resolve_protocol(cmd, s->protocol, s->o.common, &s->o.frames, "--frames", &s->o.ref_frames, "--ref-frames");
+            adopt_reference_frames(cmd, s->o.reference, &s->o.ref_frames);
             s->o.scenes = split_scenes("--scenes", s->scenes);
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.crops = parse_crops(s->text.crops);

@@ -89,6 +89,7 @@ struct ConvergeOptions {
   double time_s = 10;        // --time (0, 1e6] seconds of rendering (frame wall time) per generator
   int max_frames = 1 << 20;  // --max-frames [1, 1 << 20]: stop a generator earlier
   int ref_frames = 512;
+  bool ref_frames_known = true;  // false: --reference is a file without its cache sidecar (ref_frames written empty)
   std::string cache_dir;
   std::string reference;
   std::string out = "raycoh-converge.csv";  // per-frame rows; ratios go to <out stem>-summary.csv

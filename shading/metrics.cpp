@@ -268,7 +268,9 @@ ReferenceNoise reference_noise(const Image& full, const Image& first_half, const
   return r;
 }
 
-double minus_noise(double error, double noise) { return std::max(0.0, error - noise); }
+double minus_noise(double error, double noise) {
+  return std::isnan(error) ? error : std::max(0.0, error - noise);  // an undefined figure stays undefined
+}
 
 NoiseCorrected correct_for_noise(const ReferenceNoise& noise, double mse, double rel_mse, double metric_mse) {
   auto share = [](double n, double e) { return e > 0 ? n / e : (n > 0 ? 1.0 : 0.0); };

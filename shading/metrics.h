@@ -105,7 +105,7 @@ struct ReferenceNoise {
 };
 ReferenceNoise reference_noise(const Image& full, const Image& first_half, const ToneMap& tm = {},
                                MetricSpace space = MetricSpace::ToneMapped);
-// An error figure with the reference's noise taken out (not below 0).
+// An error figure with the reference's noise taken out (not below 0; NaN stays NaN).
 double minus_noise(double error, double noise);
 // Error figures measured against a noisy reference (linear mse, rel_mse, and metric_mse: the MSE that PSNR uses in
 // the metric space), with the reference's noise taken out, and the noise's share: the largest of noise / figure

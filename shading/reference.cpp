@@ -160,6 +160,20 @@ std::string half_reference_path(const std::string& image_path) {
 
 bool reference_halves(int frames, int frame_block) { return frames % (2 * frame_block) == 0; }
 
+int reference_file_frames(const std::string& image_path) {
+  const fs::path p(image_path), side_path = p.parent_path() / (p.stem().string() + ".json");
+  std::ifstream in(side_path);
+  if (!in) return 0;
+  try {
+    const nlohmann::json side = nlohmann::json::parse(in);
+    if (side.value("image", std::string()) != p.filename().string()) return 0;
+    const int frames = side.at("key").at("frames").get<int>();
+    return frames > 0 ? frames : 0;
+  } catch (const nlohmann::json::exception&) {
+    return 0;  // not a sidecar of ours: the frame count stays unknown
+  }
+}
+
 namespace {
 
 void create_cache_dir(const fs::path& dir) {

@@ -85,6 +85,9 @@ struct Reference {
 // "<dir>/<stem>-half1<ext>" for "<dir>/<stem><ext>": where the first-half mean of a reference image is looked for
 // (cache entries, and quality's --reference FILE).
 std::string half_reference_path(const std::string& image_path);
+// The frame count of a reference image file, from the cache sidecar "<dir>/<stem>.json" beside it (a cache entry,
+// or one written by reference-combine) when that sidecar names this image; 0 when there is none (unknown).
+int reference_file_frames(const std::string& image_path);
 // True when a reference of `frames` frames in blocks of frame_block has a half reference.
 bool reference_halves(int frames, int frame_block);
 

@@ -84,6 +84,7 @@ TEST(ImageError, HalfReferenceNoiseMatchesTheKnownNoise) {
   const Image x = noisy(t, 0.03f, 1, 13);
   EXPECT_NEAR(minus_noise(mse(x, full), n.mse) / mse(x, t), 1.0, 0.05);
   EXPECT_EQ(minus_noise(0.1, 0.2), 0.0);
+  EXPECT_TRUE(std::isnan(minus_noise(std::nan(""), 0.2)));  // undefined stays undefined, not 0
 }
 
 // The noise estimate's standard error (what is left of the reference's noise in a corrected figure) is the spread
