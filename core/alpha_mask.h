@@ -63,18 +63,29 @@ RAYCOH_HD RAYCOH_INLINE int alpha_start(float x, int n, uint32_t mode, float& fr
   return static_cast<int>(fmodf(f, 2.f * static_cast<float>(n)));
 }
 
+// The four texels of a bilinear lookup at (u, v) on a w x h texture with the given wrap modes, and the weights of
+// the second column (ax) and row (ay): one footprint rule for the alpha test and the surface textures.
+struct BilinearTaps {
+  int xa, xb, ya, yb;
+  float ax, ay;
+};
+RAYCOH_HD RAYCOH_INLINE BilinearTaps bilinear_taps(int w, int h, uint32_t wrap_s, uint32_t wrap_t, float u, float v) {
+  BilinearTaps b;
+  const int x0 = alpha_start(u * static_cast<float>(w) - 0.5f, w, wrap_s, b.ax);
+  const int y0 = alpha_start(v * static_cast<float>(h) - 0.5f, h, wrap_t, b.ay);
+  b.xa = alpha_wrap(x0, w, wrap_s), b.xb = alpha_wrap(x0 + 1, w, wrap_s);
+  b.ya = alpha_wrap(y0, h, wrap_t), b.yb = alpha_wrap(y0 + 1, h, wrap_t);
+  return b;
+}
+
 // Bilinear alpha in [0, 1] of texture tex at (u, v).
 RAYCOH_HD RAYCOH_INLINE float alpha_at(const AlphaTexture& tex, const uint8_t* texels, float u, float v) {
   const int w = static_cast<int>(tex.width), h = static_cast<int>(tex.height);
-  float ax, ay;
-  const int x0 = alpha_start(u * static_cast<float>(w) - 0.5f, w, tex.wrap_s, ax);
-  const int y0 = alpha_start(v * static_cast<float>(h) - 0.5f, h, tex.wrap_t, ay);
+  const BilinearTaps b = bilinear_taps(w, h, tex.wrap_s, tex.wrap_t, u, v);
   const uint8_t* t = texels + tex.offset;
-  const int xa = alpha_wrap(x0, w, tex.wrap_s), xb = alpha_wrap(x0 + 1, w, tex.wrap_s);
-  const int ya = alpha_wrap(y0, h, tex.wrap_t), yb = alpha_wrap(y0 + 1, h, tex.wrap_t);
-  const float top = t[ya * w + xa] * (1.f - ax) + t[ya * w + xb] * ax;
-  const float bottom = t[yb * w + xa] * (1.f - ax) + t[yb * w + xb] * ax;
-  return (top * (1.f - ay) + bottom * ay) * (1.f / 255.f);
+  const float top = t[b.ya * w + b.xa] * (1.f - b.ax) + t[b.ya * w + b.xb] * b.ax;
+  const float bottom = t[b.yb * w + b.xa] * (1.f - b.ax) + t[b.yb * w + b.xb] * b.ax;
+  return (top * (1.f - b.ay) + bottom * b.ay) * (1.f / 255.f);
 }
 
 // Whether the hit at barycentrics (b1, b2) (weights of v1 and v2) on scene triangle prim is opaque.

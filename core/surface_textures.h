@@ -61,12 +61,10 @@ RAYCOH_HD RAYCOH_INLINE float srgb_to_linear(float c) {
 RAYCOH_HD RAYCOH_INLINE void texel_rgba(const SurfaceTexture& tex, const uint8_t* texels, float u, float v,
                                         float out[4]) {
   const int w = static_cast<int>(tex.width), h = static_cast<int>(tex.height);
-  float ax, ay;
-  const int x0 = alpha_start(u * static_cast<float>(w) - 0.5f, w, tex.wrap_s, ax);
-  const int y0 = alpha_start(v * static_cast<float>(h) - 0.5f, h, tex.wrap_t, ay);
+  const BilinearTaps b = bilinear_taps(w, h, tex.wrap_s, tex.wrap_t, u, v);
+  const int xa = b.xa, xb = b.xb, ya = b.ya, yb = b.yb;
+  const float ax = b.ax, ay = b.ay;
   const uint8_t* t = texels + tex.offset;
-  const int xa = alpha_wrap(x0, w, tex.wrap_s), xb = alpha_wrap(x0 + 1, w, tex.wrap_s);
-  const int ya = alpha_wrap(y0, h, tex.wrap_t), yb = alpha_wrap(y0 + 1, h, tex.wrap_t);
   const uint8_t* p00 = t + 4 * (static_cast<uint64_t>(ya) * w + xa);
   const uint8_t* p01 = t + 4 * (static_cast<uint64_t>(ya) * w + xb);
   const uint8_t* p10 = t + 4 * (static_cast<uint64_t>(yb) * w + xa);
