@@ -39,6 +39,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include "core/durable_file.h"
@@ -282,19 +283,28 @@ std::string quoted(const std::string& s) {
   return out + "'";
 }
 
-// Mean LDR-FLIP of two display images (the PNGs written); NaN when flip fails or prints no mean.
-double run_flip(const std::string& program, const std::string& ref, const std::string& test) {
-  const std::string cmd =
-      fmt::format("{} -r {} -t {} -v 1 -nerm 2>/dev/null", quoted(program), quoted(ref), quoted(test));
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return std::nan("");
+// Standard output of a flip command (stderr dropped), or nothing when it cannot start or exits non-zero.
+std::optional<std::string> flip_output(const std::string& cmd) {
+  FILE* pipe = ::popen((cmd + " 2>/dev/null").c_str(), "r");
+  if (!pipe) return std::nullopt;
   std::string text;
   char buf[256];
   while (std::fgets(buf, sizeof buf, pipe)) text += buf;
-  const int rc = ::pclose(pipe);
-  const size_t at = text.find("Mean:");
-  if (rc != 0 || at == std::string::npos) return std::nan("");
-  return std::strtod(text.c_str() + at + 5, nullptr);
+  if (::pclose(pipe) != 0) return std::nullopt;
+  return text;
+}
+
+// The number flip prints after `label`, searching text from `from`, and where the label stands (npos: absent).
+std::pair<double, size_t> flip_value(const std::string& text, const std::string& label, size_t from = 0) {
+  const size_t at = text.find(label, from);
+  return at == std::string::npos ? std::make_pair(std::nan(""), at)
+                                 : std::make_pair(std::strtod(text.c_str() + at + label.size(), nullptr), at);
+}
+
+// Mean LDR-FLIP of two display images (the PNGs written); NaN when flip fails or prints no mean.
+double run_flip(const std::string& program, const std::string& ref, const std::string& test) {
+  const auto text = flip_output(fmt::format("{} -r {} -t {} -v 1 -nerm", quoted(program), quoted(ref), quoted(test)));
+  return text ? flip_value(*text, "Mean:").first : std::nan("");
 }
 
 // HDR-FLIP (flip's mode for EXR input) of linear renders against a linear reference, in one call of the flip
@@ -308,23 +318,13 @@ HdrFlip run_hdr_flip(const std::string& program, const std::string& ref, const s
                      const std::string& dir) {
   std::string cmd = fmt::format("{} -r {} -v 2 -nerm -nexm -d {} -t", quoted(program), quoted(ref), quoted(dir));
   for (const std::string& t : tests) cmd += " " + quoted(t);
-  cmd += " 2>/dev/null";
   HdrFlip out;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return out;
-  std::string text;
-  char buf[256];
-  while (std::fgets(buf, sizeof buf, pipe)) text += buf;
-  if (::pclose(pipe) != 0) return out;
-  auto value_after = [&text](const std::string& label, size_t from) {
-    const size_t at = text.find(label, from);
-    return at == std::string::npos ? std::make_pair(std::nan(""), at)
-                                   : std::make_pair(std::strtod(text.c_str() + at + label.size(), nullptr), at);
-  };
+  const auto text = flip_output(cmd);
+  if (!text) return out;
   double sum = 0;
   size_t found = 0;
   for (size_t at = 0;;) {
-    const auto [v, where] = value_after("Mean:", at);
+    const auto [v, where] = flip_value(*text, "Mean:", at);
     if (where == std::string::npos) break;
     sum += v;
     ++found;
@@ -332,9 +332,9 @@ HdrFlip run_hdr_flip(const std::string& program, const std::string& ref, const s
   }
   if (found != tests.size()) return out;
   out.mean = sum / static_cast<double>(found);
-  const double start = value_after("Start exposure:", 0).first, stop = value_after("Stop exposure:", 0).first,
-               count = value_after("Number of exposures:", 0).first;
-  out.exposure = fmt::format("{:.4g}..{:.4g}/{:.0f}", start, stop, count);
+  out.exposure =
+      fmt::format("{:.4g}..{:.4g}/{:.0f}", flip_value(*text, "Start exposure:").first,
+                  flip_value(*text, "Stop exposure:").first, flip_value(*text, "Number of exposures:").first);
   return out;
 }
 

@@ -255,7 +255,6 @@ ReferenceNoise reference_noise(const Image& full, const Image& first_half, const
       s2[k] += q[k] * q[k];
     }
   }
-  ReferenceNoise r;
   if (n == 0) return {std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan(""), std::nan("")};
   double mean[3], se[3];
   for (int k = 0; k < 3; ++k) {
@@ -263,9 +262,7 @@ ReferenceNoise reference_noise(const Image& full, const Image& first_half, const
     const double var = n > 1 ? std::max(0.0, (s2[k] - n * mean[k] * mean[k]) / static_cast<double>(n - 1)) : 0.0;
     se[k] = std::sqrt(var / static_cast<double>(n));
   }
-  r.mse = mean[0], r.rel_mse = mean[1], r.metric_mse = mean[2];
-  r.mse_se = se[0], r.rel_mse_se = se[1], r.metric_mse_se = se[2];
-  return r;
+  return {mean[0], mean[1], mean[2], se[0], se[1], se[2]};
 }
 
 double minus_noise(double error, double noise) {
