@@ -76,12 +76,18 @@ RAYCOH_HD RAYCOH_INLINE void texel_rgba(const SurfaceTexture& tex, const uint8_t
   }
 }
 
+// Coordinates (u0, v0) of the texture's set through its KHR_texture_transform.
+RAYCOH_HD RAYCOH_INLINE void texture_uv(const SurfaceTexture& tex, float u0, float v0, float& u, float& v) {
+  u = tex.m[0] * u0 + tex.m[1] * v0 + tex.m[2];
+  v = tex.m[3] * u0 + tex.m[4] * v0 + tex.m[5];
+}
+
 // Texture ti of a textured triangle at the hit's coordinates uv[set][0..1].
 RAYCOH_HD RAYCOH_INLINE void lookup(const SurfaceTexturesView& v, uint32_t ti, const float uv[2][2], float out[4]) {
   const SurfaceTexture& tex = v.textures[ti];
   const float* c = uv[tex.texcoord ? 1 : 0];
-  const float u = tex.m[0] * c[0] + tex.m[1] * c[1] + tex.m[2];
-  const float w = tex.m[3] * c[0] + tex.m[4] * c[1] + tex.m[5];
+  float u, w;
+  texture_uv(tex, c[0], c[1], u, w);
   texel_rgba(tex, v.texels, u, w, out);
 }
 

@@ -168,11 +168,7 @@ SurfaceTexture surface_texture(const TextureRef& r, uint64_t offset) {
 std::array<std::array<float, 2>, 16> sample_points() {
   std::array<std::array<float, 2>, 16> out{};
   int n = 0;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; i + j < 4; ++j) {
-      out[n++] = {(i + 1.f / 3.f) / 4.f, (j + 1.f / 3.f) / 4.f};                 // upright sub-triangle
-      if (i + j < 3) out[n++] = {(i + 2.f / 3.f) / 4.f, (j + 2.f / 3.f) / 4.f};  // inverted one
-    }
+  for_subtriangle_centroids(4, [&](float b1, float b2) { out[n++] = {b1, b2}; });
   return out;
 }
 
@@ -188,8 +184,7 @@ void GltfReader::triangle_tangent(const SurfaceTexture& tex, const uint32_t* idx
   float u[3], v[3];
   for (int k = 0; k < 3; ++k) {
     const float* c = corner_uv + 6 * tex.texcoord + 2 * k;
-    u[k] = tex.m[0] * c[0] + tex.m[1] * c[1] + tex.m[2];
-    v[k] = tex.m[3] * c[0] + tex.m[4] * c[1] + tex.m[5];
+    texture_uv(tex, c[0], c[1], u[k], v[k]);
   }
   const Vec3 p0 = scene_.positions[idx[0]];
   const Vec3 e1 = scene_.positions[idx[1]] - p0, e2 = scene_.positions[idx[2]] - p0;
@@ -224,10 +219,7 @@ void GltfReader::emitter_means() {
     const SurfaceTexture& tex = st.textures[m.emissive];
     const float* c = &st.tri_uv[12 * t + 6 * tex.texcoord];
     float u[3], v[3];
-    for (int k = 0; k < 3; ++k) {
-      u[k] = tex.m[0] * c[2 * k] + tex.m[1] * c[2 * k + 1] + tex.m[2];
-      v[k] = tex.m[3] * c[2 * k] + tex.m[4] * c[2 * k + 1] + tex.m[5];
-    }
+    for (int k = 0; k < 3; ++k) texture_uv(tex, c[2 * k], c[2 * k + 1], u[k], v[k]);
     const double texels =
         0.5 * std::fabs((u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0])) * tex.width * tex.height;
     const int n = static_cast<int>(std::clamp(std::ceil(std::sqrt(std::isfinite(texels) ? texels : 0.0)), 4.0, 64.0));
