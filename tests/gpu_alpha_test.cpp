@@ -25,10 +25,14 @@
 #include "scenes/scene.h"
 #include "tests/alpha_card.h"
 #include "tests/test_util.h"
+#include "tests/trace_test_util.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
+
+using test::differing_hits;
+using test::trace_with;
 
 namespace fs = std::filesystem;
 
@@ -82,21 +86,6 @@ std::vector<std::unique_ptr<MaskedScene>> masked_scenes() {
     out.push_back(std::move(m));
   }
   return out;
-}
-
-std::vector<Hit> trace_with(Tracer& t, const std::vector<Ray>& rays, const std::vector<uint32_t>* order = nullptr) {
-  std::vector<Hit> hits(order ? order->size() : rays.size());
-  if (order)
-    t.trace_indirect(rays.data(), order->data(), order->size(), hits.data());
-  else
-    t.trace(rays.data(), rays.size(), hits.data());
-  return hits;
-}
-
-size_t differing_hits(const std::vector<Hit>& a, const std::vector<Hit>& b) {
-  size_t differ = 0;
-  for (size_t i = 0; i < a.size(); ++i) differ += std::memcmp(&a[i], &b[i], sizeof(Hit)) != 0;
-  return differ;
 }
 
 std::vector<uint32_t> shuffled_order(size_t n) {

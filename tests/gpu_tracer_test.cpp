@@ -26,10 +26,14 @@
 #include "scenes/scene.h"
 #include "simt/simt.h"
 #include "tests/test_util.h"
+#include "tests/trace_test_util.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
+
+using test::differing_hits;
+using test::trace_with;
 
 #define SKIP_WITHOUT_GPU() \
   if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
@@ -83,21 +87,6 @@ std::vector<uint32_t> shuffled_order(size_t n) {
   for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(i);
   for (size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng_u32(3, 0, static_cast<uint32_t>(i), 0) % i]);
   return order;
-}
-
-size_t differing_hits(const std::vector<Hit>& a, const std::vector<Hit>& b) {
-  size_t differ = 0;
-  for (size_t i = 0; i < a.size(); ++i) differ += std::memcmp(&a[i], &b[i], sizeof(Hit)) != 0;
-  return differ;
-}
-
-std::vector<Hit> trace_with(Tracer& t, const std::vector<Ray>& rays, const std::vector<uint32_t>* order = nullptr) {
-  std::vector<Hit> hits(order ? order->size() : rays.size());
-  if (order)
-    t.trace_indirect(rays.data(), order->data(), order->size(), hits.data());
-  else
-    t.trace(rays.data(), rays.size(), hits.data());
-  return hits;
 }
 
 // Every field simt/simt.h defines outside the cache model.
