@@ -24,9 +24,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path samples_dir() {
-  if (const char* env = std::getenv("RAYCOH_GLTF_SAMPLES")) return env;
-  const fs::path p = fs::path(RAYCOH_SHARED_SCENES).parent_path() / "gltf-samples";
-  return fs::exists(p / "README.md") ? p : fs::path{};
+  const fs::path p = test::gltf_samples_dir();
+  return !p.empty() && fs::exists(p / "README.md") ? p : fs::path{};
 }
 
 struct SampleRow {

@@ -74,7 +74,7 @@ std::vector<std::unique_ptr<MaskedScene>> masked_scenes() {
   for (int k = 0; k < 7; ++k) card->rays.insert(card->rays.end(), ten.begin(), ten.end());
   out.push_back(std::move(card));
 
-  const fs::path samples = fs::path(RAYCOH_SHARED_SCENES).parent_path() / "gltf-samples";
+  const fs::path samples = test::gltf_samples_dir();
   for (const char* name : {"AlphaBlendModeTest", "GlassVaseFlowers"}) {
     const fs::path file = samples / name / "glTF-Binary" / (std::string(name) + ".glb");
     if (!fs::exists(file)) continue;

@@ -17,6 +17,13 @@ inline std::filesystem::path shared_scenes_dir() {
   return std::filesystem::exists(p) ? p : std::filesystem::path{};
 }
 
+// ../shared/gltf-samples (or $RAYCOH_GLTF_SAMPLES); empty when absent.
+inline std::filesystem::path gltf_samples_dir() {
+  if (const char* env = std::getenv("RAYCOH_GLTF_SAMPLES")) return env;
+  const std::filesystem::path p = std::filesystem::path(RAYCOH_SHARED_SCENES).parent_path() / "gltf-samples";
+  return std::filesystem::exists(p) ? p : std::filesystem::path{};
+}
+
 // Every .glb under the shared scenes directory, sorted by name.
 std::vector<std::filesystem::path> shared_scene_files();
 

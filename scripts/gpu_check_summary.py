@@ -1,0 +1,134 @@
+#!/usr/bin/python3
+"""One measured-vs-modeled table from `raycoh table` CSVs (scripts/gpu-check).
+
+Usage: gpu_check_summary.py TABLE.csv [TABLE.csv ...]   (markdown on stdout)
+
+Per scene and method (primary pass and secondary methods), over all frames (total rays / total time):
+  speed table     cuda (measured MRay/s, ratio to noopt), cuda:bvh=cwbvh (measured), simt (MODELED MRay/s,
+                  its limiter), and modeled / measured for the BVH2 kernel;
+  counters table  cuda:counters=on against simt: SIMT efficiency and lines per ray (both count the same
+                  traversal; they should be equal).
+Measured and modeled figures stay in separate columns; nothing modeled is added to anything measured.
+Only the standard library, so that it runs on a GPU machine's Python as well as Debian's.
+"""
+import csv
+import sys
+from collections import OrderedDict
+
+
+def tracer_label(row):
+    params = dict(kv.split("=", 1) for kv in row["tracer_params"].split(",") if "=" in kv)
+    name = row["tracer"]
+    if name == "cuda":
+        if params.get("counters") == "on":
+            return "cuda:counters"
+        if params.get("bvh") == "cwbvh":
+            return "cuda:cwbvh"
+    if name == "simt" and params.get("bvh") == "cwbvh":
+        return "simt:cwbvh"
+    return name
+
+
+def number(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return None
+
+
+def collect(paths):
+    """cells[(scene, method)][tracer] = {rays, ms, modeled_ms, eff, lines, limiter}"""
+    cells = OrderedDict()
+    seen = set()  # noopt and the primary pass are in every file: count each (scene, method, tracer, frame) once
+    for path in paths:
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                method = "primary" if row["pass"] == "primary" else row["method"]
+                tracer = tracer_label(row)
+                if (row["scene"], method, tracer, row["frame"]) in seen:
+                    continue
+                seen.add((row["scene"], method, tracer, row["frame"]))
+                cell = cells.setdefault((row["scene"], method), {})
+                acc = cell.setdefault(tracer, {"rays": 0.0, "ms": 0.0, "modeled_ms": 0.0, "eff": [], "lines": [],
+                                               "limiter": set()})
+                rays, ms, modeled = number(row["rays"]), number(row["trace_ms"]), number(row["modeled_ms"])
+                acc["rays"] += rays or 0.0
+                acc["ms"] += ms or 0.0
+                acc["modeled_ms"] += modeled or 0.0
+                for name, field in (("eff", "simt_efficiency"), ("lines", "lines_per_ray")):
+                    if number(row.get(field)) is not None:
+                        acc[name].append(number(row[field]))
+                if tracer == "simt":
+                    acc.setdefault("presets", set()).add(dict(
+                        kv.split("=", 1) for kv in row["tracer_params"].split(",") if "=" in kv).get("preset", "?"))
+                if row.get("modeled_limiter"):
+                    acc["limiter"].add(row["modeled_limiter"])
+    return cells
+
+
+def mray(acc, modeled=False):
+    ms = acc["modeled_ms"] if modeled else acc["ms"]
+    return acc["rays"] / ms / 1000.0 if acc and ms > 0 else None
+
+
+def fmt(value, digits=1):
+    return "–" if value is None else f"{value:.{digits}f}"
+
+
+def ratio(value, base):
+    return None if value is None or not base else value / base
+
+
+def speed_table(cells):
+    out = ["| scene | method | cuda MRay/s (measured) | ×noopt | cuda:cwbvh MRay/s (measured) | ×noopt | "
+           "simt MRay/s (MODELED) | ×noopt | limiter | modeled / measured |",
+           "|---|---|---:|---:|---:|---:|---:|---:|---|---:|"]
+    for (scene, method), cell in cells.items():
+        base = cells.get((scene, "noopt"), {})
+        cuda, cw, simt = cell.get("cuda"), cell.get("cuda:cwbvh"), cell.get("simt")
+        b_cuda = mray(base.get("cuda")) if base.get("cuda") else None
+        b_cw = mray(base.get("cuda:cwbvh")) if base.get("cuda:cwbvh") else None
+        b_simt = mray(base.get("simt"), True) if base.get("simt") else None
+        m_cuda = mray(cuda) if cuda else None
+        m_cw = mray(cw) if cw else None
+        m_simt = mray(simt, True) if simt else None
+        out.append(f"| {scene} | {method} | {fmt(m_cuda)} | {fmt(ratio(m_cuda, b_cuda), 3)} | {fmt(m_cw)} | "
+                   f"{fmt(ratio(m_cw, b_cw), 3)} | {fmt(m_simt)} | {fmt(ratio(m_simt, b_simt), 3)} | "
+                   f"{'/'.join(sorted(simt['limiter'])) if simt else '–'} | {fmt(ratio(m_simt, m_cuda), 2)} |")
+    return out
+
+
+def counters_table(cells):
+    out = ["| scene | method | SIMT eff. cuda:counters | SIMT eff. simt | lines/ray cuda:counters | lines/ray simt "
+           "| equal |", "|---|---|---:|---:|---:|---:|---|"]
+    for (scene, method), cell in cells.items():
+        c, s = cell.get("cuda:counters"), cell.get("simt")
+        if not c or not s:
+            continue
+        ce, se = sum(c["eff"]) / max(len(c["eff"]), 1), sum(s["eff"]) / max(len(s["eff"]), 1)
+        cl, sl = sum(c["lines"]) / max(len(c["lines"]), 1), sum(s["lines"]) / max(len(s["lines"]), 1)
+        equal = "yes" if c["eff"] == s["eff"] and c["lines"] == s["lines"] else "**no**"
+        out.append(f"| {scene} | {method} | {ce:.4f} | {se:.4f} | {cl:.3f} | {sl:.3f} | {equal} |")
+    return out
+
+
+def main(argv):
+    if len(argv) < 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    import os
+    paths = [p for p in argv[1:] if os.path.exists(p)]
+    cells = collect(paths)
+    if not cells:
+        print("gpu_check_summary: no rows in " + ", ".join(argv[1:]), file=sys.stderr)
+        return 1
+    presets = sorted({p for cell in cells.values() for p in cell.get("simt", {}).get("presets", ())})
+    print("## Trace kernel: measured (cuda) beside modeled (simt, preset " + ", ".join(presets or ["–"]) + ")\n")
+    print("\n".join(speed_table(cells)))
+    print("\n## Warp counters: cuda:counters=on against simt (the same traversal counted twice)\n")
+    print("\n".join(counters_table(cells)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
