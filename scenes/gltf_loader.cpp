@@ -41,13 +41,36 @@ namespace raycoh {
 
 namespace {
 
-// Images are decoded to 8-bit RGBA (shading/image.h, OpenImageIO). One that cannot be decoded is a warning, not a
-// failure: the materials using it keep their factors, and scenes info lists the warning.
+// Builds without OpenImageIO (RAYCOH_IMAGE_IO=OFF: the GPU bundle) decode with stb_image, which Debian's tinygltf
+// links, to 8-bit RGBA (16-bit PNGs rounded to 8 bits). PNG is lossless, so its texels equal OIIO's; two JPEG
+// decoders may differ by a level in some texels.
+bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* bytes, int size, std::string& why) {
+  if (!tinygltf::LoadImageData(image, index, &why, nullptr, 0, 0, bytes, size, nullptr)) return false;
+  if (image->bits == 16) {
+    std::vector<unsigned char> narrow(image->image.size() / 2);
+    for (size_t i = 0; i < narrow.size(); ++i) {
+      uint16_t v = 0;
+      std::memcpy(&v, &image->image[2 * i], 2);
+      narrow[i] = static_cast<unsigned char>((v * 255u + 32767u) / 65535u);
+    }
+    image->image = std::move(narrow);
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  }
+  return image->component == 4 && image->bits == 8;
+}
+
+// Images are decoded to 8-bit RGBA (shading/image.h, OpenImageIO; stb_image in builds without it). One that cannot
+// be decoded is a warning, not a failure: the materials using it keep their factors, and scenes info lists it.
 bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string* warn, int, int,
                   const unsigned char* bytes, int size, void*) {
   Rgba8Image decoded;
   std::string why;
-  if (size > 0 && decode_rgba8(bytes, static_cast<size_t>(size), decoded, why)) {
+  if (size > 0 && !image_io_available()) {
+    if (!decode_with_stb(image, index, bytes, size, why) && warn)
+      *warn += fmt::format("image {} ({}) not decoded: {}\n", index, image->uri.empty() ? image->name : image->uri,
+                           why.substr(0, why.find('\n')));
+  } else if (size > 0 && decode_rgba8(bytes, static_cast<size_t>(size), decoded, why)) {
     image->width = decoded.width;
     image->height = decoded.height;
     image->component = 4;

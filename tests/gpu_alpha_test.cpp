@@ -141,6 +141,7 @@ TEST(GpuAlphaMask, DeviceTracerTestsMasksOnlyWhenGivenTheArrays) {
   const auto scenes = masked_scenes();
   const MaskedScene& m = *scenes.back();
   const AlphaMasks& a = m.scene.alpha;
+  ASSERT_FALSE(a.tri_texture.empty()) << m.name << " has no alpha MASK arrays (texture not decoded?)";
   const cuda::AlphaMaskArrays arrays{a.tri_texture.data(), a.tri_uv.data(), a.tri_texture.size(), a.textures.data(),
                                      a.textures.size(),    a.texels.data(), a.texels.size()};
   cuda::DeviceTracer masked(m.bvh.view(), arrays), plain(m.bvh.view());
