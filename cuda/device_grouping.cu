@@ -40,9 +40,9 @@ __device__ void shared_direction_phase(const TileBlock& b, unsigned long long* s
 // Tiles of up to 1024 pixels are one block each: the bound caps registers at 64 per thread, so that a 1024-thread
 // block fits an SM's 65,536 registers (without it nvcc 13 gave this kernel 70 for sm_90, and a 32x32-tile launch
 // failed with "too many resources requested for launch" on an H100).
-__global__ void __launch_bounds__(kMaxGroupTile) group_kernel(GroupingConfig config, TileGrid grid, const ShadingPoint* points,
-                             const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
-                             BatchView out, unsigned long long* stats) {
+__global__ void __launch_bounds__(kMaxGroupTile)
+    group_kernel(GroupingConfig config, TileGrid grid, const ShadingPoint* points, const BsdfParams* materials,
+                 const uint32_t* offsets, const uint32_t* scanline_slots, BatchView out, unsigned long long* stats) {
   extern __shared__ unsigned char shared_bytes[];
   __shared__ uint32_t warp_totals[32];
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);

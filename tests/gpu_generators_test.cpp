@@ -233,8 +233,7 @@ TEST(GpuGenerators, BatchesEqualTheCpuByteForByte) {
   for (const auto& path : test::shared_scene_files())
     if (path.filename() == "sibenik.glb") scenes.push_back(path.string());
   // Materials per texel at the hit (the G-buffer's own material table goes up with its points).
-  const std::filesystem::path helmet =
-      test::gltf_samples_dir() / "DamagedHelmet" / "glTF-Binary" / "DamagedHelmet.glb";
+  const std::filesystem::path helmet = test::gltf_samples_dir() / "DamagedHelmet" / "glTF-Binary" / "DamagedHelmet.glb";
   if (std::filesystem::exists(helmet)) scenes.push_back(helmet.string());
   for (const std::string& name : scenes) {
     SCOPED_TRACE(name);

@@ -211,10 +211,9 @@ TEST(GpuTracer, HitsEqualTheCpuTracerForEveryKernelBlockAndOrder) {
     const std::vector<Hit> cpu_primary = trace_with(*cpu, primary);
     const std::vector<Hit> cpu_secondary = trace_with(*cpu, secondary);
     const std::vector<Hit> cpu_indirect = trace_with(*cpu, secondary, &order);
-    for (const char* params :
-         {"kernel=persistent,block=128", "kernel=persistent,block=32", "kernel=persistent,block=1024",
-          "kernel=simple,block=128", "kernel=simple,block=64", "kernel=simple,block=1024", "counters=on",
-          "counters=on,block=1024"}) {
+    for (const char* params : {"kernel=persistent,block=128", "kernel=persistent,block=32",
+                               "kernel=persistent,block=1024", "kernel=simple,block=128", "kernel=simple,block=64",
+                               "kernel=simple,block=1024", "counters=on", "counters=on,block=1024"}) {
       SCOPED_TRACE(params);
       auto gpu = make_tracer({"cuda", params}, f->scene, f->bvh);
       EXPECT_EQ(differing_hits(trace_with(*gpu, primary), cpu_primary), 0u);
@@ -246,7 +245,8 @@ TEST(GpuTracer, CwbvhHitsEqualTheCpuCwbvhAndTheBvh2) {
     const std::vector<Hit> cpu_primary = trace_with(*cpu, f->primary.rays);
     const std::vector<Hit> cpu_secondary = trace_with(*cpu, secondary);
     const std::vector<Hit> cpu_indirect = trace_with(*cpu, secondary, &order);
-    for (const char* params : {"bvh=cwbvh", "bvh=cwbvh,block=32", "bvh=cwbvh,kernel=simple,block=64", "bvh=cwbvh,block=1024"}) {
+    for (const char* params :
+         {"bvh=cwbvh", "bvh=cwbvh,block=32", "bvh=cwbvh,kernel=simple,block=64", "bvh=cwbvh,block=1024"}) {
       SCOPED_TRACE(params);
       auto gpu = make_tracer({"cuda", params}, f->scene, f->bvh);
       EXPECT_EQ(gpu->last_counters(), nullptr);
