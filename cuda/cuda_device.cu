@@ -24,7 +24,13 @@ std::string device_name() {
   if (device_count() == 0) return "";
   cudaDeviceProp prop{};
   if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) return "";
-  return std::string(prop.name) + " (sm_" + std::to_string(prop.major) + std::to_string(prop.minor) + ", " +
+#ifdef RAYCOH_CUDA_SIM
+  // Built for GPGPU-Sim (RAYCOH_CUDA_SIM): every figure of this device is simulated, never measured on hardware.
+  const std::string label = "simulated: GPGPU-Sim ";
+#else
+  const std::string label;
+#endif
+  return label + std::string(prop.name) + " (sm_" + std::to_string(prop.major) + std::to_string(prop.minor) + ", " +
          std::to_string(prop.multiProcessorCount) + " SMs)";
 }
 
