@@ -3,6 +3,7 @@
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
 #include <cuda_runtime.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "cuda/cuda_check.cuh"
@@ -25,8 +26,13 @@ std::string device_name() {
   cudaDeviceProp prop{};
   if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) return "";
 #ifdef RAYCOH_CUDA_SIM
-  // Built for GPGPU-Sim (RAYCOH_CUDA_SIM): every figure of this device is simulated, never measured on hardware.
-  const std::string label = "simulated: GPGPU-Sim ";
+  // Built for GPGPU-Sim (RAYCOH_CUDA_SIM, docs/gpgpusim.md): every figure of this device is simulated, never
+  // measured on hardware; in functional mode (PTX_SIM_MODE_FUNC=1, scripts/gpgpusim-run's default) no cycles are
+  // simulated and CUDA event times are the simulator's own wall time.
+  const char* functional = std::getenv("PTX_SIM_MODE_FUNC");
+  const std::string label = functional && std::string(functional) == "1"
+                                ? "simulated, functional mode (times are the simulator's wall time): "
+                                : "simulated: ";
 #else
   const std::string label;
 #endif
