@@ -1,40 +1,43 @@
-// Micro test of scripts/gpgpusim/patches/0004 (prmt, i.e. __byte_perm and its modes): every selector and mode
-// on a source word with its top bit set (the case the simulator got wrong) and one without, against the PTX
-// rule computed on the host. Usage: prmt (exit 0 when all agree).
+// Micro test of scripts/gpgpusim/patches/0004 (prmt: __byte_perm, whose selector nvcc masks with 0x7777, and
+// prmt.b32 itself with sign selectors and every mode): source words with their top bit set (the case the
+// simulator got wrong) and without, against the PTX rule computed on the host. Usage: prmt (exit 0 when all
+// agree).
 #include <cuda_runtime.h>
 
 #include <cstdint>
 #include <cstdio>
 
-constexpr int kModes = 7;  // default, f4e, b4e, rc8, ecl, ecr, rc16
+constexpr int kModes = 8;  // __byte_perm, default, f4e, b4e, rc8, ecl, ecr, rc16
 
 __global__ void permute(const uint32_t* a, const uint32_t* b, const uint32_t* sel, int n, uint32_t* out) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   uint32_t* d = out + i * kModes;
   d[0] = __byte_perm(a[i], b[i], sel[i]);
-  asm("prmt.b32.f4e %0, %1, %2, %3;" : "=r"(d[1]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
-  asm("prmt.b32.b4e %0, %1, %2, %3;" : "=r"(d[2]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
-  asm("prmt.b32.rc8 %0, %1, %2, %3;" : "=r"(d[3]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
-  asm("prmt.b32.ecl %0, %1, %2, %3;" : "=r"(d[4]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
-  asm("prmt.b32.ecr %0, %1, %2, %3;" : "=r"(d[5]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
-  asm("prmt.b32.rc16 %0, %1, %2, %3;" : "=r"(d[6]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
+  asm("prmt.b32 %0, %1, %2, %3;" : "=r"(d[1]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
+  asm("prmt.b32.f4e %0, %1, %2, %3;" : "=r"(d[2]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
+  asm("prmt.b32.b4e %0, %1, %2, %3;" : "=r"(d[3]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
+  asm("prmt.b32.rc8 %0, %1, %2, %3;" : "=r"(d[4]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
+  asm("prmt.b32.ecl %0, %1, %2, %3;" : "=r"(d[5]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
+  asm("prmt.b32.ecr %0, %1, %2, %3;" : "=r"(d[6]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
+  asm("prmt.b32.rc16 %0, %1, %2, %3;" : "=r"(d[7]) : "r"(a[i]), "r"(b[i]), "r"(sel[i]));
 }
 
 // The PTX ISA's definition: byte k of {b, a} is byte k of a for k < 4, byte k - 4 of b otherwise.
 uint32_t byte_of(uint32_t a, uint32_t b, int k) { return ((k < 4 ? a : b) >> (8 * (k & 3))) & 0xFFu; }
 
 uint32_t reference(uint32_t a, uint32_t b, uint32_t sel, int mode) {
+  if (mode == 0) return reference(a, b, sel & 0x7777u, 1);  // __byte_perm: nvcc masks the selector
   uint32_t d = 0;
   const int c = static_cast<int>(sel & 3u);
   for (int i = 0; i < 4; ++i) {
     uint32_t byte = 0;
-    if (mode == 0) {
+    if (mode == 1) {
       const uint32_t nibble = (sel >> (4 * i)) & 0xFu;
       byte = byte_of(a, b, static_cast<int>(nibble & 7u));
       if (nibble & 8u) byte = (byte & 0x80u) ? 0xFFu : 0u;
     } else {
-      const int index[kModes] = {0, c + i, (c - i) & 7, c, i > c ? i : c, i < c ? i : c, (c & 1) * 2 + (i & 1)};
+      const int index[kModes] = {0, 0, c + i, (c - i) & 7, c, i > c ? i : c, i < c ? i : c, (c & 1) * 2 + (i & 1)};
       byte = byte_of(a, b, index[mode]);
     }
     d |= byte << (8 * i);
