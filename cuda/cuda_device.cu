@@ -3,6 +3,7 @@
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
 #include <cuda_runtime.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "cuda/cuda_check.cuh"
@@ -24,7 +25,18 @@ std::string device_name() {
   if (device_count() == 0) return "";
   cudaDeviceProp prop{};
   if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) return "";
-  return std::string(prop.name) + " (sm_" + std::to_string(prop.major) + std::to_string(prop.minor) + ", " +
+#ifdef RAYCOH_CUDA_SIM
+  // Built for GPGPU-Sim (RAYCOH_CUDA_SIM, docs/gpgpusim.md): every figure of this device is simulated, never
+  // measured on hardware; in functional mode (PTX_SIM_MODE_FUNC=1, scripts/gpgpusim-run's default) no cycles are
+  // simulated and CUDA event times are the simulator's own wall time.
+  const char* functional = std::getenv("PTX_SIM_MODE_FUNC");
+  const std::string label = functional && std::string(functional) == "1"
+                                ? "simulated, functional mode (times are the simulator's wall time): "
+                                : "simulated: ";
+#else
+  const std::string label;
+#endif
+  return label + std::string(prop.name) + " (sm_" + std::to_string(prop.major) + std::to_string(prop.minor) + ", " +
          std::to_string(prop.multiProcessorCount) + " SMs)";
 }
 

@@ -70,6 +70,8 @@ std::string device_of(const PluginSpec& tracer) {
   return "cpu";
 }
 
+bool simulated_device(const PluginSpec& tracer) { return device_of(tracer).starts_with("simulated"); }
+
 const Schema<Provenance>& provenance_schema() {
   using namespace csv_format;
   using P = Provenance;

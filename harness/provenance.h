@@ -26,6 +26,9 @@ Provenance collect_provenance(int argc, char** argv, int threads);
 
 // The device a tracer runs on, for the `device` column: the CUDA device's name for `cuda`, else "cpu".
 std::string device_of(const PluginSpec& tracer);
+// Whether that device is simulated (a RAYCOH_CUDA_SIM build under GPGPU-Sim, docs/gpgpusim.md): its figures are
+// labelled SIMULATED, never measured.
+bool simulated_device(const PluginSpec& tracer);
 
 // The provenance columns every CSV ends with; git_revision, build_type, cpu and threads (everything a timing
 // depends on besides the row's own settings) are part of the resume key.

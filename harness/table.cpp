@@ -16,6 +16,7 @@
 #include "encoders/encoder.h"
 #include "harness/cli.h"
 #include "harness/command.h"
+#include "harness/provenance.h"
 
 namespace raycoh {
 
@@ -154,11 +155,15 @@ void print_tracers(const SceneResult& first, const std::map<std::string, std::st
   std::printf("## raycoh table: %dx%d, %d frame(s), seed %u\n\n", o.width, o.height, o.frames, o.seed);
   for (const std::string& tl : first.tracer_labels) {
     const Accumulated& a = first.by_tracer.at(tl).at("noopt");
-    const char* what = a.has_model      ? "MODELED GPU figures (the GPU timing model, not measured)"
-                       : a.has_counters ? "coherence counters"
-                                        : "measured on this machine";
+    const PluginSpec tracer{tl.substr(0, tl.find('[')), ""};
+    const std::string what = a.has_model ? "MODELED GPU figures (the GPU timing model, not measured)"
+                             : simulated_device(tracer)
+                                 ? std::string(a.has_counters ? "coherence counters; " : "") +
+                                       "SIMULATED GPU figures, not hardware (" + device_of(tracer) + ")"
+                             : a.has_counters ? "coherence counters"
+                                              : "measured on this machine";
     const std::string& name = names.at(tl);
-    std::printf("- %s: %s%s\n", name.c_str(), what, name == tl ? "" : ("; " + tl).c_str());
+    std::printf("- %s: %s%s\n", name.c_str(), what.c_str(), name == tl ? "" : ("; " + tl).c_str());
   }
 }
 

@@ -24,6 +24,7 @@
 #include "generators/primary.h"
 #include "scenes/scene.h"
 #include "tests/alpha_card.h"
+#include "tests/gpu_test_size.h"
 #include "tests/test_util.h"
 #include "tests/trace_test_util.h"
 #include "tracers/tracer.h"
@@ -48,7 +49,7 @@ struct MaskedScene {
 
 // Primary rays of a small image in tile order and the NoOpt secondary batch from their (cpu) hits.
 void add_frame_rays(MaskedScene& m) {
-  const int width = 160, height = 120;
+  const int width = test::gpu_test_size(160, 40), height = test::gpu_test_size(120, 30);
   auto cpu = make_tracer({"cpu", ""}, m.scene, m.bvh);
   const PixelRays primary = make_primary_rays(m.scene.camera, width, height,
                                               make_pixel_order(width, height, RayOrder::Tile, 8, 8), 1, 0, true);

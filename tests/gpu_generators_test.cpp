@@ -21,6 +21,7 @@
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "scenes/scene.h"
+#include "tests/gpu_test_size.h"
 #include "tests/test_util.h"
 #include "tracers/tracer.h"
 
@@ -30,10 +31,13 @@ namespace {
 #define SKIP_WITHOUT_GPU() \
   if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
 
-// Every value rng_float can return: k / 2^24.
+// Every value rng_float can return: k / 2^24. At the simulator size every 251st (a prime: all residues of the
+// quadrant and table steps are met) and the last 256.
 std::vector<float> all_rng_floats() {
-  std::vector<float> u(1u << 24);
-  for (uint32_t k = 0; k < u.size(); ++k) u[k] = static_cast<float>(k) * (1.f / 16777216.f);
+  const uint32_t stride = test::gpu_test_size(1u, 251u);
+  std::vector<float> u;
+  for (uint32_t k = 0; k < (1u << 24); ++k)
+    if (k % stride == 0 || k >= (1u << 24) - 256) u.push_back(static_cast<float>(k) * (1.f / 16777216.f));
   return u;
 }
 
@@ -107,13 +111,14 @@ TEST(GpuPrimary, RaysEqualTheCpuForEveryOrderAndSize) {
     int tile_w, tile_h;
     bool jitter;
   };
-  for (const Case& c : std::vector<Case>{{256, 192, RayOrder::Tile, 8, 8, true},
-                                         {256, 192, RayOrder::Tile, 8, 8, false},
-                                         {250, 190, RayOrder::Tile, 16, 8, true},  // partial tiles at the borders
+  const int w = test::gpu_test_size(256, 64), h = test::gpu_test_size(192, 48);  // simulator: 64x48
+  for (const Case& c : std::vector<Case>{{w, h, RayOrder::Tile, 8, 8, true},
+                                         {w, h, RayOrder::Tile, 8, 8, false},
+                                         {w - 6, h - 2, RayOrder::Tile, 16, 8, true},  // partial tiles at the borders
                                          {13, 9, RayOrder::Tile, 4, 4, true},
                                          {1, 1, RayOrder::Tile, 8, 8, true},
                                          {7, 5, RayOrder::Tile, 32, 32, true},  // a tile larger than the image
-                                         {640, 480, RayOrder::Scanline, 8, 8, true}}) {
+                                         {w * 5 / 2, h * 5 / 2, RayOrder::Scanline, 8, 8, true}}) {
     SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " tile " + std::to_string(c.tile_w) + "x" +
                  std::to_string(c.tile_h) + (c.order == RayOrder::Tile ? " tile order" : " scanline"));
     const PixelRays cpu =
@@ -242,7 +247,9 @@ TEST(GpuGenerators, BatchesEqualTheCpuByteForByte) {
     cuda::DeviceGenerator device(scene);
     for (bool stiff : {false, true}) {
       SCOPED_TRACE(stiff ? "stiff G-buffer" : "G-buffer");
-      const GBuffer g = frame_gbuffer(scene, bvh, 250, 190, stiff ? 3u : 0u, stiff);
+      // Partial tiles at the borders for every tile size; simulator size 70x38.
+      const GBuffer g =
+          frame_gbuffer(scene, bvh, test::gpu_test_size(250, 70), test::gpu_test_size(190, 38), stiff ? 3u : 0u, stiff);
       for (const std::string& spec : generator_specs()) expect_gpu_generator_matches(scene, g, spec, device);
     }
   }

@@ -23,6 +23,7 @@
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "scenes/scene.h"
+#include "tests/gpu_test_size.h"
 #include "tests/test_util.h"
 #include "tracers/tracer.h"
 
@@ -33,8 +34,9 @@ namespace {
   if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
 
 RayBatch secondary_batch(const Scene& scene, const Bvh& bvh, const std::string& generator) {
-  const GBuffer g = first_hits(scene, *make_tracer({"cpu", ""}, scene, bvh), 256, 192,
-                               make_pixel_order(256, 192, RayOrder::Tile, 8, 8), 1, 0)
+  const int width = test::gpu_test_size(256, 48), height = test::gpu_test_size(192, 32);
+  const GBuffer g = first_hits(scene, *make_tracer({"cpu", ""}, scene, bvh), width, height,
+                               make_pixel_order(width, height, RayOrder::Tile, 8, 8), 1, 0)
                         .gbuffer;
   RayBatch batch;
   GenerationStats stats;
@@ -171,7 +173,7 @@ TEST(GpuKeys, RadixSortIsStableOverTheKeyBits) {
     config.kind = KeyKind::Origin;
     config.bits = bits;
     cuda::DeviceKeys device(config, nullptr);
-    const size_t n = 1000003;
+    const size_t n = test::gpu_test_size<size_t>(1000003, 10007);
     std::vector<uint64_t> keys(n);
     for (size_t i = 0; i < n; ++i) {
       const uint64_t r =

@@ -8,6 +8,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "tests/gpu_test_size.h"
 #include "tests/test_util.h"
 #include "tracers/tracer.h"
 
@@ -18,8 +19,9 @@ void expect_gpu_matches_cpu(const std::string& spec) {
   const Scene scene = load_scene(spec);
   const Bvh bvh = build_bvh(scene);
   auto cpu = make_tracer({"cpu", ""}, scene, bvh);
-  const auto order = make_pixel_order(256, 192, RayOrder::Tile, 8, 8);
-  const FirstHits first = first_hits(scene, *cpu, 256, 192, order, 1, 0);
+  const int width = test::gpu_test_size(256, 64), height = test::gpu_test_size(192, 48);
+  const auto order = make_pixel_order(width, height, RayOrder::Tile, 8, 8);
+  const FirstHits first = first_hits(scene, *cpu, width, height, order, 1, 0);
   const PixelRays& primary = first.primary;
   std::vector<Hit> cpu_hits = first.hits;  // reused below for other batches
   std::vector<Hit> gpu_hits(primary.rays.size());

@@ -25,6 +25,7 @@
 #include "generators/primary.h"
 #include "scenes/scene.h"
 #include "simt/simt.h"
+#include "tests/gpu_test_size.h"
 #include "tests/test_util.h"
 #include "tests/trace_test_util.h"
 #include "tracers/tracer.h"
@@ -46,7 +47,10 @@ struct SceneFrame {
   RayBatch secondary;
 };
 
-std::unique_ptr<SceneFrame> make_frame(const std::string& spec, int width = 256, int height = 192) {
+// 256x192 on a GPU, 64x48 at the simulator size (tests/gpu_test_size.h).
+std::unique_ptr<SceneFrame> make_frame(const std::string& spec, int width = 0, int height = 0) {
+  if (width == 0) width = test::gpu_test_size(256, 64);
+  if (height == 0) height = test::gpu_test_size(192, 48);
   auto f = std::make_unique<SceneFrame>();
   f->scene = load_scene(spec);
   f->bvh = build_bvh(f->scene);
@@ -274,16 +278,19 @@ TEST(GpuTracer, CwbvhHitsEqualTheCpuCwbvhAndTheBvh2) {
 }
 
 // The persistent kernel fetches whole warps from one counter: a batch much larger than the resident warps, with
-// a length that is not a multiple of 32, must still be traced exactly once per ray.
+// a length that is not a multiple of 32, must still be traced exactly once per ray. At the simulator size the
+// batch is 1.5 times the resident threads (the simulated GPU's occupancy) instead of 1.5 M rays.
 TEST(GpuTracer, PersistentKernelCoversLargeBatchesOnce) {
   SKIP_WITHOUT_GPU();
-  const auto f = make_frame("cornell", 640, 480);
+  const auto f = make_frame("cornell", test::gpu_test_size(640, 160), test::gpu_test_size(480, 120));
   auto cpu = make_tracer({"cpu", ""}, f->scene, f->bvh);
-  std::vector<Ray> rays = f->secondary.rays;
-  while (rays.size() < 1500000) rays.insert(rays.end(), f->secondary.rays.begin(), f->secondary.rays.end());
-  rays.resize(1500007);
   cuda::DeviceTracer device(f->bvh.view());
-  EXPECT_LT(static_cast<size_t>(device.persistent_blocks(128)) * 128, rays.size());
+  const size_t resident = static_cast<size_t>(device.persistent_blocks(128)) * 128;
+  const size_t count = test::gpu_test_size<size_t>(1500007, resident + resident / 2 + 7);
+  std::vector<Ray> rays = f->secondary.rays;
+  while (rays.size() < count) rays.insert(rays.end(), f->secondary.rays.begin(), f->secondary.rays.end());
+  rays.resize(count);
+  EXPECT_LT(resident, rays.size());
   std::vector<Hit> gpu(rays.size());  // a slot no warp fetched would keep whatever the fresh device buffer held
   device.trace(rays.data(), nullptr, rays.size(), gpu.data(), cuda::TraceLaunch{});
   EXPECT_EQ(differing_hits(gpu, trace_with(*cpu, rays)), 0u);
