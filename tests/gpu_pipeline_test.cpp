@@ -6,6 +6,7 @@
 // the CPU; the others skip cleanly when cuda::device_count() == 0. Label `gpu`.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -74,14 +75,31 @@ void expect_same_stats(const GenerationStats& gpu, const GenerationStats& cpu) {
   EXPECT_EQ(gpu.reused_rays, cpu.reused_rays);
 }
 
-// Every stage ran between the span's events, one after another on one stream.
+// A simulator's events may be coarse or zero (GPGPU-Sim without GPGPU_SIM_EVENT_CYCLES=1 reports whole seconds of
+// wall clock): there only the relations between the times are checked.
+bool simulated_device() {
+  std::string name = cuda::device_name();
+  for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return name.find("gpgpu") != std::string::npos;
+}
+
+// Stages a pass did not run are 0; every stage ran between the span's events, one after another on one stream.
 void expect_stage_times(const DeviceStageTimes& t, bool keys, bool physical) {
+  for (double ms : {t.gen_ms, t.key_ms, t.sort_ms, t.permute_ms, t.trace_ms, t.span_ms}) EXPECT_GE(ms, 0.0);
+  if (!keys) {
+    EXPECT_EQ(t.key_ms, 0.0);
+    EXPECT_EQ(t.sort_ms, 0.0);
+  }
+  if (!physical) EXPECT_EQ(t.permute_ms, 0.0);
+  EXPECT_GE(t.span_ms + 1e-3, t.stages_ms());  // events resolve about 0.5 us
+  if (simulated_device()) return;
   EXPECT_GT(t.gen_ms, 0.0);
   EXPECT_GT(t.trace_ms, 0.0);
-  EXPECT_EQ(t.key_ms > 0.0, keys);
-  EXPECT_EQ(t.sort_ms > 0.0, keys);
-  EXPECT_EQ(t.permute_ms > 0.0, physical);
-  EXPECT_GE(t.span_ms + 1e-3, t.stages_ms());  // events resolve about 0.5 us
+  if (keys) {
+    EXPECT_GT(t.key_ms, 0.0);
+    EXPECT_GT(t.sort_ms, 0.0);
+  }
+  if (physical) EXPECT_GT(t.permute_ms, 0.0);
 }
 
 // One scene on both sides: the cpu tracer and G-buffer, and a cuda tracer with its device pipeline.
@@ -101,10 +119,7 @@ struct Sides {
   }
 
   void primary_pass() {
-    const DeviceStageTimes t = pipeline->primary(kWidth, kHeight, kTile, kTile, kSeed, kFrame, true);
-    EXPECT_GT(t.gen_ms, 0.0);
-    EXPECT_GT(t.trace_ms, 0.0);
-    EXPECT_GE(t.span_ms + 1e-3, t.gen_ms + t.trace_ms);
+    expect_stage_times(pipeline->primary(kWidth, kHeight, kTile, kTile, kSeed, kFrame, true), false, false);
     pipeline->upload_first_hits();
   }
 };
