@@ -120,8 +120,9 @@ struct DeviceKeys::Impl {
                                                       values.get(), order.get(), static_cast<int>(n), 0, config.bits));
   }
 
+  // The key and sort buffers (the host-array calls upload their rays into `rays` themselves; sort_device reads the
+  // caller's device rays and needs none).
   void reserve(size_t n) {
-    rays.reserve(n);
     keys.reserve(n);
     sorted_keys.reserve(n);
     values.reserve(n);

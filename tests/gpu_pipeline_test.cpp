@@ -90,7 +90,9 @@ void expect_stage_times(const DeviceStageTimes& t, bool keys, bool physical) {
     EXPECT_EQ(t.key_ms, 0.0);
     EXPECT_EQ(t.sort_ms, 0.0);
   }
-  if (!physical) EXPECT_EQ(t.permute_ms, 0.0);
+  if (!physical) {
+    EXPECT_EQ(t.permute_ms, 0.0);
+  }
   EXPECT_GE(t.span_ms + 1e-3, t.stages_ms());  // events resolve about 0.5 us
   if (simulated_device()) return;
   EXPECT_GT(t.gen_ms, 0.0);
@@ -99,7 +101,9 @@ void expect_stage_times(const DeviceStageTimes& t, bool keys, bool physical) {
     EXPECT_GT(t.key_ms, 0.0);
     EXPECT_GT(t.sort_ms, 0.0);
   }
-  if (physical) EXPECT_GT(t.permute_ms, 0.0);
+  if (physical) {
+    EXPECT_GT(t.permute_ms, 0.0);
+  }
 }
 
 // One scene on both sides: the cpu tracer and G-buffer, and a cuda tracer with its device pipeline.
