@@ -15,6 +15,11 @@
 // compressed 8-wide BVH instead (core/traverse_cwbvh.h, built here from the scene by bvh/cwbvh_build.h, not timed,
 // as the cpu and simt tracers do): same kernels, hits equal `cpu:bvh=cwbvh`'s; it has no counting kernel.
 //
+// pipeline=device (the default): a run makes every batch on the GPU too (cuda/device_pipeline.h): camera rays,
+// the noopt / ours / contiguous generators, every key encoder, CUB's radix sort, the gather and the trace, each
+// timed with CUDA events; the harness reads those times through device_pipeline() instead of timing trace()
+// calls. pipeline=host traces the batches the host made, the ones every other tracer traces.
+//
 // Sources: Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while
 // traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles;
 // Ylitie, Karras & Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs" (HPG 2017).
@@ -36,9 +41,11 @@
 #include "bvh/cwbvh_build.h"
 #include "core/error.h"
 #include "cuda/cuda_device.h"
+#include "cuda/device_pipeline.h"
 #include "cuda/trace_kernels.h"
 #include "scenes/scene.h"
 #include "simt/simt.h"
+#include "tracers/device_pipeline.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
@@ -54,6 +61,17 @@ class CudaTracer final : public Tracer {
     counters_.sector_bytes = layout_.sector_bytes;
   }
 
+  // pipeline=device: every batch is made, sorted and traced on the device (cuda/device_pipeline.h).
+  void make_pipeline(const Scene& scene, const Bvh& bvh) {
+    cuda::PipelineTrace trace;
+    trace.tracer = device_.get();
+    trace.launch = launch_;
+    trace.counting = counting_;
+    trace.layout = layout_;
+    trace.counted = [this](const std::vector<WarpStepCounters>& warps, size_t rays) { count(warps, rays); };
+    pipeline_ = cuda::make_device_pipeline(scene, bvh, std::move(trace));
+  }
+
   void trace(const Ray* rays, size_t count, Hit* hits) override { run(rays, nullptr, count, hits); }
   void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) override {
     run(rays, order, count, hits);
@@ -61,6 +79,7 @@ class CudaTracer final : public Tracer {
   std::string params() const override { return params_; }
   const CoherenceCounters* last_counters() const override { return counting_ ? &counters_ : nullptr; }
   double last_device_ms() const override { return device_->last_kernel_ms(); }
+  DevicePipeline* device_pipeline() override { return pipeline_.get(); }
 
  private:
   void run(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
@@ -69,11 +88,16 @@ class CudaTracer final : public Tracer {
       return;
     }
     device_->trace_counting(rays, order, count, hits, layout_, launch_.block, warps_);
+    this->count(warps_, count);
+  }
+
+  // The counting kernel's warps summed into last_counters().
+  void count(const std::vector<WarpStepCounters>& warps, size_t count) {
     CoherenceCounters total;
     total.warp_size = 32;
     total.line_bytes = layout_.line_bytes;
     total.sector_bytes = layout_.sector_bytes;
-    for (const WarpStepCounters& w : warps_) total.add(w);
+    for (const WarpStepCounters& w : warps) total.add(w);
     RAYCOH_CHECK(total.rays == count, fmt::format("the counting kernel saw {} rays of {}", total.rays, count));
     RAYCOH_CHECK(
         total.nodes == total.node_lanes && total.leaves == total.leaf_lanes && total.triangles == total.triangle_lanes,
@@ -89,6 +113,7 @@ class CudaTracer final : public Tracer {
   std::string params_;
   std::vector<WarpStepCounters> warps_;
   CoherenceCounters counters_;
+  std::unique_ptr<DevicePipeline> pipeline_;
 };
 
 }  // namespace
@@ -101,6 +126,8 @@ const ParamTable& cuda_params() {
       choice_param("line", "64", {"64", "128"}, "bytes per line of the counted transactions (simt's line)"),
       choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
                    "layout: the BVH2, or the compressed 8-wide BVH (Ylitie et al. 2017; no counting kernel)"),
+      choice_param("pipeline", "device", {"device", "host"},
+                   "device: generate, key, sort, permute and trace on the GPU; host: trace host-made batches"),
   };
   return table;
 }
@@ -116,6 +143,7 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   const bool counting = params.get_choice("counters") == "on";
   const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line")));
   const bool cwbvh = params.get_choice("bvh") == "cwbvh";
+  const bool on_device = params.get_choice("pipeline") == "device";
   params.finish();
   if (cwbvh && counting)
     throw Error(fmt::format("{}: counters=on has no CWBVH kernel (bvh=cwbvh); count CWBVH steps with the simt tracer",
@@ -144,7 +172,9 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   // The CWBVH's host copy is dropped once uploaded.
   auto device = cwbvh ? std::make_unique<cuda::DeviceTracer>(build_cwbvh(scene, bvh.config).view(), alpha)
                       : std::make_unique<cuda::DeviceTracer>(bvh.view(), alpha);
-  return std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, params.canonical());
+  auto tracer = std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, params.canonical());
+  if (on_device) tracer->make_pipeline(scene, bvh);
+  return tracer;
 }
 
 }  // namespace raycoh

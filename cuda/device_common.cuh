@@ -11,6 +11,10 @@
 #include "core/tile_grid.h"
 #include "generators/grouping.h"
 
+namespace raycoh {
+struct Camera;
+}
+
 namespace raycoh::cuda {
 
 constexpr unsigned kFullMask = 0xffffffffu;
@@ -73,5 +77,10 @@ inline int round_up_warp(int n) { return (n + 31) / 32 * 32; }
 void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
                          const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
                          const BatchView& out, unsigned long long* stats);
+
+// Camera rays of make_primary_rays_gpu (cuda/device_primary.cu) into device arrays of width x height entries,
+// queued on the default stream (nothing waited for): d_rays[slot] and d_pixels[slot] in the batch order.
+void launch_primary_rays(const Camera& camera, int width, int height, RayOrder order, int tile_w, int tile_h,
+                         uint32_t seed, uint32_t frame, bool jitter, Ray* d_rays, uint32_t* d_pixels);
 
 }  // namespace raycoh::cuda

@@ -2,7 +2,7 @@
 // method; the primary rays are in device_primary.cu, the `ours` / `contiguous` grouping in device_grouping.cu).
 // The per-ray math is the shared host/device code the CPU generators call (core/own_lobe.h, core/batch_view.h,
 // core/tile_grid.h, generators/grouping.h), pinned by the gpu-labelled tests (tests/gpu_generators_test.cpp).
-// Called only by those tests so far: GPU generation is not yet part of a harness run.
+// The device pipeline (cuda/device_pipeline.cpp) runs upload / launch / finish and keeps the batch on the device.
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
 #include <cuda_runtime.h>
 
@@ -132,6 +132,13 @@ struct DeviceGenerator::Impl {
   DeviceBuffer<unsigned long long> stats{kStatCount};
   EventTimer timer;
   float last_ms = -1.f;
+  // The uploaded G-buffer's facts and the last launch's batch (device_batch()).
+  const BsdfParams* point_materials = nullptr;
+  int width = 0, height = 0;
+  uint32_t frame = 0;
+  size_t hits = 0, tiles = 0;
+  bool grouping = false, uploaded = false, launched = false;
+  BatchView view{};
 
   // out[i] = sum of in[0 .. i) for i <= n (CUB's device-wide scan).
   void exclusive_sum(const uint32_t* in, uint32_t* out, size_t n) {
@@ -171,7 +178,7 @@ struct DeviceGenerator::Impl {
                      grouping ? group_type.get() : nullptr};
   }
 
-  void download(RayBatch& out, size_t n, bool grouping) {
+  void download(RayBatch& out, size_t n, bool grouping) const {
     out.resize(n, grouping);
     rays.download(out.rays.data(), n);
     pixel.download(out.pixel.data(), n);
@@ -186,7 +193,7 @@ struct DeviceGenerator::Impl {
     }
   }
 
-  GenerationStats download_stats() {
+  GenerationStats download_stats() const {
     unsigned long long s[kStatCount];
     stats.download(s, kStatCount);
     GenerationStats out;
@@ -212,31 +219,43 @@ DeviceGenerator::~DeviceGenerator() = default;
 
 float DeviceGenerator::last_kernel_ms() const { return impl_->last_ms; }
 
-void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator& cpu, RayBatch& out,
-                               GenerationStats& stats) {
+void DeviceGenerator::upload(const GBuffer& g) {
   Impl& m = *impl_;
   const size_t pixels = g.points.size();
   if (pixels != static_cast<size_t>(g.width) * static_cast<size_t>(g.height))
     throw Error("cuda: the G-buffer's size does not match its resolution");
+  m.points.upload(g.points.data(), pixels);
+  // A textured scene's points index the G-buffer's own table (the texels at each hit): it goes up with them.
+  m.point_materials = m.materials.get();
+  if (g.materials && g.materials->per_hit()) {
+    m.hit_materials.upload(g.materials->bsdf.data(), g.materials->bsdf.size());
+    m.point_materials = m.hit_materials.get();
+  }
+  m.width = g.width;
+  m.height = g.height;
+  m.frame = g.frame;
+  m.hits = g.hits;
+  m.uploaded = true;
+}
+
+void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
+  Impl& m = *impl_;
+  if (!m.uploaded) throw Error("cuda: DeviceGenerator::launch before upload (no G-buffer on the device)");
   const GpuGenerator gen = gpu_generator(cpu);
   const bool grouping = gen.grouping != nullptr;
-  const GroupingConfig config = grouping ? gen.grouping->config(seed, g.frame) : GroupingConfig{};
+  const GroupingConfig config = grouping ? gen.grouping->config(seed, m.frame) : GroupingConfig{};
   const auto [tile_w, tile_h] = grouping ? gen.grouping->tile() : gen.noopt->tile();
   // NoOpt's scanline order is its tile order with one-row tiles, as on the CPU.
   const TileGrid grid = !grouping && gen.noopt->order() == RayOrder::Scanline
-                            ? TileGrid(g.width, g.height, g.width, 1)
-                            : TileGrid(g.width, g.height, tile_w, tile_h);
+                            ? TileGrid(m.width, m.height, m.width, 1)
+                            : TileGrid(m.width, m.height, tile_w, tile_h);
+  const size_t pixels = static_cast<size_t>(m.width) * static_cast<size_t>(m.height);
   const size_t tiles = static_cast<size_t>(grid.count());
-  const size_t n = g.hits;
+  const size_t n = m.hits;
   const bool scanline = grouping && config.order == RayOrder::Scanline;
-  m.points.upload(g.points.data(), pixels);
-  // A textured scene's points index the G-buffer's own table (the texels at each hit): it goes up with them.
-  const BsdfParams* materials = m.materials.get();
-  if (g.materials && g.materials->per_hit()) {
-    m.hit_materials.upload(g.materials->bsdf.data(), g.materials->bsdf.size());
-    materials = m.hit_materials.get();
-  }
-  const BatchView view = m.reserve(n, pixels, tiles, grouping, scanline);
+  m.view = m.reserve(n, pixels, tiles, grouping, scanline);
+  m.grouping = grouping;
+  m.tiles = tiles;
 
   m.timer.start();
   if (tiles > 0 && n > 0) {
@@ -249,27 +268,50 @@ void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator&
       m.exclusive_sum(m.flags.get(), m.slots.get(), pixels);
     }
     if (grouping) {
-      launch_group_kernel(config, grid, m.points.get(), materials, m.offsets.get(), m.slots.get(), view, m.stats.get());
+      launch_group_kernel(config, grid, m.points.get(), m.point_materials, m.offsets.get(), m.slots.get(), m.view,
+                          m.stats.get());
     } else {
       const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
-      noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), materials, seed, g.frame, grid,
-                                                            m.offsets.get(), view, m.stats.get());
+      noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), m.point_materials, seed, m.frame, grid,
+                                                            m.offsets.get(), m.view, m.stats.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
     }
   }
   m.timer.stop();
-  m.last_ms = m.timer.elapsed_ms();
+  m.launched = true;
+}
 
+void DeviceGenerator::finish(GenerationStats& stats) {
+  Impl& m = *impl_;
+  if (!m.launched) throw Error("cuda: DeviceGenerator::finish without a launch");
+  m.last_ms = m.timer.elapsed_ms();
   uint32_t total = 0;
-  if (tiles > 0 && n > 0)
-    RAYCOH_CUDA_CHECK(cudaMemcpy(&total, m.offsets.get() + tiles, sizeof(uint32_t), cudaMemcpyDeviceToHost));
-  if (total != n)
-    throw Error("cuda: the device counted " + std::to_string(total) + " hit pixels, the G-buffer " + std::to_string(n));
-  out.width = g.width;
-  out.height = g.height;
-  out.frame = g.frame;
-  m.download(out, n, grouping);
+  if (m.tiles > 0 && m.hits > 0)
+    RAYCOH_CUDA_CHECK(cudaMemcpy(&total, m.offsets.get() + m.tiles, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+  if (total != m.hits)
+    throw Error("cuda: the device counted " + std::to_string(total) + " hit pixels, the G-buffer " +
+                std::to_string(m.hits));
   stats = m.download_stats();
+}
+
+BatchView DeviceGenerator::device_batch() const { return impl_->view; }
+
+size_t DeviceGenerator::device_count() const { return impl_->hits; }
+
+void DeviceGenerator::download(RayBatch& out) const {
+  const Impl& m = *impl_;
+  out.width = m.width;
+  out.height = m.height;
+  out.frame = m.frame;
+  m.download(out, m.hits, m.grouping);
+}
+
+void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator& cpu, RayBatch& out,
+                               GenerationStats& stats) {
+  upload(g);
+  launch(seed, cpu);
+  finish(stats);
+  download(out);
 }
 
 }  // namespace raycoh::cuda

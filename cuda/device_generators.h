@@ -2,8 +2,8 @@
 // device_grouping.cu): primary rays and the `noopt`, `ours` and `contiguous` generators, meant for measuring
 // generation overheads as GPU overheads. Plain C++ (included by g++-compiled code and tests).
 //
-// Not yet part of a harness run: only the gpu tests (tests/gpu_generators_test.cpp) call this API, to check that
-// the GPU batches equal the CPU's; `table` and the other commands generate on the CPU.
+// Used by the device pipeline (cuda/device_pipeline.h: a `cuda` run with pipeline=device), which keeps the batch
+// on the device; the gpu tests (tests/gpu_generators_test.cpp) check that the GPU batches equal the CPU's.
 //
 // Every kernel computes with the shared host/device headers (core/sampling.h, core/bsdf.h, core/rng.h) under the
 // same floating-point rules as the CPU (no FMA contraction, IEEE division and square root, sincos_turns's
@@ -30,6 +30,7 @@
 #include <memory>
 #include <string>
 
+#include "core/batch_view.h"
 #include "core/ray_batch.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
@@ -68,7 +69,18 @@ class DeviceGenerator {
   // Uploads the G-buffer, generates on the device with cpu's configuration (check_gpu_generator) and downloads
   // the batch and statistics: equal to cpu.generate(scene, gbuffer, seed, out, stats).
   void generate(const GBuffer& gbuffer, uint32_t seed, const Generator& cpu, RayBatch& out, GenerationStats& stats);
-  // Device time of the last generate() (every kernel and scan of it, not the transfers), CUDA events.
+  // The same in steps, for a pipeline that keeps the batch on the device: upload the G-buffer (once per frame),
+  // launch the generation (queued on the default stream, between the timer's events; nothing is waited for),
+  // finish (waits, checks the ray count, downloads the statistics and sets last_kernel_ms()). device_batch() is
+  // the launched batch's arrays on the device (device_count() rays; tile / group / group_type null for noopt),
+  // valid until the next launch; download() copies it to the host.
+  void upload(const GBuffer& gbuffer);
+  void launch(uint32_t seed, const Generator& cpu);
+  void finish(GenerationStats& stats);
+  BatchView device_batch() const;
+  size_t device_count() const;
+  void download(RayBatch& out) const;
+  // Device time of the last generate() / finish() (every kernel and scan of it, not the transfers), CUDA events.
   float last_kernel_ms() const;
 
  private:

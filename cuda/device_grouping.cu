@@ -3,7 +3,7 @@
 // host/device function (generators/grouping.h), the same the CPU tile loop calls, so the batches are equal byte
 // for byte (tests/gpu_generators_test.cpp on a GPU; tests/grouping_test.cpp runs the same phases on the host).
 // Group sums walk the tile's pixels in row-major order, the CPU's order: a float sum is only bit-identical in
-// the same order. Called only by the gpu tests so far: not yet part of a harness run.
+// the same order. Run by the device pipeline (cuda/device_pipeline.h) and the gpu tests.
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_common.cuh"
 #include "generators/grouping_block.h"

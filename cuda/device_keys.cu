@@ -120,8 +120,9 @@ struct DeviceKeys::Impl {
                                                       values.get(), order.get(), static_cast<int>(n), 0, config.bits));
   }
 
+  // The key and sort buffers (the host-array calls upload their rays into `rays` themselves; sort_device reads the
+  // caller's device rays and needs none).
   void reserve(size_t n) {
-    rays.reserve(n);
     keys.reserve(n);
     sorted_keys.reserve(n);
     values.reserve(n);
@@ -171,26 +172,44 @@ void DeviceKeys::sort(const uint64_t* keys, size_t n, uint64_t* sorted_keys, uin
   m.order.download(order, n);
 }
 
+void DeviceKeys::sort_device(const Ray* d_rays, size_t n) {
+  Impl& m = *impl_;
+  m.reserve(n);
+  m.key_timer.start();
+  m.launch_keys(d_rays, n, m.keys.get());
+  m.key_timer.stop();
+  m.sort_timer.start();
+  m.launch_sort(n);
+  m.sort_timer.stop();
+}
+
+const uint32_t* DeviceKeys::device_order() const { return impl_->order.get(); }
+
+const uint64_t* DeviceKeys::device_sorted_keys() const { return impl_->sorted_keys.get(); }
+
+void DeviceKeys::download_order(uint32_t* order, size_t n) const { impl_->order.download(order, n); }
+
+GpuReorderTimings DeviceKeys::wait_timings() const {
+  GpuReorderTimings t;
+  t.key_ms = impl_->key_timer.elapsed_ms();
+  t.sort_ms = impl_->sort_timer.elapsed_ms();
+  return t;
+}
+
 void DeviceKeys::reorder(const Ray* rays, size_t n, uint64_t* sorted_keys, uint32_t* order, Ray* sorted_rays,
                          GpuReorderTimings& timings) {
   Impl& m = *impl_;
   m.reserve(n);
   if (sorted_rays) m.sorted_rays.reserve(n);
   m.rays.upload(rays, n);
-  m.key_timer.start();
-  m.launch_keys(m.rays.get(), n, m.keys.get());
-  m.key_timer.stop();
-  m.sort_timer.start();
-  m.launch_sort(n);
-  m.sort_timer.stop();
+  sort_device(m.rays.get(), n);
   m.permute_timer.start();
   if (sorted_rays && n > 0) {
     gather_kernel<<<blocks_for(n), kBlock>>>(m.rays.get(), m.order.get(), n, m.sorted_rays.get());
     RAYCOH_CUDA_CHECK_LAUNCH();
   }
   m.permute_timer.stop();
-  timings.key_ms = m.key_timer.elapsed_ms();
-  timings.sort_ms = m.sort_timer.elapsed_ms();
+  timings = wait_timings();
   const float permute_ms = m.permute_timer.elapsed_ms();
   timings.permute_ms = sorted_rays ? permute_ms : 0.f;
   m.sorted_keys.download(sorted_keys, n);

@@ -9,8 +9,9 @@
 // so the same keys give the same order. MLHCC's cuts are built on the host (build_mlhcc_cuts) and uploaded with
 // the BVH nodes when the encoder is made.
 //
-// Not yet part of a harness run: only the gpu tests (tests/gpu_keys_test.cpp) call this API, to check that the GPU
-// keys and order equal the CPU's; `table` and the other commands build keys and sort on the CPU.
+// The device pipeline (cuda/device_pipeline.h: a `cuda` run with pipeline=device) sorts with sort_device() on the
+// batch it generated on the device; the gpu tests (tests/gpu_keys_test.cpp) check that the GPU keys and order
+// equal the CPU's.
 #pragma once
 
 #include <cstddef>
@@ -51,6 +52,15 @@ class DeviceKeys {
   // rays[order[i]]; outputs downloaded, each stage timed (transfers excluded).
   void reorder(const Ray* rays, size_t n, uint64_t* sorted_keys, uint32_t* order, Ray* sorted_rays,
                GpuReorderTimings& timings);
+  // Keys and sort of n rays that live on the device, queued on the default stream between the key and sort
+  // timers' events (nothing is waited for): the order and sorted keys stay on the device, valid until the next
+  // call. wait_timings() waits and returns key_ms and sort_ms (permute_ms 0: the caller gathers).
+  void sort_device(const Ray* d_rays, size_t n);
+  const uint32_t* device_order() const;
+  const uint64_t* device_sorted_keys() const;
+  GpuReorderTimings wait_timings() const;
+  // The first n entries of device_order() (waits for the sort).
+  void download_order(uint32_t* order, size_t n) const;
 
  private:
   struct Impl;

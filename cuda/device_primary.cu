@@ -31,20 +31,28 @@ __global__ void sincos_kernel(const float* u, size_t n, float* s, float* c) {
 
 }  // namespace
 
-void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder order, int tile_w, int tile_h,
-                           uint32_t seed, uint32_t frame, bool jitter, PixelRays& out, float* kernel_ms) {
+void launch_primary_rays(const Camera& camera, int width, int height, RayOrder order, int tile_w, int tile_h,
+                         uint32_t seed, uint32_t frame, bool jitter, Ray* d_rays, uint32_t* d_pixels) {
   if (width < 1 || height < 1 || tile_w < 1 || tile_h < 1)
     throw Error("cuda: primary rays need a positive resolution and tile size");
   const PinholeCamera pinhole = make_pinhole_camera(camera, width, height);
   const TileGrid grid(width, height, tile_w, tile_h);
   const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+  primary_kernel<<<blocks_for(n, 256), 256>>>(pinhole, grid, order == RayOrder::Tile, seed, frame, jitter, d_rays,
+                                              d_pixels);
+  RAYCOH_CUDA_CHECK_LAUNCH();
+}
+
+void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder order, int tile_w, int tile_h,
+                           uint32_t seed, uint32_t frame, bool jitter, PixelRays& out, float* kernel_ms) {
+  if (width < 1 || height < 1 || tile_w < 1 || tile_h < 1)
+    throw Error("cuda: primary rays need a positive resolution and tile size");
+  const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
   DeviceBuffer<Ray> rays(n);
   DeviceBuffer<uint32_t> pixels(n);
   EventTimer timer;
   timer.start();
-  primary_kernel<<<blocks_for(n, 256), 256>>>(pinhole, grid, order == RayOrder::Tile, seed, frame, jitter, rays.get(),
-                                              pixels.get());
-  RAYCOH_CUDA_CHECK_LAUNCH();
+  launch_primary_rays(camera, width, height, order, tile_w, tile_h, seed, frame, jitter, rays.get(), pixels.get());
   timer.stop();
   const float ms = timer.elapsed_ms();
   if (kernel_ms) *kernel_ms = ms;

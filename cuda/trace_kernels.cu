@@ -325,7 +325,7 @@ int DeviceTracer::persistent_blocks(int block) const {
   return std::max(1, impl_->persistent_blocks_per_sm(block)) * std::max(1, impl_->sms);
 }
 
-float DeviceTracer::trace_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
+void DeviceTracer::launch_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
                                  const TraceLaunch& launch) {
   check_block(launch.block);
   Impl& m = *impl_;
@@ -338,8 +338,17 @@ float DeviceTracer::trace_device(const Ray* d_rays, const uint32_t* d_order, siz
     m.launch(m.view(), m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
   else
     m.launch(m.view(), NoAlphaTest{}, d_rays, d_order, count, d_hits, launch, blocks);
-  m.last_ms = m.timer.elapsed_ms();  // synchronises: kernel faults surface here
-  return m.last_ms;
+}
+
+float DeviceTracer::wait_kernel_ms() {
+  impl_->last_ms = impl_->timer.elapsed_ms();  // synchronises: kernel faults surface here
+  return impl_->last_ms;
+}
+
+float DeviceTracer::trace_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
+                                 const TraceLaunch& launch) {
+  launch_device(d_rays, d_order, count, d_hits, launch);
+  return wait_kernel_ms();
 }
 
 void DeviceTracer::trace(const Ray* rays, const uint32_t* order, size_t count, Hit* hits, const TraceLaunch& launch) {
@@ -353,29 +362,35 @@ void DeviceTracer::trace(const Ray* rays, const uint32_t* order, size_t count, H
 
 void DeviceTracer::trace_counting(const Ray* rays, const uint32_t* order, size_t count, Hit* hits,
                                   const SimtConfig& layout, int block, std::vector<WarpStepCounters>& warps) {
+  Impl& m = *impl_;
+  m.rays.upload(rays, count);
+  if (order) m.order.upload(order, count);
+  m.hits.reserve(count);
+  trace_counting_device(m.rays.get(), order ? m.order.get() : nullptr, count, m.hits.get(), layout, block, warps);
+  m.hits.download(hits, count);
+}
+
+void DeviceTracer::trace_counting_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
+                                         const SimtConfig& layout, int block, std::vector<WarpStepCounters>& warps) {
   check_block(block);
   Impl& m = *impl_;
   if (m.cwbvh) throw Error("cuda: the counting kernel traces the BVH2 only; there is none for CWBVH");
   const size_t warp_count = (count + kWarp - 1) / kWarp;
-  m.rays.upload(rays, count);
-  if (order) m.order.upload(order, count);
-  m.hits.reserve(count);
   m.warp_counters.zero(warp_count);
   const unsigned blocks = grid_for(warp_count * kWarp, block);
   const BvhView bvh = m.view();
   m.timer.start();
   if (blocks > 0) {
     if (m.masked)
-      launch_counting(bvh, m.alpha_test(), blocks, block, m.rays.get(), order ? m.order.get() : nullptr, count,
-                      m.hits.get(), layout, m.warp_counters.get(), warp_count);
+      launch_counting(bvh, m.alpha_test(), blocks, block, d_rays, d_order, count, d_hits, layout, m.warp_counters.get(),
+                      warp_count);
     else
-      launch_counting(bvh, NoAlphaTest{}, blocks, block, m.rays.get(), order ? m.order.get() : nullptr, count,
-                      m.hits.get(), layout, m.warp_counters.get(), warp_count);
+      launch_counting(bvh, NoAlphaTest{}, blocks, block, d_rays, d_order, count, d_hits, layout, m.warp_counters.get(),
+                      warp_count);
     RAYCOH_CUDA_CHECK_LAUNCH();
   }
   m.timer.stop();
   m.last_ms = m.timer.elapsed_ms();
-  m.hits.download(hits, count);
   warps.resize(warp_count);
   m.warp_counters.download(warps.data(), warp_count);
 }

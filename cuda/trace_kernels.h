@@ -98,12 +98,19 @@ class DeviceTracer {
   void trace(const Ray* rays, const uint32_t* order, size_t count, Hit* hits, const TraceLaunch& launch);
   // The same on arrays that already live on the device (for a GPU-resident pipeline); returns the kernel ms.
   float trace_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits, const TraceLaunch& launch);
+  // trace_device in two steps: launch (queued on the default stream between the timer's events, nothing waited
+  // for), then wait_kernel_ms() (waits, sets last_kernel_ms() and returns it).
+  void launch_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits, const TraceLaunch& launch);
+  float wait_kernel_ms();
 
   // Counting run on host arrays: hits as trace(), plus warps[w] = the counters of lanes [32 w, 32 w + 32)
   // (warps is resized to ceil(count / 32)), counted in `layout`'s units (warp_size must be 32; take it from
   // simt_config(), which also checks that sector numbers fit 32 bits). block: threads per block, as above.
   void trace_counting(const Ray* rays, const uint32_t* order, size_t count, Hit* hits, const SimtConfig& layout,
                       int block, std::vector<WarpStepCounters>& warps);
+  // The same on device arrays (d_hits stays on the device; warps are downloaded).
+  void trace_counting_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
+                             const SimtConfig& layout, int block, std::vector<WarpStepCounters>& warps);
 
   // Kernel time of the last trace / trace_counting call in milliseconds (CUDA events); -1 before the first.
   float last_kernel_ms() const;

@@ -5,25 +5,22 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
 
-#include "bvh/bvh_build.h"
-#include "core/durable_file.h"
 #include "core/error.h"
 #include "encoders/encoder.h"
 #include "encoders/reorder.h"
-#include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
-#include "harness/memory_check.h"
+#include "harness/device_rows.h"
+#include "harness/experiment_setup.h"
 #include "harness/progress.h"
 #include "harness/record_csv.h"
-#include "shading/reference.h"
 #include "simt/pipeline_model.h"
 #include "simt/timed_replay.h"
+#include "tracers/device_pipeline.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
@@ -33,10 +30,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// The primary pass uses the compact 8x8 tile order every generator uses by default.
-constexpr int kPrimaryTile = 8;
-const char* const kPrimaryParams = "order=tile,tile=8x8";
 
 struct Timing {
   double median = 0, min = 0;
@@ -51,93 +44,6 @@ Timing time_repeats(Fn&& fn, int repeats) {
   return {t[t.size() / 2], t.front()};
 }
 
-// Two scene specs of one name would write rows with the same key ("cornell" and "cornell:size=2").
-void check_scene_names(const std::vector<std::string>& specs) {
-  std::map<std::string, std::string> seen;
-  for (const std::string& spec : specs) {
-    const auto [it, fresh] = seen.emplace(scene_name_of(spec), spec);
-    if (!fresh)
-      throw Error(
-          fmt::format("--scenes: {} and {} are both named '{}' in the CSV's scene column; run them with "
-                      "separate --out files",
-                      it->second, spec, it->first));
-  }
-}
-
-void check_options(const ExperimentOptions& o) {
-  if (o.width < 1 || o.width > 16384 || o.height < 1 || o.height > 16384)
-    throw Error(fmt::format("--res {}x{}: width and height must be in [1, 16384]", o.width, o.height));
-  if (o.frames < 1 || o.frames > 100000) throw Error(fmt::format("--frames {}: must be in [1, 100000]", o.frames));
-  if (o.repeats < 1 || o.repeats > 1000) throw Error(fmt::format("--repeat {}: must be in [1, 1000]", o.repeats));
-  if (o.shard.count < 1 || o.shard.count > kMaxShards || o.shard.index < 0 || o.shard.index >= o.shard.count)
-    throw Error(fmt::format("--shard {}: expected I/N with N in [1, {}] and I in [0, N)", o.shard.text(), kMaxShards));
-  if (o.scenes.empty()) throw Error("--scenes: empty list");
-  if (o.tracers.empty()) throw Error("--tracers: empty list");
-  RAYCOH_CHECK(std::any_of(o.methods.begin(), o.methods.end(), [](const Method& m) { return m.label == "noopt"; }),
-               "the methods must contain the noopt baseline");
-  for (const std::string& spec : o.scenes) check_scene_spec("--scenes", spec);
-  check_scene_names(o.scenes);
-  check_output_file("--out", o.out);
-  check_memory(fmt::format("--res {}x{}", o.width, o.height), experiment_bytes(o.width, o.height));
-}
-
-// Every name and parameter is checked before anything is measured.
-std::vector<std::unique_ptr<Generator>> checked_generators(const ExperimentOptions& o) {
-  check_options(o);
-  std::vector<std::unique_ptr<Generator>> generators;
-  for (const Method& m : o.methods) generators.push_back(make_generator(m.generator));
-  return generators;
-}
-
-// The scene column's fingerprint (shading/reference.h): built-in scenes by their spec, files by their bytes and
-// the files beside them. A file spec with a ":sun=..." suffix is the file's fingerprint plus the suffix.
-std::string experiment_fingerprint(const std::string& spec) {
-  std::error_code ec;
-  const size_t colon = spec.rfind(':');
-  if (!std::filesystem::exists(spec, ec) && colon != std::string::npos && colon > 0 &&
-      std::filesystem::exists(spec.substr(0, colon), ec))
-    return scene_fingerprint(spec.substr(0, colon)) + spec.substr(colon);
-  return scene_fingerprint(spec);
-}
-
-// One scene with its BVH, tracers and encoders; tracers keep references to scene and BVH, so it never moves.
-struct SceneSetup {
-  std::string fingerprint;
-  Scene scene;
-  Bvh bvh;
-  std::vector<std::unique_ptr<Tracer>> tracers;
-  std::vector<std::unique_ptr<Encoder>> encoders;  // one per method
-  std::unique_ptr<Tracer> gbuffer_tracer;
-  std::vector<bool> warmed, models;  // models: tracers with coherence counters (deterministic, run once)
-  SceneSetup(const std::string& spec, const ExperimentOptions& o, std::vector<std::string>& labels);
-  SceneSetup(const SceneSetup&) = delete;
-  SceneSetup& operator=(const SceneSetup&) = delete;
-};
-
-SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o, std::vector<std::string>& labels) {
-  const auto t_load = Clock::now();
-  fingerprint = experiment_fingerprint(spec);
-  scene = load_scene(spec);
-  const double load_s = seconds_since(t_load);
-  bvh = build_bvh(scene);
-  std::fprintf(stderr,
-               "%s: %zu triangles, loaded in %.2f s; BVH %zu inner nodes, %zu leaves, depth %zu, SAH %.1f, %.1f MiB, "
-               "built in %.2f s\n",
-               scene.name.c_str(), scene.triangle_count(), load_s, bvh.stats.inner_nodes, bvh.stats.leaves,
-               bvh.stats.max_depth, bvh.stats.sah_cost, bvh.stats.bytes / 1048576.0, bvh.stats.build_seconds);
-  for (const std::string& s : analyse(scene).skipped_stages) std::fprintf(stderr, "    skipped: %s\n", s.c_str());
-  for (const std::string& s : scene.load_notes) std::fprintf(stderr, "    loader: %s\n", s.c_str());
-  for (const PluginSpec& t : o.tracers) {
-    tracers.push_back(make_tracer(t, scene, bvh));
-    const std::string p = tracers.back()->params();
-    labels.push_back(p.empty() ? t.name : t.name + "[" + p + "]");
-    models.push_back(tracers.back()->last_counters() != nullptr);
-  }
-  warmed.assign(tracers.size(), false);
-  for (const Method& m : o.methods) encoders.push_back(make_encoder(m.encoder, EncoderContext{scene.bounds, &bvh}));
-  gbuffer_tracer = make_tracer({"cpu", ""}, scene, bvh);
-}
-
 // One run of the loop: the CSV, the rows an interrupted run left, and the sums of the scene being measured.
 class ExperimentRun {
  public:
@@ -149,6 +55,8 @@ class ExperimentRun {
   bool owns(size_t si, int frame, size_t mi) const;
   bool owns_any(size_t si, int frame) const;
   void run_scene(size_t si);
+  void run_device_primary(int frame);
+  void run_device_row(ExperimentRow r, size_t ti, size_t mi);
   void run_frame(int frame);
   void run_methods(int frame, const GBuffer& gbuffer);
   ExperimentRow head(const std::string& pass, size_t mi, size_t ti, int frame) const;
@@ -156,9 +64,9 @@ class ExperimentRun {
   bool frame_resumed(int frame);
   template <class Fn>
   Timing measure(size_t ti, Fn&& trace_once);
-  ModeledStages model_stages(const GpuModelConfig& gpu, size_t mi, bool reordered) const;
   void record(ExperimentRow row, size_t ti, double gen_s, const Timing& t, const GenerationStats* gs,
               const ReorderTimings& rt, const ModeledStages& stages);
+  void finish_row(ExperimentRow r, size_t ti, const ModeledStages& stages);
 
   const ExperimentOptions& o_;
   const Provenance& provenance_;
@@ -177,33 +85,6 @@ class ExperimentRun {
   std::vector<Hit> hits_;
   RayBatch batch_, sorted_;
 };
-
-// What rows of an earlier run must hold to be this run's (harness/csv.h): everything known before a scene is
-// loaded. Tracer and encoder parameters are known only then; rows differing there are found at the end (run()).
-ResumeRule experiment_rule(const ExperimentOptions& o, const std::vector<std::unique_ptr<Generator>>& generators,
-                           const Provenance& p) {
-  std::set<std::string> scenes, methods = {"primary"}, params = {kPrimaryParams}, tracers, frames;
-  for (const std::string& spec : o.scenes) scenes.insert(scene_name_of(spec));
-  for (size_t mi = 0; mi < o.methods.size(); ++mi) {
-    methods.insert(o.methods[mi].label);
-    params.insert(generators[mi]->params());
-  }
-  for (const PluginSpec& t : o.tracers) tracers.insert(t.name);
-  for (int f = 0; f < o.frames; ++f) frames.insert(std::to_string(f));
-  ResumeRule rule;
-  rule.require("scene", scenes)
-      .require("pass", {"primary", "secondary"})
-      .require("method", methods)
-      .require("generator_params", params)
-      .require("tracer", tracers)
-      .require("width", {std::to_string(o.width)})
-      .require("height", {std::to_string(o.height)})
-      .require("frame", frames)
-      .require("seed", {std::to_string(o.seed)})
-      .require("repeats", {std::to_string(o.repeats), "1"})  // counting tracers run once
-      .require("permute", {o.permute, ""});
-  return require_provenance(rule, p);
-}
 
 ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
     : o_(o),
@@ -276,7 +157,7 @@ void ExperimentRun::run_scene(size_t si) {
   si_ = si;
   res_ = SceneResult{};
   setup_.reset();  // the previous scene's tracers go before the next scene is loaded
-  setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, res_.tracer_labels);
+  setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, generators_, res_.tracer_labels);
   res_.scene = setup_->scene.name;
   res_.triangles = setup_->scene.triangle_count();
   primary_order_ = make_pixel_order(o_.width, o_.height, RayOrder::Tile, kPrimaryTile, kPrimaryTile);
@@ -361,24 +242,6 @@ Timing ExperimentRun::measure(size_t ti, Fn&& trace_once) {
   return time_repeats(wall, o_.repeats);
 }
 
-// The stages around the trace on a modelling tracer's GPU (simt/pipeline_model.h): generation of the batch,
-// and for a reordering its keys, sort and (physical mode) permutation. Indirect mode has no permutation kernel;
-// the modeled trace then reads the rays in sorted order as if gathered (docs/simt-model.md, section 3).
-ModeledStages ExperimentRun::model_stages(const GpuModelConfig& gpu, size_t mi, bool reordered) const {
-  ModeledStages m;
-  m.gen_ms = modeled_generation_ms(gpu, size_t(o_.width) * size_t(o_.height), batch_.size());
-  if (!reordered) return m;
-  if (setup_->encoders[mi]->window() > 0) {  // one on-chip binning kernel: no key, sort or permutation pass
-    m.sort_ms = modeled_window_ms(gpu, batch_.size(), permute_ == PermuteMode::Physical);
-    return m;
-  }
-  const int bits = setup_->encoders[mi]->key_bits();
-  m.key_ms = modeled_key_ms(gpu, batch_.size(), bits);
-  m.sort_ms = modeled_sort_ms(gpu, batch_.size(), bits);
-  if (permute_ == PermuteMode::Physical) m.permute_ms = modeled_permute_ms(gpu, order_.data(), order_.size());
-  return m;
-}
-
 void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timing& t, const GenerationStats* gs,
                            const ReorderTimings& rt, const ModeledStages& stages) {
   const double rays = static_cast<double>(r.rays);
@@ -393,6 +256,12 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
   r.permute_ms = rt.permute_ms;
   r.e2e_ms = e2e_s * 1e3;
   r.e2e_mray_s = e2e_s > 0 ? rays / e2e_s * 1e-6 : 0.0;
+  finish_row(std::move(r), ti, stages);
+}
+
+// The counters and model of counting tracers, then the row is written and summed.
+void ExperimentRun::finish_row(ExperimentRow r, size_t ti, const ModeledStages& stages) {
+  const double rays = static_cast<double>(r.rays);
   if (const CoherenceCounters* c = setup_->tracers[ti]->last_counters()) {
     r.simt_efficiency = c->simt_efficiency();
     r.node_simt_efficiency = c->node_simt_efficiency();
@@ -408,6 +277,10 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
       r.modeled_e2e_ms = e2e_ms;
       r.modeled_e2e_mray_s = rays / e2e_ms * 1e-3;
       r.modeled_limiter = modeled_limiter(c->modeled);
+      r.modeled_gen_ms = stages.gen_ms;
+      r.modeled_key_ms = stages.key_ms;
+      r.modeled_sort_ms = stages.sort_ms;
+      r.modeled_permute_ms = stages.permute_ms;
     }
   }
   csv_.write(r);
@@ -428,11 +301,12 @@ void ExperimentRun::run_frame(int frame) {
   hits_.resize(rays.size());
   for (size_t ti = 0; ti < o_.tracers.size() && owns(si_, frame, o_.methods.size()); ++ti) {  // the coherent bound
     ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
-    if (resumed(r, ti)) continue;
+    if (setup_->pipelines[ti] || resumed(r, ti)) continue;  // device pipelines: run_device_primary
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), hits_.data()); });
     r.rays = rays.size();
     record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{}, ModeledStages{});
   }
+  run_device_primary(frame);
   run_methods(frame, first.gbuffer);
 }
 
@@ -447,9 +321,14 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
     progress_.update(scene_index_, o_.scenes.size(), static_cast<int>(size_t(frame) * methods + mi),
                      static_cast<int>(size_t(o_.frames) * methods),
                      fmt::format("{} frame {}/{} {}", res_.scene, frame + 1, o_.frames, o_.methods[mi].label));
-    std::vector<std::pair<size_t, ExperimentRow>> todo;  // tracer index, row head
+    std::vector<std::pair<size_t, ExperimentRow>> todo;  // host-pipeline tracer index, row head
     for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
-      if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) todo.emplace_back(ti, std::move(r));
+      if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) {
+        if (setup_->pipelines[ti])
+          run_device_row(std::move(r), ti, mi);
+        else
+          todo.emplace_back(ti, std::move(r));
+      }
     if (todo.empty()) continue;
     const std::string gen_key = o_.methods[mi].generator.name + ":" + generators_[mi]->params();
     if (gen_key != batch_of) {
@@ -473,9 +352,43 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
       });
       r.rays = batch_.size();
       const GpuModelConfig* gpu = tracer.gpu_model();
-      record(std::move(r), ti, gen_s, t, &gs, rt, gpu ? model_stages(*gpu, mi, reordered) : ModeledStages{});
+      const Encoder& enc = *setup_->encoders[mi];
+      record(std::move(r), ti, gen_s, t, &gs, rt,
+             gpu ? modeled_stages(*gpu, size_t(o_.width) * size_t(o_.height), enc.key_bits(), enc.window(),
+                                  permute_ == PermuteMode::Physical, batch_.size(), order_)
+                 : ModeledStages{});
     }
   }
+}
+
+// Device pipelines: camera rays made and traced on the device (the primary row), their G-buffer uploaded.
+void ExperimentRun::run_device_primary(int frame) {
+  const auto f = static_cast<uint32_t>(frame);
+  for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {
+    DevicePipeline* p = setup_->pipelines[ti];
+    if (!p) continue;
+    auto pass = [&] { return p->primary(o_.width, o_.height, kPrimaryTile, kPrimaryTile, o_.seed, f, true); };
+    ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
+    if (owns(si_, frame, o_.methods.size()) && !resumed(r, ti)) {
+      r.rays = size_t(o_.width) * size_t(o_.height);
+      set_device_times(r, measure_device(pass, o_.repeats, setup_->models[ti]), setup_->models[ti]);
+      finish_row(std::move(r), ti, ModeledStages{});
+    } else {
+      pass();
+    }
+    p->upload_first_hits();
+  }
+}
+
+void ExperimentRun::run_device_row(ExperimentRow r, size_t ti, size_t mi) {
+  GenerationStats gs;
+  DevicePipeline& p = *setup_->pipelines[ti];
+  auto pass = [&] { return p.secondary(*generators_[mi], *setup_->encoders[mi], permute_, o_.seed, gs); };
+  const DeviceMeasurement m = measure_device(pass, o_.repeats, setup_->models[ti]);
+  r.rays = gs.rays;
+  set_device_times(r, m, setup_->models[ti]);
+  set_generation(r, gs);
+  finish_row(std::move(r), ti, ModeledStages{});
 }
 
 }  // namespace

@@ -56,6 +56,13 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("modeled_e2e_ms", &R::modeled_e2e_ms, Optional<General>{}),
         column("modeled_e2e_mray_s", &R::modeled_e2e_mray_s, Optional<General>{}),
         column("modeled_limiter", &R::modeled_limiter, Text{}),
+        column("modeled_gen_ms", &R::modeled_gen_ms, Optional<General>{}),
+        column("modeled_key_ms", &R::modeled_key_ms, Optional<General>{}),
+        column("modeled_sort_ms", &R::modeled_sort_ms, Optional<General>{}),
+        column("modeled_permute_ms", &R::modeled_permute_ms, Optional<General>{}),
+        column("pipeline", &R::pipeline, Text{}),
+        column("gpu_e2e_ms", &R::gpu_e2e_ms, Optional<General>{}),
+        column("gpu_e2e_mray_s", &R::gpu_e2e_mray_s, Optional<General>{}),
         column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
@@ -115,6 +122,13 @@ void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool 
     acc.modeled_s += *row.modeled_ms * 1e-3;
     acc.modeled_e2e_s += row.modeled_e2e_ms.value_or(0) * 1e-3;
     acc.modeled_limiter = row.modeled_limiter;
+    acc.modeled_gen_s += row.modeled_gen_ms.value_or(0) * 1e-3;
+    acc.modeled_reorder_s +=
+        (row.modeled_key_ms.value_or(0) + row.modeled_sort_ms.value_or(0) + row.modeled_permute_ms.value_or(0)) * 1e-3;
+  }
+  if (row.pipeline == "device") {
+    acc.on_device = true;
+    acc.gpu_span_s += row.gpu_e2e_ms.value_or(0) * 1e-3;
   }
   if (row.pass != "secondary" || !first_tracer) return;
   res.rays_per_frame = rays;

@@ -37,6 +37,14 @@ struct ExperimentRow {
   // on the tracer's preset (simt/pipeline_model.h); the port that bounded the trace kernel.
   std::optional<double> modeled_ms, modeled_mray_s, modeled_e2e_ms, modeled_e2e_mray_s;
   std::string modeled_limiter;
+  // The modeled stages summed into modeled_e2e_ms (modelling tracers only), to set beside measured GPU stages.
+  std::optional<double> modeled_gen_ms, modeled_key_ms, modeled_sort_ms, modeled_permute_ms;
+  // Where the batch was made, reordered and timed: "host" (generation, keys, sort and permutation on the CPU,
+  // steady_clock; the trace by the tracer's clock) or "device" (tracers/device_pipeline.h: every stage on the
+  // GPU, CUDA events; gen_ms .. trace_ms and e2e_ms are then measured GPU times). gpu_e2e_ms: on device rows of
+  // timing runs, one event pair around the whole pass, measured (not the sum of the stages).
+  std::string pipeline = "host";
+  std::optional<double> gpu_e2e_ms, gpu_e2e_mray_s;
   std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
   Provenance provenance;
 };
@@ -55,6 +63,12 @@ struct Accumulated {
   double mray_s() const { return trace_s > 0 ? rays / trace_s * 1e-6 : 0.0; }
   // End to end: generation + reordering + trace.
   double e2e_s() const { return gen_s + reorder_s + trace_s; }
+  // Device pipelines (measured GPU): the pass's span, summed over frames; the stages' sums are the fields above.
+  bool on_device = false;
+  double gpu_span_s = 0;
+  double gpu_span_mray_s() const { return gpu_span_s > 0 ? rays / gpu_span_s * 1e-6 : 0.0; }
+  // Modeled stages (modelling tracers), summed over frames: generation, key + sort + permute.
+  double modeled_gen_s = 0, modeled_reorder_s = 0;
   double e2e_mray_s() const { return e2e_s() > 0 ? rays / e2e_s() * 1e-6 : 0.0; }
   double overhead_share() const { return e2e_s() > 0 ? (gen_s + reorder_s) / e2e_s() : 0.0; }
   // Coherence counters of modelling tracers (`simt`), per ray, weighted by rays over frames.

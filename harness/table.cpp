@@ -99,13 +99,16 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
   print_e2e_rows(results, methods, tl, &Accumulated::modeled_e2e_mray_s, &Accumulated::modeled_overhead_share);
 }
 
-// Timing tracers: trace-only MRay/s, then end to end with the overhead share.
+// Timing tracers: trace-only MRay/s, then end to end with the overhead share. A device pipeline's figures are
+// measured on the GPU, every stage; its end to end is also given as the measured span of the whole pass.
 void print_speeds(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
                   const std::string& name, const std::string& header, const ExperimentOptions& o) {
+  const bool device = results.front().by_tracer.at(tl).at("noopt").on_device;
+  const char* where = device ? " (MEASURED on the GPU: every stage on the device, CUDA events)" : "";
   std::printf(
-      "\n### %s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
+      "\n### %s%s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
       "%d traces\n\n%s\n",
-      name.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
+      name.c_str(), where, o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
   for (const std::string& label : row_labels(methods)) {
     std::string line = row_name(label);
     for (const SceneResult& r : results) {
@@ -115,10 +118,59 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
     std::printf("%s\n", line.c_str());
   }
   std::printf(
-      "\n### %s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
+      "\n### %s%s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
       "overhead share\n\n%s\n",
-      name.c_str(), header.c_str());
+      name.c_str(), where, header.c_str());
   print_e2e_rows(results, methods, tl, &Accumulated::e2e_mray_s, &Accumulated::overhead_share);
+  if (!device) return;
+  std::printf(
+      "\n### %s: MEASURED GPU end to end as one span (CUDA events from the first generation kernel to the end of "
+      "the trace, gaps between the stages included), MRay/s (ratio to noopt)\n\n%s\n",
+      name.c_str(), header.c_str());
+  for (const Method& method : methods) {
+    std::string line = "| " + method.label + " |";
+    for (const SceneResult& r : results) {
+      const auto& m = r.by_tracer.at(tl);
+      line += " " + ratio_cell(m.at(method.label).gpu_span_mray_s(), m.at("noopt").gpu_span_mray_s()) + " |";
+    }
+    std::printf("%s\n", line.c_str());
+  }
+}
+
+// Device pipelines beside GPU models: per method and scene, ms per frame of generation / reordering (key + sort +
+// permute) / trace / end to end, measured on the GPU (end to end: the measured span) and modeled on each model.
+void print_measured_vs_modeled(const std::vector<SceneResult>& results, const std::vector<Method>& methods,
+                               const std::map<std::string, std::string>& names) {
+  std::vector<std::string> measured, modeled;
+  for (const std::string& tl : results.front().tracer_labels) {
+    const Accumulated& a = results.front().by_tracer.at(tl).at("noopt");
+    if (a.on_device && !a.has_counters) measured.push_back(tl);
+    if (a.has_model) modeled.push_back(tl);
+  }
+  if (measured.empty()) return;
+  std::printf(
+      "\n### Measured GPU vs modeled GPU, ms per frame: generation / key+sort+permute / trace / end to end "
+      "(measured: CUDA events, end to end the span; modeled: never added to a measured time)\n\n| scene | method |");
+  for (const std::string& tl : measured) std::printf(" %s MEASURED |", names.at(tl).c_str());
+  for (const std::string& tl : modeled) std::printf(" %s MODELED |", names.at(tl).c_str());
+  std::printf("\n|---|---|%s\n", std::string(3 * (measured.size() + modeled.size()), '-').c_str());
+  for (const SceneResult& r : results)
+    for (const Method& method : methods) {
+      std::string line = "| " + r.scene + " | " + method.label + " |";
+      for (const std::string& tl : measured) {
+        const Accumulated& a = r.by_tracer.at(tl).at(method.label);
+        const double f = 1e3 / std::max(a.frames, 1);
+        line += fmt::format(" {:.3f} / {:.3f} / {:.3f} / {:.3f} |", a.gen_s * f, a.reorder_s * f, a.trace_s * f,
+                            a.gpu_span_s * f);
+      }
+      for (const std::string& tl : modeled) {
+        const Accumulated& a = r.by_tracer.at(tl).at(method.label);
+        const double f = 1e3 / std::max(a.frames, 1);
+        line += fmt::format(" {:.3f} / {:.3f} / {:.3f} / {:.3f} |", a.modeled_gen_s * f, a.modeled_reorder_s * f,
+                            a.modeled_s * f, a.modeled_e2e_s * f);
+      }
+      std::printf("%s\n", line.c_str());
+    }
 }
 
 // Header and rule lines: methods down, scenes across.
@@ -156,12 +208,14 @@ void print_tracers(const SceneResult& first, const std::map<std::string, std::st
   for (const std::string& tl : first.tracer_labels) {
     const Accumulated& a = first.by_tracer.at(tl).at("noopt");
     const PluginSpec tracer{tl.substr(0, tl.find('[')), ""};
-    const std::string what = a.has_model ? "MODELED GPU figures (the GPU timing model, not measured)"
-                             : simulated_device(tracer)
-                                 ? std::string(a.has_counters ? "coherence counters; " : "") +
-                                       "SIMULATED GPU figures, not hardware (" + device_of(tracer) + ")"
-                             : a.has_counters ? "coherence counters"
-                                              : "measured on this machine";
+    const std::string what =
+        a.has_model ? "MODELED GPU figures (the GPU timing model, not measured)"
+        : simulated_device(tracer)
+            ? std::string(a.has_counters ? "coherence counters; " : "") + "SIMULATED GPU figures, not hardware (" +
+                  device_of(tracer) + ")"
+        : a.has_counters ? "coherence counters"
+        : a.on_device    ? "MEASURED on the GPU: every batch made, sorted and traced on the device"
+                         : "measured on this machine";
     const std::string& name = names.at(tl);
     std::printf("- %s: %s%s\n", name.c_str(), what.c_str(), name == tl ? "" : ("; " + tl).c_str());
   }
@@ -177,7 +231,8 @@ void print_winners(const std::vector<SceneResult>& results, const std::vector<Me
     if (first.has_counters && !first.has_model) continue;  // counters only: no time
     double (Accumulated::*speed)() const =
         first.has_model ? &Accumulated::modeled_e2e_mray_s : &Accumulated::e2e_mray_s;
-    line += fmt::format("{}{} ({}):", line.empty() ? "" : "; ", names.at(tl), first.has_model ? "modeled" : "measured");
+    line += fmt::format("{}{} ({}):", line.empty() ? "" : "; ", names.at(tl),
+                        first.has_model ? "modeled" : (first.on_device ? "measured on the GPU" : "measured"));
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
       const Method* best = &methods.front();
@@ -236,6 +291,7 @@ int run_table(const TableOptions& options, const Provenance& provenance) {
     else
       print_speeds(results, e.methods, tl, names.at(tl), header, e);
   }
+  print_measured_vs_modeled(results, e.methods, names);
   print_generation(results, e.methods);
   print_winners(results, e.methods, names);
   std::printf("\nWrote %s in %.1f s (%s, %d threads; permute %s)\n", e.out.c_str(),

@@ -75,4 +75,19 @@ double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size
   return modeled_stream_ms(gpu, read_sectors * kSectorBytes + double(n) * batch_bytes_per_ray());
 }
 
+ModeledStages modeled_stages(const GpuModelConfig& gpu, size_t pixels, int key_bits, int window, bool physical,
+                             size_t rays, const std::vector<uint32_t>& order) {
+  ModeledStages m;
+  m.gen_ms = modeled_generation_ms(gpu, pixels, rays);
+  if (key_bits == 0) return m;
+  if (window > 0) {
+    m.sort_ms = modeled_window_ms(gpu, rays, physical);
+    return m;
+  }
+  m.key_ms = modeled_key_ms(gpu, rays, key_bits);
+  m.sort_ms = modeled_sort_ms(gpu, rays, key_bits);
+  if (physical) m.permute_ms = modeled_permute_ms(gpu, order.data(), order.size());
+  return m;
+}
+
 }  // namespace raycoh

@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "simt/gpu_model.h"
 
@@ -45,5 +46,13 @@ double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size
 // (physical mode), or the rays are read and the window-local order written (indirect mode). Its key, sort and
 // permutation are all in this one figure. An assumption of ours, an upper bound of a hardware unit's cost.
 double modeled_window_ms(const GpuModelConfig& gpu, size_t n, bool physical);
+
+// The stages around the trace of one secondary batch of `rays` rays made from `pixels` pixels, modeled on `gpu`:
+// generation, and for a reordering (key_bits > 0) its keys, sort and (physical) permutation by `order` (the sorted
+// indices). A windowed reordering (window > 0) is one on-chip binning kernel: no key, sort or permutation pass.
+// Indirect mode has no permutation kernel; the modeled trace then reads the rays in sorted order as if gathered
+// (docs/simt-model.md, section 3).
+ModeledStages modeled_stages(const GpuModelConfig& gpu, size_t pixels, int key_bits, int window, bool physical,
+                             size_t rays, const std::vector<uint32_t>& order);
 
 }  // namespace raycoh

@@ -166,7 +166,7 @@ TEST(GpuTracerRegistry, ListedInCudaBuildsWithItsParameters) {
   const auto& infos = tracer_infos();
   const auto it = std::find_if(infos.begin(), infos.end(), [](const TracerInfo& i) { return i.name == "cuda"; });
   ASSERT_NE(it, infos.end());
-  EXPECT_EQ(default_params(it->table()), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2");
+  EXPECT_EQ(default_params(it->table()), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,pipeline=device");
   EXPECT_EQ(it->table()[2].choices, (std::vector<std::string>{"off", "on"}));
 }
 
@@ -186,6 +186,7 @@ TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
   EXPECT_NE(message("kernel=fast").find("persistent"), std::string::npos);
   EXPECT_NE(message("warp=16").find("warp"), std::string::npos);
   EXPECT_NE(message("bvh=bvh4").find("cwbvh"), std::string::npos);
+  EXPECT_NE(message("pipeline=gpu").find("device, host"), std::string::npos) << message("pipeline=gpu");
   EXPECT_NE(message("bvh=cwbvh,counters=on").find("counters=on has no CWBVH kernel"), std::string::npos)
       << message("bvh=cwbvh,counters=on");
   if (cuda::device_count() == 0) {
@@ -193,7 +194,7 @@ TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
   } else {
     EXPECT_EQ(message(""), "");
     auto t = make_tracer({"cuda", ""}, scene, bvh);
-    EXPECT_EQ(t->params(), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2");
+    EXPECT_EQ(t->params(), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,pipeline=device");
     EXPECT_EQ(t->last_counters(), nullptr);
     EXPECT_LT(t->last_device_ms(), 0.0);  // nothing traced yet
     auto c = make_tracer({"cuda", "counters=on,line=128"}, scene, bvh);

@@ -19,6 +19,7 @@ namespace raycoh {
 struct Scene;
 struct Bvh;
 struct GpuModelConfig;
+class DevicePipeline;
 
 // The modeled time of one trace kernel on the `simt` tracer's GPU preset (simt/timed_replay.h). Modeled, not
 // measured: never added to a measured time. Busy figures are the time a port was occupied (per-SM ports: the
@@ -95,6 +96,9 @@ class Tracer {
   // Device time of the last trace() / trace_indirect() call in milliseconds (the kernel alone, from CUDA events),
   // for tracers that run on a GPU (`cuda`); -1 for host tracers, whose caller times the call itself.
   virtual double last_device_ms() const { return -1.0; }
+  // The whole per-frame pipeline on this tracer's device (tracers/device_pipeline.h), for tracers that run one
+  // (`cuda` with pipeline=device); nullptr for those that trace host-made batches. Owned by the tracer.
+  virtual DevicePipeline* device_pipeline() { return nullptr; }
 };
 
 // Reads its values from a ParamSet over the record's table; throws raycoh::Error for bad ones. The Scene and Bvh

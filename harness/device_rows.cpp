@@ -1,0 +1,43 @@
+#include "harness/device_rows.h"
+
+#include <vector>
+
+namespace raycoh {
+
+namespace {
+
+double mray_s(size_t rays, double ms) { return ms > 0 ? static_cast<double>(rays) / ms * 1e-3 : 0.0; }
+
+}  // namespace
+
+DeviceMeasurement measure_device(const std::function<DeviceStageTimes()>& pass, int repeats, bool counting) {
+  std::vector<DeviceStageTimes> passes;
+  if (counting) {
+    passes.push_back(pass());
+  } else {
+    pass();  // warm-up
+    for (int r = 0; r < repeats; ++r) passes.push_back(pass());
+  }
+  DeviceMeasurement m;
+  m.median = median_stage_times(std::move(passes), &m.trace_min_ms);
+  return m;
+}
+
+void set_device_times(ExperimentRow& row, const DeviceMeasurement& m, bool counting) {
+  const DeviceStageTimes& t = m.median;
+  row.pipeline = "device";
+  row.gen_ms = t.gen_ms;
+  row.key_ms = t.key_ms;
+  row.sort_ms = t.sort_ms;
+  row.permute_ms = t.permute_ms;
+  row.trace_ms = t.trace_ms;
+  row.trace_ms_min = m.trace_min_ms;
+  row.mray_s = mray_s(row.rays, t.trace_ms);
+  row.e2e_ms = t.stages_ms();
+  row.e2e_mray_s = mray_s(row.rays, row.e2e_ms);
+  if (counting) return;  // the counting kernel's time is no traversal time: no end-to-end span
+  row.gpu_e2e_ms = t.span_ms;
+  row.gpu_e2e_mray_s = mray_s(row.rays, t.span_ms);
+}
+
+}  // namespace raycoh

@@ -1,0 +1,158 @@
+// The host side of the device pipeline (tracers/device_pipeline.h, harness/device_rows.h) and of the modeled
+// stages beside it (simt/pipeline_model.h modeled_stages): medians, the measured columns a device row gets, what
+// the console sums, and which modeled stages a reordering has. No GPU needed: the passes here are stand-ins that
+// return given stage times.
+#include "harness/device_rows.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "harness/experiment_row.h"
+#include "simt/gpu_model.h"
+#include "simt/pipeline_model.h"
+#include "tracers/device_pipeline.h"
+
+namespace raycoh {
+namespace {
+
+DeviceStageTimes stages(double gen, double key, double sort, double permute, double trace, double span) {
+  DeviceStageTimes t;
+  t.gen_ms = gen;
+  t.key_ms = key;
+  t.sort_ms = sort;
+  t.permute_ms = permute;
+  t.trace_ms = trace;
+  t.span_ms = span;
+  return t;
+}
+
+std::string column(const ExperimentRow& row, const std::string& name) {
+  const std::vector<std::string> names = column_names(experiment_schema());
+  const std::vector<std::string> text = write_row(experiment_schema(), row);
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return text[i];
+  ADD_FAILURE() << "no column " << name;
+  return "";
+}
+
+TEST(DeviceRows, MedianOfEachStageOnItsOwnAndTheFastestTrace) {
+  double trace_min = 0;
+  const DeviceStageTimes m =
+      median_stage_times({stages(1, 9, 5, 0, 7, 30), stages(3, 1, 4, 0, 2, 10), stages(2, 5, 6, 0, 9, 20)}, &trace_min);
+  EXPECT_EQ(m.gen_ms, 2);
+  EXPECT_EQ(m.key_ms, 5);
+  EXPECT_EQ(m.sort_ms, 5);
+  EXPECT_EQ(m.permute_ms, 0);
+  EXPECT_EQ(m.trace_ms, 7);
+  EXPECT_EQ(m.span_ms, 20);
+  EXPECT_EQ(trace_min, 2);
+  EXPECT_EQ(m.stages_ms(), 2 + 5 + 5 + 0 + 7);
+}
+
+TEST(DeviceRows, TimingRunsWarmUpOnceAndCountingRunsPassOnce) {
+  int calls = 0;
+  auto pass = [&] {
+    ++calls;  // the first (warm-up) pass is slow and must not be measured
+    return calls == 1 ? stages(100, 100, 100, 100, 100, 500) : stages(1, 1, 1, 1, calls, 6);
+  };
+  const DeviceMeasurement timed = measure_device(pass, 3, false);
+  EXPECT_EQ(calls, 4);
+  EXPECT_EQ(timed.median.gen_ms, 1);
+  EXPECT_EQ(timed.median.trace_ms, 3);  // traces 2, 3, 4
+  EXPECT_EQ(timed.trace_min_ms, 2);
+  calls = 0;
+  const DeviceMeasurement counted = measure_device(pass, 3, true);
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(counted.median.trace_ms, 100);
+}
+
+TEST(DeviceRows, DeviceRowsHoldMeasuredGpuStagesAndTheSpan) {
+  ExperimentRow row;
+  EXPECT_EQ(column(row, "pipeline"), "host");  // every row made on the host says so
+  EXPECT_EQ(column(row, "gpu_e2e_ms"), "");
+  row.rays = 2000;
+  DeviceMeasurement m;
+  m.median = stages(0.5, 0.25, 0.125, 0.0625, 1.0, 2.5);
+  m.trace_min_ms = 0.75;
+  set_device_times(row, m, false);
+  EXPECT_EQ(column(row, "pipeline"), "device");
+  EXPECT_EQ(column(row, "gen_ms"), "0.5000");
+  EXPECT_EQ(column(row, "key_ms"), "0.2500");
+  EXPECT_EQ(column(row, "sort_ms"), "0.1250");
+  EXPECT_EQ(column(row, "permute_ms"), "0.0625");
+  EXPECT_EQ(column(row, "trace_ms"), "1.0000");
+  EXPECT_EQ(column(row, "trace_ms_min"), "0.7500");
+  EXPECT_EQ(column(row, "mray_s"), "2.000");
+  EXPECT_EQ(column(row, "e2e_ms"), "1.9375");   // the stages' sum
+  EXPECT_EQ(column(row, "gpu_e2e_ms"), "2.5");  // the measured span, not the sum
+  EXPECT_EQ(column(row, "gpu_e2e_mray_s"), "0.8");
+  EXPECT_EQ(column(row, "modeled_e2e_ms"), "");  // nothing modeled on a measured row
+  const ExperimentRow back = read_row(experiment_schema(), write_row(experiment_schema(), row));
+  EXPECT_EQ(back.pipeline, "device");
+  EXPECT_EQ(back.gpu_e2e_ms, 2.5);
+
+  ExperimentRow counting;
+  counting.rays = 2000;
+  set_device_times(counting, m, true);
+  EXPECT_EQ(column(counting, "pipeline"), "device");
+  EXPECT_EQ(column(counting, "gpu_e2e_ms"), "");  // the counting kernel is no traversal time
+}
+
+TEST(DeviceRows, TheConsoleSumsTheSpanOfDeviceRowsOnly) {
+  SceneResult res;
+  ExperimentRow row;
+  row.pass = "secondary";
+  row.method = "noopt";
+  row.rays = 1000;
+  DeviceMeasurement m;
+  m.median = stages(1, 0, 0, 0, 2, 4);
+  set_device_times(row, m, false);
+  accumulate(row, "cuda", true, 2, res);
+  accumulate(row, "cuda", true, 2, res);
+  const Accumulated& a = res.by_tracer.at("cuda").at("noopt");
+  EXPECT_TRUE(a.on_device);
+  EXPECT_DOUBLE_EQ(a.gpu_span_s, 8e-3);
+  EXPECT_DOUBLE_EQ(a.e2e_s(), 6e-3);
+  EXPECT_DOUBLE_EQ(a.gpu_span_mray_s(), 2000 / 8e-3 * 1e-6);
+  ExperimentRow host;
+  host.pass = "secondary";
+  host.method = "noopt";
+  host.rays = 1000;
+  host.modeled_ms = 1.0;
+  host.modeled_e2e_ms = 3.0;
+  host.modeled_gen_ms = 0.5;
+  host.modeled_key_ms = 0.25;
+  host.modeled_sort_ms = 0.75;
+  host.modeled_permute_ms = 0.5;
+  accumulate(host, "simt", false, 1, res);
+  const Accumulated& s = res.by_tracer.at("simt").at("noopt");
+  EXPECT_FALSE(s.on_device);
+  EXPECT_DOUBLE_EQ(s.modeled_gen_s, 0.5e-3);
+  EXPECT_DOUBLE_EQ(s.modeled_reorder_s, 1.5e-3);
+}
+
+TEST(ModeledStages, EachReorderingModelsItsOwnStages) {
+  const GpuModelConfig gpu = gpu_preset("rtx3060");
+  std::vector<uint32_t> order(4096);
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>((i * 1031) % order.size());
+  const size_t pixels = 8192, rays = order.size();
+  const ModeledStages none = modeled_stages(gpu, pixels, 0, 0, true, rays, {});
+  EXPECT_EQ(none.gen_ms, modeled_generation_ms(gpu, pixels, rays));
+  EXPECT_EQ(none.reorder_ms(), 0.0);
+  const ModeledStages physical = modeled_stages(gpu, pixels, 32, 0, true, rays, order);
+  EXPECT_EQ(physical.key_ms, modeled_key_ms(gpu, rays, 32));
+  EXPECT_EQ(physical.sort_ms, modeled_sort_ms(gpu, rays, 32));
+  EXPECT_EQ(physical.permute_ms, modeled_permute_ms(gpu, order.data(), order.size()));
+  EXPECT_GT(physical.permute_ms, 0.0);
+  const ModeledStages indirect = modeled_stages(gpu, pixels, 32, 0, false, rays, order);
+  EXPECT_EQ(indirect.permute_ms, 0.0);
+  EXPECT_EQ(indirect.sort_ms, physical.sort_ms);
+  const ModeledStages window = modeled_stages(gpu, pixels, 32, 256, true, rays, order);
+  EXPECT_EQ(window.key_ms, 0.0);
+  EXPECT_EQ(window.permute_ms, 0.0);
+  EXPECT_EQ(window.sort_ms, modeled_window_ms(gpu, rays, true));
+}
+
+}  // namespace
+}  // namespace raycoh
