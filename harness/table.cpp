@@ -208,14 +208,13 @@ void print_tracers(const SceneResult& first, const std::map<std::string, std::st
   for (const std::string& tl : first.tracer_labels) {
     const Accumulated& a = first.by_tracer.at(tl).at("noopt");
     const PluginSpec tracer{tl.substr(0, tl.find('[')), ""};
-    const std::string what =
-        a.has_model ? "MODELED GPU figures (the GPU timing model, not measured)"
-        : simulated_device(tracer)
-            ? std::string(a.has_counters ? "coherence counters; " : "") + "SIMULATED GPU figures, not hardware (" +
-                  device_of(tracer) + ")"
-        : a.has_counters ? "coherence counters"
-        : a.on_device    ? "MEASURED on the GPU: every batch made, sorted and traced on the device"
-                         : "measured on this machine";
+    const std::string what = a.has_model ? "MODELED GPU figures (the GPU timing model, not measured)"
+                             : simulated_device(tracer)
+                                 ? std::string(a.has_counters ? "coherence counters; " : "") +
+                                       "SIMULATED GPU figures, not hardware (" + device_of(tracer) + ")"
+                             : a.has_counters ? "coherence counters"
+                             : a.on_device    ? "MEASURED on the GPU: every batch made, sorted and traced on the device"
+                                              : "measured on this machine";
     const std::string& name = names.at(tl);
     std::printf("- %s: %s%s\n", name.c_str(), what.c_str(), name == tl ? "" : ("; " + tl).c_str());
   }
