@@ -6,6 +6,9 @@ Usage: gpu_check_summary.py TABLE.csv [TABLE.csv ...]   (markdown on stdout)
 Per scene and method (primary pass and secondary methods), over all frames (total rays / total time):
   speed table     cuda (measured MRay/s, ratio to noopt), cuda:bvh=cwbvh (measured), simt (MODELED MRay/s,
                   its limiter), and modeled / measured for the BVH2 kernel;
+  pipeline table  end to end on the device (pipeline=device rows): measured GPU stage times (generation, keys,
+                  sort, permute, trace) and the measured span gpu_e2e_ms with its ratio to noopt, beside simt's
+                  MODELED stages and modeled_e2e_ms;
   counters table  cuda:counters=on against simt: SIMT efficiency and lines per ray (both count the same
                   traversal; they should be equal).
 Measured and modeled figures stay in separate columns; nothing modeled is added to anything measured.
@@ -36,6 +39,11 @@ def number(text):
         return None
 
 
+STAGES = ("gen_ms", "key_ms", "sort_ms", "permute_ms", "trace_ms")
+MODELED_STAGES = ("modeled_gen_ms", "modeled_key_ms", "modeled_sort_ms", "modeled_permute_ms", "modeled_ms",
+                  "modeled_e2e_ms")
+
+
 def collect(paths):
     """cells[(scene, method)][tracer] = {rays, ms, modeled_ms, eff, lines, limiter}"""
     cells = OrderedDict()
@@ -55,6 +63,9 @@ def collect(paths):
                 acc["rays"] += rays or 0.0
                 acc["ms"] += ms or 0.0
                 acc["modeled_ms"] += modeled or 0.0
+                for field in STAGES + MODELED_STAGES + ("gpu_e2e_ms",):
+                    acc[field] = acc.get(field, 0.0) + (number(row.get(field)) or 0.0)
+                acc["device"] = acc.get("device", False) or row.get("pipeline") == "device"
                 for name, field in (("eff", "simt_efficiency"), ("lines", "lines_per_ray")):
                     if number(row.get(field)) is not None:
                         acc[name].append(number(row[field]))
@@ -98,6 +109,31 @@ def speed_table(cells):
     return out
 
 
+def per_ray_rate(acc, field):
+    """MRay/s of a summed time column, None where it is empty."""
+    return acc["rays"] / acc[field] / 1000.0 if acc and acc.get(field) else None
+
+
+def pipeline_table(cells):
+    out = ["| scene | method | gen | key | sort | permute | trace | span gpu_e2e_ms (measured) | MRay/s | ×noopt | "
+           "gen | key | sort | permute | trace | modeled_e2e_ms (MODELED) | ×noopt |",
+           "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for (scene, method), cell in cells.items():
+        cuda, simt = cell.get("cuda"), cell.get("simt")
+        if not cuda or not cuda.get("device"):
+            continue
+        base = cells.get((scene, "noopt"), {})
+        b_cuda, b_simt = base.get("cuda"), base.get("simt")
+        measured = " | ".join(fmt(cuda[f], 3) for f in STAGES)
+        rate = per_ray_rate(cuda, "gpu_e2e_ms")
+        modeled = " | ".join(fmt(simt[f], 3) if simt else "–" for f in MODELED_STAGES)
+        m_rate = per_ray_rate(simt, "modeled_e2e_ms") if simt else None
+        out.append(f"| {scene} | {method} | {measured} | {fmt(cuda['gpu_e2e_ms'] or None, 3)} | {fmt(rate)} | "
+                   f"{fmt(ratio(rate, per_ray_rate(b_cuda, 'gpu_e2e_ms')), 3)} | {modeled} | "
+                   f"{fmt(ratio(m_rate, per_ray_rate(b_simt, 'modeled_e2e_ms') if b_simt else None), 3)} |")
+    return out
+
+
 def counters_table(cells):
     out = ["| scene | method | SIMT eff. cuda:counters | SIMT eff. simt | lines/ray cuda:counters | lines/ray simt "
            "| equal |", "|---|---|---:|---:|---:|---:|---|"]
@@ -125,6 +161,8 @@ def main(argv):
     presets = sorted({p for cell in cells.values() for p in cell.get("simt", {}).get("presets", ())})
     print("## Trace kernel: measured (cuda) beside modeled (simt, preset " + ", ".join(presets or ["–"]) + ")\n")
     print("\n".join(speed_table(cells)))
+    print("\n## End to end on the device: measured GPU stages (ms, summed over frames) beside the MODELED stages\n")
+    print("\n".join(pipeline_table(cells)))
     print("\n## Warp counters: cuda:counters=on against simt (the same traversal counted twice)\n")
     print("\n".join(counters_table(cells)))
     return 0

@@ -35,7 +35,12 @@ TEST(Reorder, SortsByKeyStablyAndPermutesEveryArray) {
   std::mt19937 rng(9);
   for (int i = 0; i < 3000; ++i)
     rays.push_back(ray({float(rng() % 2) * 2.f, float(rng() % 2) * 2.f, float(rng() % 2) * 2.f}, random_unit(rng)));
-  const RayBatch in = make_batch(rays);
+  RayBatch in = make_batch(rays);
+  for (size_t i = 0; i < in.size(); ++i) {  // a grouping generator's arrays travel with their rays too
+    in.tile.push_back(static_cast<uint32_t>(i / 64));
+    in.group.push_back(static_cast<uint32_t>(i / 4));
+    in.group_type.push_back(static_cast<GroupType>(i % 3));
+  }
   for (const char* spec : {"origin", "reis:bits=64", "costa", "aila", "twopoint"}) {
     auto encoder = make_encoder(parse_plugin_spec(spec), EncoderContext{box, nullptr});
     std::vector<uint64_t> keys(in.size());
@@ -60,6 +65,9 @@ TEST(Reorder, SortsByKeyStablyAndPermutesEveryArray) {
       }
       ASSERT_EQ(out.size(), in.size());
       EXPECT_EQ(out.width, in.width);
+      ASSERT_EQ(out.tile.size(), in.size());
+      ASSERT_EQ(out.group.size(), in.size());
+      ASSERT_EQ(out.group_type.size(), in.size());
       for (size_t i = 0; i < in.size(); ++i) {
         const uint32_t j = order[i];
         ASSERT_EQ(out.rays[i].org.x, in.rays[j].org.x);
@@ -67,6 +75,9 @@ TEST(Reorder, SortsByKeyStablyAndPermutesEveryArray) {
         ASSERT_EQ(out.pixel[i], in.pixel[j]);
         ASSERT_EQ(out.pdf[i], in.pdf[j]);
         ASSERT_EQ(out.material[i], in.material[j]);
+        ASSERT_EQ(out.tile[i], in.tile[j]);
+        ASSERT_EQ(out.group[i], in.group[j]);
+        ASSERT_EQ(out.group_type[i], in.group_type[j]);
       }
     }
   }
