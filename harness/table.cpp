@@ -99,16 +99,23 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
   print_e2e_rows(results, methods, tl, &Accumulated::modeled_e2e_mray_s, &Accumulated::modeled_overhead_share);
 }
 
+// What a device pipeline's times are: measured on a GPU, or simulated (a simulator build: GPGPU-Sim's times are a
+// second model's, never hardware's).
+std::string device_times(const std::string& tl) {
+  return simulated_device(PluginSpec{tl.substr(0, tl.find('[')), ""}) ? "SIMULATED" : "MEASURED";
+}
+
 // Timing tracers: trace-only MRay/s, then end to end with the overhead share. A device pipeline's figures are
 // measured on the GPU, every stage; its end to end is also given as the measured span of the whole pass.
 void print_speeds(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
                   const std::string& name, const std::string& header, const ExperimentOptions& o) {
   const bool device = results.front().by_tracer.at(tl).at("noopt").on_device;
-  const char* where = device ? " (MEASURED on the GPU: every stage on the device, CUDA events)" : "";
+  const std::string where =
+      device ? " (" + device_times(tl) + " on the GPU: every stage on the device, CUDA events)" : "";
   std::printf(
       "\n### %s%s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
       "%d traces\n\n%s\n",
-      name.c_str(), where, o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
+      name.c_str(), where.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
   for (const std::string& label : row_labels(methods)) {
     std::string line = row_name(label);
     for (const SceneResult& r : results) {
@@ -120,13 +127,13 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
   std::printf(
       "\n### %s%s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
       "overhead share\n\n%s\n",
-      name.c_str(), where, header.c_str());
+      name.c_str(), where.c_str(), header.c_str());
   print_e2e_rows(results, methods, tl, &Accumulated::e2e_mray_s, &Accumulated::overhead_share);
   if (!device) return;
   std::printf(
-      "\n### %s: MEASURED GPU end to end as one span (CUDA events from the first generation kernel to the end of "
+      "\n### %s: %s GPU end to end as one span (CUDA events from the first generation kernel to the end of "
       "the trace, gaps between the stages included), MRay/s (ratio to noopt)\n\n%s\n",
-      name.c_str(), header.c_str());
+      name.c_str(), device_times(tl).c_str(), header.c_str());
   for (const Method& method : methods) {
     std::string line = "| " + method.label + " |";
     for (const SceneResult& r : results) {
@@ -149,9 +156,10 @@ void print_measured_vs_modeled(const std::vector<SceneResult>& results, const st
   }
   if (measured.empty()) return;
   std::printf(
-      "\n### Measured GPU vs modeled GPU, ms per frame: generation / key+sort+permute / trace / end to end "
+      "\n### Device pipeline (MEASURED on a GPU, SIMULATED in a simulator build) vs modeled GPU, ms per frame: "
+      "generation / key+sort+permute / trace / end to end "
       "(measured: CUDA events, end to end the span; modeled: never added to a measured time)\n\n| scene | method |");
-  for (const std::string& tl : measured) std::printf(" %s MEASURED |", names.at(tl).c_str());
+  for (const std::string& tl : measured) std::printf(" %s %s |", names.at(tl).c_str(), device_times(tl).c_str());
   for (const std::string& tl : modeled) std::printf(" %s MODELED |", names.at(tl).c_str());
   std::printf("\n|---|---|%s\n", std::string(3 * (measured.size() + modeled.size()), '-').c_str());
   for (const SceneResult& r : results)
@@ -231,7 +239,9 @@ void print_winners(const std::vector<SceneResult>& results, const std::vector<Me
     double (Accumulated::*speed)() const =
         first.has_model ? &Accumulated::modeled_e2e_mray_s : &Accumulated::e2e_mray_s;
     line += fmt::format("{}{} ({}):", line.empty() ? "" : "; ", names.at(tl),
-                        first.has_model ? "modeled" : (first.on_device ? "measured on the GPU" : "measured"));
+                        first.has_model   ? "modeled"
+                        : first.on_device ? (device_times(tl) == "SIMULATED" ? "simulated GPU" : "measured on the GPU")
+                                          : "measured");
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
       const Method* best = &methods.front();
