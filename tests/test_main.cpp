@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
 #include "tests/test_util.h"
@@ -34,7 +35,10 @@ CommandResult run_raycoh(const std::string& args) { return run_shell("$R " + arg
 
 CommandResult run_shell(const std::string& script) {
   CommandResult result;
-  const std::string cmd = "R='" + std::string(RAYCOH_BINARY) + "'; { " + script + "\n} 2>&1";
+  // $RAYCOH_BINARY: the raycoh to run where the build's own path does not exist (scripts/gpu-check's bundle).
+  const char* env = std::getenv("RAYCOH_BINARY");
+  const std::string binary = env && *env ? env : RAYCOH_BINARY;
+  const std::string cmd = "R='" + binary + "'; { " + script + "\n} 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buf;
