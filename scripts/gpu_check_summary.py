@@ -3,6 +3,8 @@
 
 Usage: gpu_check_summary.py TABLE.csv [TABLE.csv ...]   (markdown on stdout)
 
+scaling-WxH.csv files (gpu-check --scaling) give one more table: the trace kernel per size, measured beside modeled.
+
 Per scene and method (primary pass and secondary methods), over all frames (total rays / total time):
   speed table     cuda (measured MRay/s, ratio to noopt), cuda:bvh=cwbvh (measured), simt (MODELED MRay/s,
                   its limiter), and modeled / measured for the BVH2 kernel;
@@ -64,7 +66,8 @@ def collect(paths):
                 acc["ms"] += ms or 0.0
                 acc["modeled_ms"] += modeled or 0.0
                 for field in STAGES + MODELED_STAGES + ("gpu_e2e_ms",):
-                    acc[field] = acc.get(field, 0.0) + (number(row.get(field)) or 0.0)
+                    if field not in ("trace_ms", "modeled_ms"):  # summed above as ms and modeled_ms
+                        acc[field] = acc.get(field, 0.0) + (number(row.get(field)) or 0.0)
                 acc["device"] = acc.get("device", False) or row.get("pipeline") == "device"
                 for name, field in (("eff", "simt_efficiency"), ("lines", "lines_per_ray")):
                     if number(row.get(field)) is not None:
@@ -92,7 +95,7 @@ def ratio(value, base):
 
 def speed_table(cells):
     out = ["| scene | method | cuda MRay/s (measured) | ×noopt | cuda:cwbvh MRay/s (measured) | ×noopt | "
-           "simt MRay/s (MODELED) | ×noopt | limiter | modeled / measured |",
+           "simt MRay/s (MODELED) | ×noopt | limiter | modeled / measured MRay/s |",
            "|---|---|---:|---:|---:|---:|---:|---:|---|---:|"]
     for (scene, method), cell in cells.items():
         base = cells.get((scene, "noopt"), {})
@@ -124,7 +127,7 @@ def pipeline_table(cells):
             continue
         base = cells.get((scene, "noopt"), {})
         b_cuda, b_simt = base.get("cuda"), base.get("simt")
-        measured = " | ".join(fmt(cuda[f], 3) for f in STAGES)
+        measured = " | ".join(fmt(cuda["ms" if f == "trace_ms" else f], 3) for f in STAGES)
         rate = per_ray_rate(cuda, "gpu_e2e_ms")
         modeled = " | ".join(fmt(simt[f], 3) if simt else "–" for f in MODELED_STAGES)
         m_rate = per_ray_rate(simt, "modeled_e2e_ms") if simt else None
@@ -148,16 +151,48 @@ def counters_table(cells):
     return out
 
 
+def scaling_table(paths):
+    """scaling-WxH.csv files (gpu-check --scaling): per scene, size and method the cuda trace kernel's measured ms
+    beside simt's modeled ms, their quotient and both ratios to noopt (per ray)."""
+    cells = OrderedDict()
+    for path in paths:
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                method = "primary" if row["pass"] == "primary" else row["method"]
+                cell = cells.setdefault((row["scene"], f"{row['width']}x{row['height']}", method), {})
+                if row["tracer"] == "cuda":
+                    cell.update(rays=number(row["rays"]), ms=number(row["trace_ms"]))
+                elif row["tracer"] == "simt":
+                    cell.update(modeled=number(row["modeled_ms"]), limiter=row["modeled_limiter"])
+    out = ["| scene | size | method | rays | trace ms (measured) | modeled ms (MODELED) | modeled ms / measured ms | "
+           "×noopt measured | ×noopt modeled | limiter |", "|---|---|---|---:|---:|---:|---:|---:|---:|---|"]
+    for (scene, size, method), c in sorted(cells.items(), key=lambda kv: (kv[0][0], int(kv[0][1].split("x")[0]))):
+        b = cells.get((scene, size, "noopt"), {})
+        if not c.get("ms") or not c.get("modeled") or not b.get("ms") or not b.get("modeled"):
+            continue
+        per_ray = c["rays"] / b["rays"]
+        out.append(f"| {scene} | {size} | {method} | {int(c['rays'])} | {c['ms']:.4f} | {c['modeled']:.4f} | "
+                   f"{c['modeled'] / c['ms']:.2f} | {b['ms'] / c['ms'] * per_ray:.3f} | "
+                   f"{b['modeled'] / c['modeled'] * per_ray:.3f} | {c['limiter']} |")
+    return out
+
+
 def main(argv):
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
     import os
     paths = [p for p in argv[1:] if os.path.exists(p)]
-    cells = collect(paths)
-    if not cells:
+    scaling = [p for p in paths if os.path.basename(p).startswith("scaling-")]
+    cells = collect([p for p in paths if p not in scaling])
+    if scaling:
+        print("## Trace kernel from a latency-bound batch to many waves: measured (cuda) beside MODELED (simt)\n")
+        print("\n".join(scaling_table(scaling)) + "\n")
+    if not cells and not scaling:
         print("gpu_check_summary: no rows in " + ", ".join(argv[1:]), file=sys.stderr)
         return 1
+    if not cells:
+        return 0
     presets = sorted({p for cell in cells.values() for p in cell.get("simt", {}).get("presets", ())})
     print("## Trace kernel: measured (cuda) beside modeled (simt, preset " + ", ".join(presets or ["–"]) + ")\n")
     print("\n".join(speed_table(cells)))
