@@ -177,6 +177,32 @@ def scaling_table(paths):
     return out
 
 
+def simulated_device(paths):
+    """The `device` text of the first cuda row from a simulator build (GPGPU-Sim), or None for hardware."""
+    for path in paths:
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                if row["tracer"] == "cuda" and row.get("device", "").startswith("simulated"):
+                    return row["device"]
+    return None
+
+
+def summary(cells, scaling):
+    out = []
+    if scaling:
+        out += ["## Trace kernel from a latency-bound batch to many waves: measured (cuda) beside MODELED (simt)\n",
+                "\n".join(scaling_table(scaling)) + "\n"]
+    if cells:
+        presets = sorted({p for cell in cells.values() for p in cell.get("simt", {}).get("presets", ())})
+        out += ["## Trace kernel: measured (cuda) beside modeled (simt, preset " + ", ".join(presets or ["–"]) + ")\n",
+                "\n".join(speed_table(cells)),
+                "\n## End to end on the device: measured GPU stages (ms, summed over frames) beside the MODELED "
+                "stages\n", "\n".join(pipeline_table(cells)),
+                "\n## Warp counters: cuda:counters=on against simt (the same traversal counted twice)\n",
+                "\n".join(counters_table(cells))]
+    return "\n".join(out)
+
+
 def main(argv):
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
@@ -185,21 +211,16 @@ def main(argv):
     paths = [p for p in argv[1:] if os.path.exists(p)]
     scaling = [p for p in paths if os.path.basename(p).startswith("scaling-")]
     cells = collect([p for p in paths if p not in scaling])
-    if scaling:
-        print("## Trace kernel from a latency-bound batch to many waves: measured (cuda) beside MODELED (simt)\n")
-        print("\n".join(scaling_table(scaling)) + "\n")
     if not cells and not scaling:
         print("gpu_check_summary: no rows in " + ", ".join(argv[1:]), file=sys.stderr)
         return 1
-    if not cells:
-        return 0
-    presets = sorted({p for cell in cells.values() for p in cell.get("simt", {}).get("presets", ())})
-    print("## Trace kernel: measured (cuda) beside modeled (simt, preset " + ", ".join(presets or ["–"]) + ")\n")
-    print("\n".join(speed_table(cells)))
-    print("\n## End to end on the device: measured GPU stages (ms, summed over frames) beside the MODELED stages\n")
-    print("\n".join(pipeline_table(cells)))
-    print("\n## Warp counters: cuda:counters=on against simt (the same traversal counted twice)\n")
-    print("\n".join(counters_table(cells)))
+    text = summary(cells, scaling)
+    device = simulated_device(paths)
+    if device:  # a simulator build (scripts/gpu-check dry-run): its cuda figures are a second model's, not hardware
+        text = (f"**SIMULATED, not hardware**: the cuda figures come from {device}; in functional mode their times "
+                "are the simulator's wall time and mean nothing (the counters do).\n\n" +
+                text.replace("(measured)", "(SIMULATED)").replace("measured", "SIMULATED"))
+    print(text)
     return 0
 
 
