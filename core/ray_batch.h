@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/material.h"
 #include "core/ray.h"
-#include "scenes/scene.h"
 
 namespace raycoh {
 

@@ -10,6 +10,7 @@
 #include "core/params.h"
 #include "core/plugin.h"
 #include "core/ray_batch.h"
+#include "scenes/scene.h"
 
 namespace raycoh {
 

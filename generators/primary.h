@@ -5,6 +5,7 @@
 
 #include "core/ray.h"
 #include "core/ray_batch.h"
+#include "scenes/scene.h"
 
 namespace raycoh {
 
