@@ -58,14 +58,14 @@ struct KernelSpec {
 void use_cwbvh_kernel(KernelSpec& k);
 
 struct GpuModelConfig {
-  std::string preset;  // "rtx3060", "h100"
+  std::string preset;  // "rtx3060", "h100", "gpgpusim-rtx3070"
   CacheModelConfig cache;
   GpuSpec gpu;
   KernelSpec kernel;
   uint32_t resident_override = 0;  // 0: occupancy from the kernel's registers and block size
 };
 
-std::vector<std::string> gpu_preset_names();  // {"rtx3060", "h100"}
+std::vector<std::string> gpu_preset_names();  // {"rtx3060", "h100", "gpgpusim-rtx3070"}
 // Throws raycoh::Error for an unknown name, naming the valid ones.
 GpuModelConfig gpu_preset(const std::string& name);
 
