@@ -15,7 +15,7 @@ import sys
 
 CLOCK_MHZ = 1132.0  # simt/gpu_presets.cpp gpgpusim_rtx3070 (the simulator's cfg:31)
 SCENES = ["cornell", "voxels", "sibenik", "country_kitchen"]
-METHODS = ["primary", "noopt", "ours", "ours (group order)", "contiguous", "noopt+twopoint", "noopt+mlhcc"]
+METHODS = ["primary", "noopt", "ours", "ours:order=group", "contiguous", "noopt+twopoint", "noopt+mlhcc"]
 
 
 def label(row):
