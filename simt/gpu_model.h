@@ -26,6 +26,7 @@ struct GpuSpec {
   double l1_latency = 39;           // load-to-use cycles of an L1 hit
   double l2_latency = 187;          // load-to-use cycles of an L1 miss that hits in L2
   double dram_latency = 441;        // load-to-use cycles of an L2 miss
+  double launch_cycles = 0;         // from the launch to the first block's start, part of the kernel time (0: none)
   double dram_bytes_per_clk() const { return dram_gb_s * 1e3 / clock_mhz; }
 };
 

@@ -154,6 +154,11 @@ GpuModelConfig gpgpusim_rtx3070() {
   g.l1_latency = 39;           // cfg:96 -gpgpu_l1_latency 39
   g.l2_latency = 187;          // cfg:140 -gpgpu_l2_rop_latency 187 (the rtx3060 preset's reading of it)
   g.dram_latency = 187 + 254;  // cfg:140 + cfg:141 -dram_latency 254
+  // cfg:11 -gpgpu_kernel_launch_latency 5000: kernel_info_t (src/abstract_hardware_model.cc) starts its
+  // m_kernel_TB_latency at it (+ blocks x cfg:12 -gpgpu_TB_launch_latency 0), and gpgpu_sim (gpu-sim.cc) issues no
+  // block before that count reaches 0, inside the kernel's cycles. The rtx3060 and h100 presets leave it at 0: no
+  // published figure for the hardware.
+  g.launch_cycles = 5000;
   // The kernel: the SASS step costs of our_kernel() (the simulator runs PTX instead: docs/simt-model.md section
   // 6 counts both). Registers: the simulator takes them from ptxas (nvcc 11.8, sm_86) on the same PTX, which
   // reports 55 for persistent_kernel<false, BvhView, NoAlphaTest> (raycoh.N.sm_86.ptxas), as nvcc 13 does.

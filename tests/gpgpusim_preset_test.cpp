@@ -10,6 +10,7 @@
 
 #include "simt/cache_model.h"
 #include "simt/gpu_model.h"
+#include "simt/timed_replay.h"
 
 namespace raycoh {
 namespace {
@@ -33,7 +34,36 @@ TEST(GpgpusimPreset, MirrorsTheSimulatorsRtx3070) {
   EXPECT_DOUBLE_EQ(g.gpu.l1_latency, 39.0);
   EXPECT_DOUBLE_EQ(g.gpu.l2_latency, 187.0);
   EXPECT_DOUBLE_EQ(g.gpu.dram_latency, 441.0);
+  EXPECT_DOUBLE_EQ(g.gpu.launch_cycles, 5000.0);
+  EXPECT_DOUBLE_EQ(gpu_preset("rtx3060").gpu.launch_cycles, 0.0);  // no published figure for the hardware
+  EXPECT_DOUBLE_EQ(gpu_preset("h100").gpu.launch_cycles, 0.0);
   EXPECT_NO_THROW(validate(g));
+}
+
+// The launch latency is a constant before the first block: it adds to the kernel's cycles and nothing else.
+TEST(GpgpusimPreset, LaunchLatencyAddsToTheKernelTime) {
+  auto run = [](double launch) {
+    GpuModelConfig g = gpu_preset("gpgpusim-rtx3070");
+    g.cache.sms = 2;
+    g.gpu.launch_cycles = launch;
+    std::vector<WarpTrace> traces(100);
+    for (size_t w = 0; w < traces.size(); ++w) {
+      traces[w].lanes = 32;
+      for (uint64_t s = 0; s < 6; ++s) {
+        const uint64_t sector = (w * 7 + s * 131) % 4096;
+        traces[w].add_step(SimtStepKind::Node, &sector, 1);
+      }
+    }
+    TimedReplay r(g, traces.size(), 1 << 20);
+    r.run(traces, traces.size());
+    EXPECT_TRUE(r.done());
+    return r.result();
+  };
+  const ModeledKernel a = run(0), b = run(5000);
+  EXPECT_GT(a.cycles, 0.0);
+  EXPECT_DOUBLE_EQ(b.cycles, a.cycles + 5000);
+  EXPECT_DOUBLE_EQ(b.ms, b.cycles / 1132e3);
+  EXPECT_DOUBLE_EQ(b.issue_busy, a.issue_busy);
 }
 
 TEST(GpgpusimPreset, OccupancyFollowsTheSimulatorsRegisterRounding) {
@@ -54,6 +84,8 @@ TEST(GpgpusimPreset, CitedConfigLinesHoldTheValues) {
   std::vector<std::string> lines(1);  // 1-based
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   const std::vector<std::pair<size_t, std::string>> cited = {
+      {11, "-gpgpu_kernel_launch_latency 5000"},
+      {12, "-gpgpu_TB_launch_latency 0"},
       {24, "-gpgpu_n_clusters 46"},
       {25, "-gpgpu_n_cores_per_cluster 1"},
       {26, "-gpgpu_n_mem 16"},
