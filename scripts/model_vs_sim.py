@@ -33,6 +33,8 @@ def resident_per_sm(kernels_file):
 def read_runs(out):
     cells, repeats = {}, []
     for path in sorted(glob.glob(os.path.join(out, "runs", "*.csv"))):
+        if path.endswith(".model.csv"):
+            continue
         m = re.search(r"_(\d+x\d+)_sms(\d+)_(gen|enc)\.csv$", path)
         size, sms, part = m.group(1), int(m.group(2)), m.group(3)
         resident = resident_per_sm(path[:-4] + ".kernels.txt")
@@ -55,7 +57,20 @@ def read_runs(out):
                 c["limiter"] = r["modeled_limiter"]
                 c["simt_eff"] = float(r["simt_efficiency"])
                 c["l1_miss"] = float(r["l1_misses_per_ray"])
+        read_model_rerun(path[:-4] + ".model.csv", size, cells)
     return cells, repeats
+
+
+def read_model_rerun(path, size, cells):
+    """The current model on the same batch (model-vs-sim --model-only), beside the model that ran with the sim."""
+    if not os.path.exists(path):
+        return
+    for r in csv.DictReader(open(path)):
+        key = (r["scene"], size, label(r))
+        if r["tracer"] == "simt" and key in cells and "model_now" not in cells[key]:
+            cells[key]["model_now"] = float(r["modeled_ms"]) * CLOCK_MHZ * 1e3
+            cells[key]["limiter_now"] = r["modeled_limiter"]
+            cells[key]["revision_now"] = r["git_revision"]
 
 
 def with_ratios(cells):
@@ -74,6 +89,12 @@ def with_ratios(cells):
             row["sim_ratio"] = base["sim_cycles"] / c["sim_cycles"]
             row["model_ratio"] = base["model_cycles"] / c["model_cycles"]
             row["ratio_error"] = row["model_ratio"] / row["sim_ratio"] - 1
+        if "model_now" in c:
+            row.update(model_now=c["model_now"], error_now=c["model_now"] / c["sim_cycles"] - 1,
+                       limiter_now=c["limiter_now"], revision_now=c["revision_now"])
+            if "model_now" in base and "sim_cycles" in base:
+                row["model_ratio_now"] = base["model_now"] / c["model_now"]
+                row["ratio_error_now"] = row["model_ratio_now"] / row["sim_ratio"] - 1
         rows.append(row)
 
     def order(r):
@@ -86,26 +107,39 @@ def with_ratios(cells):
 
 def write_outputs(out, rows, repeats):
     cols = ["scene", "size", "sms", "method", "rays", "waves", "sim_cycles", "model_cycles", "error", "limiter",
-            "sim_ratio", "model_ratio", "ratio_error", "simt_efficiency", "l1_misses_per_ray", "git_revision"]
+            "sim_ratio", "model_ratio", "ratio_error", "simt_efficiency", "l1_misses_per_ray", "git_revision",
+            "model_now", "error_now", "limiter_now", "model_ratio_now", "ratio_error_now", "revision_now"]
     with open(os.path.join(out, "cells.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
     pct = lambda x: "" if x is None else f"{x * 100:+.0f}%"
     num = lambda x, f="{:.2f}": "" if x is None else f.format(x)
+    now = any("model_now" in r for r in rows)
+    extra = " MODELED now | error now | ratio now | ratio error now |" if now else ""
     lines = ["| scene | size | method | rays | waves | SIMULATED cycles | MODELED cycles | error | limiter | "
-             "ratio to noopt SIMULATED | MODELED | ratio error |", "|" + "---|" * 3 + "---:|" * 5 + "---|" + "---:|" * 3]
+             "ratio to noopt SIMULATED | MODELED | ratio error |" + extra,
+             "|" + "---|" * 3 + "---:|" * 5 + "---|" + "---:|" * 3 + "---:|" * (4 if now else 0)]
     for r in rows:
-        lines.append(f"| {r['scene']} | {r['size']} | {r['method']} | {r['rays']} | {r['waves']:.2f} | "
-                     f"{r['sim_cycles']:,.0f} | {r['model_cycles']:,.0f} | {pct(r['error'])} | {r['limiter']} | "
-                     f"{num(r.get('sim_ratio'))} | {num(r.get('model_ratio'))} | {pct(r.get('ratio_error'))} |")
+        line = (f"| {r['scene']} | {r['size']} | {r['method']} | {r['rays']} | {r['waves']:.2f} | "
+                f"{r['sim_cycles']:,.0f} | {r['model_cycles']:,.0f} | {pct(r['error'])} | {r['limiter']} | "
+                f"{num(r.get('sim_ratio'))} | {num(r.get('model_ratio'))} | {pct(r.get('ratio_error'))} |")
+        if now:
+            line += (f" {num(r.get('model_now'), '{:,.0f}')} | {pct(r.get('error_now'))} | "
+                     f"{num(r.get('model_ratio_now'))} | {pct(r.get('ratio_error_now'))} |")
+        lines.append(line)
     cells = {(r["scene"], r["size"], r["method"]): r for r in rows}
     notes = [f"- {k[0]} {k[1]} {k[2]} traced again in the enc part: {cyc:,.0f} SIMULATED cycles against "
              f"{cells[k]['sim_cycles']:,.0f} ({cyc / cells[k]['sim_cycles'] - 1:+.1%})"
              for k, cyc in repeats if k in cells]
     with open(os.path.join(out, "table.md"), "w") as f:
-        f.write("SIMULATED: GPGPU-Sim performance mode (not hardware); MODELED: simt:preset=gpgpusim-rtx3070. "
-                "Cycles at 1132 MHz; error = MODELED / SIMULATED - 1.\n\n" + "\n".join(lines) + "\n")
+        revs = sorted({r["git_revision"] for r in rows})
+        revs_now = sorted({r["revision_now"] for r in rows if "revision_now" in r})
+        f.write("SIMULATED: GPGPU-Sim performance mode (not hardware); MODELED: simt:preset=gpgpusim-rtx3070 in the "
+                f"simulator's process (revision {', '.join(revs)})"
+                + (f"; MODELED now: the current model on the same batch (revision {', '.join(revs_now)})"
+                   if revs_now else "")
+                + ". Cycles at 1132 MHz; error = MODELED / SIMULATED - 1.\n\n" + "\n".join(lines) + "\n")
         if notes:
             f.write("\nRepeatability (the same batch traced again after another kernel):\n\n" + "\n".join(notes) + "\n")
 
