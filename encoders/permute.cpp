@@ -46,7 +46,7 @@ void permute_batch(const RayBatch& in, const std::vector<uint32_t>& order, RayBa
   const bool normal = prepare(in.normal, out.normal, n, "normal");
   const bool material = prepare(in.material, out.material, n, "material");
   const bool groups = prepare(in.tile, out.tile, n, "tile") & prepare(in.group, out.group, n, "group") &
-                     prepare(in.group_type, out.group_type, n, "group_type");
+                      prepare(in.group_type, out.group_type, n, "group_type");
   // One pass gathers all arrays, so each index is read once.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
