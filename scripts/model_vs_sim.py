@@ -152,15 +152,21 @@ def plot(rows, path):
     fig, ax = plt.subplots(figsize=(6.4, 5.6))
     markers = dict(zip(SCENES, "osD^"))
     sizes = sorted({r["size"] for r in rows}, key=lambda s: eval(s.replace("x", "*")))
-    colors = dict(zip(sizes, ["tab:blue", "tab:red", "tab:green", "tab:purple"]))
+    colors = dict(zip(sizes, ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]))
     for scene in SCENES:
         for size in sizes:
             pts = [r for r in rows if r["scene"] == scene and r["size"] == size]
-            if pts:
-                waves = max(p["waves"] for p in pts)
-                ax.scatter([p["sim_cycles"] for p in pts], [p["model_cycles"] for p in pts],
-                           marker=markers.get(scene, "x"), color=colors[size], alpha=0.8,
-                           label=f"{scene} {size} (up to {waves:.1f} waves)")
+            if not pts:
+                continue
+            waves = max(p["waves"] for p in pts if p["method"] != "primary" or len(pts) == 1)
+            # Filled: the current model (model-vs-sim --model-only) where it ran; hollow: the model in the sim's run.
+            ax.scatter(sim, [p["model_cycles"] for p in pts], marker=markers.get(scene, "x"), facecolors="none",
+                       edgecolors=colors[size], alpha=0.6)
+            now = [p for p in pts if "model_now" in p]
+            if now:
+                ax.scatter([p["sim_cycles"] for p in now], [p["model_now"] for p in now],
+                           marker=markers.get(scene, "x"), color=colors[size], alpha=0.85,
+                           label=f"{scene} {size}, {pts[0]['sms']} SMs ({waves:.1f} waves of secondary rays)")
     lo = min(min(r["sim_cycles"], r["model_cycles"]) for r in rows) / 1.5
     hi = max(max(r["sim_cycles"], r["model_cycles"]) for r in rows) * 1.5
     ax.plot([lo, hi], [lo, hi], "k-", lw=0.8, label="model = simulator")
@@ -171,7 +177,8 @@ def plot(rows, path):
     ax.set_ylim(lo, hi)
     ax.set_xlabel("SIMULATED trace-kernel cycles (GPGPU-Sim RTX 3070 config, not hardware)")
     ax.set_ylabel("MODELED trace-kernel cycles (simt:preset=gpgpusim-rtx3070)")
-    ax.set_title(f"MODELED vs SIMULATED, one point per cell ({rows[0]['sms']} SMs)", fontsize=10)
+    ax.set_title("MODELED vs SIMULATED trace kernel, one point per cell\n(filled: the current model, with the "
+                 "launch latency; hollow: before it)", fontsize=9)
     ax.legend(fontsize=7, loc="upper left")
     fig.tight_layout()
     os.makedirs(os.path.dirname(path), exist_ok=True)
