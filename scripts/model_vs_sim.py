@@ -160,8 +160,8 @@ def plot(rows, path):
                 continue
             waves = max(p["waves"] for p in pts if p["method"] != "primary" or len(pts) == 1)
             # Filled: the current model (model-vs-sim --model-only) where it ran; hollow: the model in the sim's run.
-            ax.scatter(sim, [p["model_cycles"] for p in pts], marker=markers.get(scene, "x"), facecolors="none",
-                       edgecolors=colors[size], alpha=0.6)
+            ax.scatter([p["sim_cycles"] for p in pts], [p["model_cycles"] for p in pts],
+                       marker=markers.get(scene, "x"), facecolors="none", edgecolors=colors[size], alpha=0.6)
             now = [p for p in pts if "model_now" in p]
             if now:
                 ax.scatter([p["sim_cycles"] for p in now], [p["model_now"] for p in now],
