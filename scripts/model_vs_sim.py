@@ -187,8 +187,13 @@ def plot(rows, path):
 
 def main():
     if len(sys.argv) != 3:
-        sys.exit("usage: scripts/model_vs_sim.py OUT FIGURE.png")
+        print("usage: scripts/model_vs_sim.py OUT FIGURE.png", file=sys.stderr)
+        sys.exit(2)
     out, figure = sys.argv[1], sys.argv[2]
+    if not glob.glob(os.path.join(out, "runs", "*_gen.csv")) + glob.glob(os.path.join(out, "runs", "*_enc.csv")):
+        print(f"model_vs_sim.py: no runs/*_gen.csv or *_enc.csv under {out} (scripts/model-vs-sim writes them)",
+              file=sys.stderr)
+        sys.exit(2)
     cells, repeats = read_runs(out)
     rows = with_ratios(cells)
     write_outputs(out, rows, repeats)
