@@ -26,6 +26,7 @@ struct GpuSpec {
   double l1_latency = 39;           // load-to-use cycles of an L1 hit
   double l2_latency = 187;          // load-to-use cycles of an L1 miss that hits in L2
   double dram_latency = 441;        // load-to-use cycles of an L2 miss
+  double launch_cycles = 0;         // from the launch to the first block's start, part of the kernel time (0: none)
   double dram_bytes_per_clk() const { return dram_gb_s * 1e3 / clock_mhz; }
 };
 
@@ -58,14 +59,14 @@ struct KernelSpec {
 void use_cwbvh_kernel(KernelSpec& k);
 
 struct GpuModelConfig {
-  std::string preset;  // "rtx3060", "h100"
+  std::string preset;  // "rtx3060", "h100", "gpgpusim-rtx3070"
   CacheModelConfig cache;
   GpuSpec gpu;
   KernelSpec kernel;
   uint32_t resident_override = 0;  // 0: occupancy from the kernel's registers and block size
 };
 
-std::vector<std::string> gpu_preset_names();  // {"rtx3060", "h100"}
+std::vector<std::string> gpu_preset_names();  // {"rtx3060", "h100", "gpgpusim-rtx3070"}
 // Throws raycoh::Error for an unknown name, naming the valid ones.
 GpuModelConfig gpu_preset(const std::string& name);
 

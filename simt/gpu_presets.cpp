@@ -117,6 +117,55 @@ GpuModelConfig h100() {
   return m;
 }
 
+// The GPU GPGPU-Sim simulates with the configuration scripts/gpgpusim-run uses (Accel-Sim's RTX 3070, performance
+// mode), so that the model and the simulator run the same kernel on the same rays and the same GPU
+// (docs/simt-model.md section 6). Every value is read from
+//   $RAYCOH_GPGPUSIM_DIR/gpgpu-sim/configs/tested-cfgs/SM86_RTX3070/gpgpusim.config
+// cited below as "cfg:LINE", or from the simulator's source (src/gpgpu-sim/, GPGPU-Sim 4.2, commit 667834cf).
+// Nothing here was chosen by comparing with the simulator's cycles: it is the simulator's validation set.
+GpuModelConfig gpgpusim_rtx3070() {
+  GpuModelConfig m;
+  m.preset = "gpgpusim-rtx3070";
+  // 46 SMs (cfg:24 -gpgpu_n_clusters 46, cfg:25 one core per cluster). L1: cfg:95 -gpgpu_cache:dl1 S:4:128:256
+  // (sectored, 4 sets x 256 ways x 128-byte lines = 128 KiB; cfg:92 -gpgpu_unified_l1d_size 128 with the
+  // adaptive carve-out of cfg:90 gives it all to L1 when a kernel uses no shared memory, as ours). L2:
+  // cfg:114 -gpgpu_cache:dl2 S:64:128:16 per sub-partition (64 sets x 16 ways x 128 bytes = 128 KiB), cfg:26
+  // -gpgpu_n_mem 16 x cfg:27 -gpgpu_n_sub_partition_per_mchannel 2 = 32 sub-partitions: 4 MiB, 16 ways.
+  // Sectors: 32 bytes (SECTOR_SIZE, src/gpgpu-sim/gpu-cache.h).
+  m.cache = cache_geometry(46, 128 * kKiB, 4 * kMiB);
+  GpuSpec& g = m.gpu;
+  g.clock_mhz = 1132;        // cfg:31 -gpgpu_clock_domains 1132:1132:1132:3500.5 (core, interconnect, L2)
+  g.schedulers_per_sm = 4;   // cfg:79 -gpgpu_num_sched_per_core 4 (cfg:82 one instruction per warp per cycle)
+  g.max_warps_per_sm = 48;   // cfg:38 -gpgpu_shader_core_pipeline 1536:32 (1536 threads, warps of 32)
+  g.max_blocks_per_sm = 32;  // cfg:39 -gpgpu_shader_cta 32
+  g.regs_per_sm = 65536;     // cfg:34 -gpgpu_shader_registers 65536
+  // shader_core_config::max_cta (src/gpgpu-sim/shader.cc) rounds registers per thread up to a multiple of 4:
+  // 4 x 32 lanes = 128 registers per warp.
+  g.reg_alloc_unit = 128;
+  // cfg:94 -gpgpu_l1_banks 4: ldst_unit::process_memory_access_queue_l1cache (shader.cc) takes up to 4 of an
+  // instruction's line requests per cycle, fewer on a bank conflict: as the model's 4 tags per wavefront.
+  g.l1_tags_per_clk = 4;
+  // L2: memory_sub_partition::cache_cycle (src/gpgpu-sim/l2cache.cc) takes one request (a 32-byte sector) per L2
+  // cycle per sub-partition: 32 sub-partitions (cfg:26, cfg:27) x 32 bytes, at the core clock (cfg:31).
+  g.l2_bytes_per_clk = 32 * 32;
+  // DRAM: 16 channels (cfg:26; cfg:149 one per controller) x 2-byte bus (cfg:150 -gpgpu_dram_buswidth 2) x 4 data
+  // transfers per command cycle (cfg:152 -dram_data_command_freq_ratio 4) x 3500.5 MHz (cfg:31) = 448 GB/s.
+  g.dram_gb_s = 16 * 2 * 4 * 3500.5e6 * 1e-9;
+  g.l1_latency = 39;           // cfg:96 -gpgpu_l1_latency 39
+  g.l2_latency = 187;          // cfg:140 -gpgpu_l2_rop_latency 187 (the rtx3060 preset's reading of it)
+  g.dram_latency = 187 + 254;  // cfg:140 + cfg:141 -dram_latency 254
+  // cfg:11 -gpgpu_kernel_launch_latency 5000: kernel_info_t (src/abstract_hardware_model.cc) starts its
+  // m_kernel_TB_latency at it (+ blocks x cfg:12 -gpgpu_TB_launch_latency 0), and gpgpu_sim (gpu-sim.cc) issues no
+  // block before that count reaches 0, inside the kernel's cycles. The rtx3060 and h100 presets leave it at 0: no
+  // published figure for the hardware.
+  g.launch_cycles = 5000;
+  // The kernel: the SASS step costs of our_kernel() (the simulator runs PTX instead: docs/simt-model.md section
+  // 6 counts both). Registers: the simulator takes them from ptxas (nvcc 11.8, sm_86) on the same PTX, which
+  // reports 55 for persistent_kernel<false, BvhView, NoAlphaTest> (raycoh.N.sm_86.ptxas), as nvcc 13 does.
+  m.kernel = our_kernel();
+  return m;
+}
+
 }  // namespace
 
 // The CWBVH kernel's step costs, counted as the BVH2's (scripts/count-cwbvh-step-instructions, SASS of the probe
@@ -137,11 +186,12 @@ void use_cwbvh_kernel(KernelSpec& k) {
 
 const char* to_string(TraceKernel k) { return k == TraceKernel::Persistent ? "persistent" : "simple"; }
 
-std::vector<std::string> gpu_preset_names() { return {"rtx3060", "h100"}; }
+std::vector<std::string> gpu_preset_names() { return {"rtx3060", "h100", "gpgpusim-rtx3070"}; }
 
 GpuModelConfig gpu_preset(const std::string& name) {
   if (name == "rtx3060") return rtx3060();
   if (name == "h100") return h100();
+  if (name == "gpgpusim-rtx3070") return gpgpusim_rtx3070();
   throw Error(fmt::format("unknown GPU preset '{}'; valid presets: {}", name, join(gpu_preset_names())));
 }
 

@@ -230,8 +230,8 @@ const char* modeled_limiter(const ModeledKernel& k) {
 
 ModeledKernel TimedReplay::result() const {
   ModeledKernel m;
-  m.cycles = end_;
-  m.ms = end_ / (config_.gpu.clock_mhz * 1e3);
+  m.cycles = config_.gpu.launch_cycles + end_;  // the launch latency, then the warps
+  m.ms = m.cycles / (config_.gpu.clock_mhz * 1e3);
   m.resident_warps = resident_;
   for (const SmPorts& p : sm_) {
     m.issue_busy = std::max(m.issue_busy, p.issue_busy);

@@ -145,4 +145,18 @@ expect_error "missing column" "$scripts/converge_seeds.py" table.csv
 expect_error "usage: scripts/paper-protocol" "$scripts/paper-protocol" build 480x270
 expect_error "no scene file ../shared/scenes/no_such_scene" "$scripts/paper-protocol" build 480x270 "$work/refs" no_such_scene
 [[ ! -e $work/refs ]] || { echo "scripts_test: paper-protocol created $work/refs on bad input"; exit 1; }
+# model_vs_sim.py: one SIMULATED (cuda) and one MODELED (simt) row per cell of a model-vs-sim run.
+mkdir -p mvs/runs
+cat > mvs/runs/cornell_32x24_sms2_gen.csv <<'CSV'
+scene,method,generator_params,tracer,rays,trace_ms,modeled_ms,modeled_limiter,simt_efficiency,l1_misses_per_ray,git_revision
+cornell,noopt,order=tile,cuda,2304,0.1,,,,,abc
+cornell,noopt,order=tile,simt,2304,,0.05,issue,0.5,1.0,abc
+cornell,ours:order=group,order=group,cuda,2304,0.08,,,,,abc
+cornell,ours:order=group,order=group,simt,2304,,0.05,l1,0.6,0.8,abc
+CSV
+"$scripts/model_vs_sim.py" mvs fig/model_vs_sim.png > /dev/null
+[[ -s fig/model_vs_sim.png ]] || { echo "scripts_test: model_vs_sim.py wrote no figure"; exit 1; }
+grep -q "| cornell | 32x24 | ours:order=group | 2304 | 1.00 | 90,560 | 56,600 | -38% | l1 | 1.25 | 1.00 | -20% |" \
+  mvs/table.md || { echo "scripts_test: model_vs_sim.py table wrong: $(cat mvs/table.md)"; exit 1; }
+expect_error "no runs/" "$scripts/model_vs_sim.py" table.csv fig/x.png
 echo "scripts_test: all plot scripts wrote their figures"

@@ -233,7 +233,7 @@ TEST(TimingModel, PresetsAndErrors) {
   EXPECT_EQ(h.cache.l2.bytes, 50u * 1024 * 1024);
   EXPECT_NO_THROW(validate(a));
   EXPECT_NO_THROW(validate(h));
-  EXPECT_NE(test::error_of([] { gpu_preset("rtx4090"); }).find("rtx3060, h100"), std::string::npos);
+  EXPECT_NE(test::error_of([] { gpu_preset("rtx4090"); }).find("rtx3060, h100, gpgpusim-rtx3070"), std::string::npos);
   GpuModelConfig bad = a;
   bad.gpu.dram_gb_s = 0;
   EXPECT_THROW(validate(bad), Error);
