@@ -261,28 +261,7 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
 
 // The counters and model of counting tracers, then the row is written and summed.
 void ExperimentRun::finish_row(ExperimentRow r, size_t ti, const ModeledStages& stages) {
-  const double rays = static_cast<double>(r.rays);
-  if (const CoherenceCounters* c = setup_->tracers[ti]->last_counters()) {
-    r.simt_efficiency = c->simt_efficiency();
-    r.node_simt_efficiency = c->node_simt_efficiency();
-    r.lines_per_ray = c->per_ray(c->node_lines + c->triangle_lines);
-    r.fetches_per_ray = c->fetches_per_ray();
-    r.l1_misses_per_ray = c->l1_misses_per_ray();
-    r.l2_misses_per_ray = c->l2_misses_per_ray();
-    r.dram_bytes_per_ray = c->dram_bytes_per_ray();
-    if (c->modeled.ms > 0) {
-      const double e2e_ms = c->modeled.ms + stages.gen_ms + stages.reorder_ms();
-      r.modeled_ms = c->modeled.ms;
-      r.modeled_mray_s = c->modeled_mray_s();
-      r.modeled_e2e_ms = e2e_ms;
-      r.modeled_e2e_mray_s = rays / e2e_ms * 1e-3;
-      r.modeled_limiter = modeled_limiter(c->modeled);
-      r.modeled_gen_ms = stages.gen_ms;
-      r.modeled_key_ms = stages.key_ms;
-      r.modeled_sort_ms = stages.sort_ms;
-      r.modeled_permute_ms = stages.permute_ms;
-    }
-  }
+  if (const CoherenceCounters* c = setup_->tracers[ti]->last_counters()) set_counters(r, *c, stages);
   csv_.write(r);
   accumulate(r, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
 }

@@ -1,5 +1,7 @@
 #include "harness/experiment_row.h"
 
+#include "simt/timed_replay.h"
+
 namespace raycoh {
 
 const Schema<ExperimentRow>& experiment_schema() {
@@ -56,6 +58,8 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("modeled_e2e_ms", &R::modeled_e2e_ms, Optional<General>{}),
         column("modeled_e2e_mray_s", &R::modeled_e2e_mray_s, Optional<General>{}),
         column("modeled_limiter", &R::modeled_limiter, Text{}),
+        column("modeled_l1_wavefronts_per_ray", &R::modeled_l1_wavefronts_per_ray, Optional<General>{}),
+        column("modeled_l1_local_wavefronts_per_ray", &R::modeled_l1_local_wavefronts_per_ray, Optional<General>{}),
         column("modeled_gen_ms", &R::modeled_gen_ms, Optional<General>{}),
         column("modeled_key_ms", &R::modeled_key_ms, Optional<General>{}),
         column("modeled_sort_ms", &R::modeled_sort_ms, Optional<General>{}),
@@ -142,6 +146,29 @@ void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool 
   for (int i = 0; i < 5; ++i) sum.groups[i] += g.groups[i];
   sum.hybrid_mean_fallback += g.hybrid_mean_fallback;
   sum.reused_rays += g.reused_rays;
+}
+
+void set_counters(ExperimentRow& r, const CoherenceCounters& c, const ModeledStages& stages) {
+  r.simt_efficiency = c.simt_efficiency();
+  r.node_simt_efficiency = c.node_simt_efficiency();
+  r.lines_per_ray = c.per_ray(c.node_lines + c.triangle_lines);
+  r.fetches_per_ray = c.fetches_per_ray();
+  r.l1_misses_per_ray = c.l1_misses_per_ray();
+  r.l2_misses_per_ray = c.l2_misses_per_ray();
+  r.dram_bytes_per_ray = c.dram_bytes_per_ray();
+  if (c.modeled.ms <= 0) return;
+  const double e2e_ms = c.modeled.ms + stages.gen_ms + stages.reorder_ms();
+  r.modeled_ms = c.modeled.ms;
+  r.modeled_mray_s = c.modeled_mray_s();
+  r.modeled_e2e_ms = e2e_ms;
+  r.modeled_e2e_mray_s = static_cast<double>(r.rays) / e2e_ms * 1e-3;
+  r.modeled_limiter = modeled_limiter(c.modeled);
+  r.modeled_l1_wavefronts_per_ray = c.per_ray(c.modeled.l1_wavefronts);
+  r.modeled_l1_local_wavefronts_per_ray = c.per_ray(c.modeled.l1_local_wavefronts);
+  r.modeled_gen_ms = stages.gen_ms;
+  r.modeled_key_ms = stages.key_ms;
+  r.modeled_sort_ms = stages.sort_ms;
+  r.modeled_permute_ms = stages.permute_ms;
 }
 
 }  // namespace raycoh

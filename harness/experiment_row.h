@@ -10,6 +10,8 @@
 #include "core/ray_batch.h"
 #include "harness/provenance.h"
 #include "harness/schema.h"
+#include "simt/pipeline_model.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 
@@ -37,6 +39,9 @@ struct ExperimentRow {
   // on the tracer's preset (simt/pipeline_model.h); the port that bounded the trace kernel.
   std::optional<double> modeled_ms, modeled_mray_s, modeled_e2e_ms, modeled_e2e_mray_s;
   std::string modeled_limiter;
+  // The timing model's L1 pipeline wavefronts per ray (all memory instructions; the local-memory ones), to set
+  // beside a GPU's counted wavefronts (Nsight Compute's l1tex__data_pipe_lsu_wavefronts).
+  std::optional<double> modeled_l1_wavefronts_per_ray, modeled_l1_local_wavefronts_per_ray;
   // The modeled stages summed into modeled_e2e_ms (modelling tracers only), to set beside measured GPU stages.
   std::optional<double> modeled_gen_ms, modeled_key_ms, modeled_sort_ms, modeled_permute_ms;
   // Where the batch was made, reordered and timed: "host" (generation, keys, sort and permutation on the CPU,
@@ -54,6 +59,9 @@ const Schema<ExperimentRow>& experiment_schema();
 
 // Copies the generation statistics into / out of a row.
 void set_generation(ExperimentRow& row, const GenerationStats& g);
+// The coherence counters of a counting tracer and, where its timing model ran, the modeled kernel and the
+// modeled stages (never added to a measured column).
+void set_counters(ExperimentRow& row, const CoherenceCounters& c, const ModeledStages& stages);
 GenerationStats generation_of(const ExperimentRow& row);
 
 // Sums over frames for one tracer and method.

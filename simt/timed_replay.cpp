@@ -121,6 +121,7 @@ double TimedReplay::step(uint32_t slot_index, double t, std::vector<WarpTrace>& 
   const uint32_t* sectors = trace.sectors.data() + begin;
   const uint32_t count = trace.request_end[r] - begin;
   const double start = issue(sm, t, cost.issue_cycles);
+  l1_local_wavefronts_ += cost.local_accesses;
   const double data = fetch_sectors(sm, start, l1_wavefronts(cost, sectors, count), sectors, count, true);
   return data + cost.issue_cycles;
 }
@@ -236,7 +237,9 @@ ModeledKernel TimedReplay::result() const {
   for (const SmPorts& p : sm_) {
     m.issue_busy = std::max(m.issue_busy, p.issue_busy);
     m.l1_busy = std::max(m.l1_busy, p.l1_busy);
+    m.l1_wavefronts += p.l1_busy;
   }
+  m.l1_local_wavefronts = l1_local_wavefronts_;
   m.l2_busy = l2_busy_;
   m.dram_busy = dram_busy_;
   m.tail_cycles = first_idle_ >= 0 ? end_ - first_idle_ : 0.0;

@@ -101,6 +101,7 @@ class TimedReplay {
   double end_ = 0, first_idle_ = -1;
   uint64_t ray_sectors_ = 0, ray_dram_sectors_ = 0;
   double issue_cycles_ = 0;
+  double l1_local_wavefronts_ = 0;
   bool started_ = false, done_ = false;
 };
 

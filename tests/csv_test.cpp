@@ -76,6 +76,8 @@ TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
                                              "modeled_e2e_ms",
                                              "modeled_e2e_mray_s",
                                              "modeled_limiter",
+                                             "modeled_l1_wavefronts_per_ray",
+                                             "modeled_l1_local_wavefronts_per_ray",
                                              "modeled_gen_ms",
                                              "modeled_key_ms",
                                              "modeled_sort_ms",

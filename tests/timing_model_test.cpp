@@ -83,6 +83,9 @@ TEST(TimingModel, DivergentLoadsTakeMoreL1Wavefronts) {
   EXPECT_DOUBLE_EQ(a.l1_busy, 8 + 14 * 1 + 18);
   EXPECT_DOUBLE_EQ(b.l1_busy, 8 + 14 * 4 + 18);
   EXPECT_GT(b.cycles, a.cycles);
+  // One warp on one SM: the GPU-wide wavefront count is that SM's busy time; 18 of them local (the stack).
+  EXPECT_DOUBLE_EQ(b.l1_wavefronts, b.l1_busy);
+  EXPECT_DOUBLE_EQ(b.l1_local_wavefronts, 18);
   // A tag stage of 1 line per cycle takes 16 wavefronts per load; one of 16 lines, a single wavefront.
   GpuModelConfig one = c, sixteen = c;
   one.gpu.l1_tags_per_clk = 1;

@@ -33,6 +33,9 @@ struct ModeledKernel {
   uint64_t ray_sectors = 0;  // ray-fetch sectors (the cache counters below count the BVH's only)
   uint64_t ray_dram_sectors = 0;
   double issue_cycles = 0;  // partition issue cycles of all warp steps
+  // Wavefronts through the L1 pipeline, all SMs (one per cycle per SM): every memory instruction's, and of them
+  // the local-memory ones (the traversal stack and state, one per access). Beside a GPU's counted wavefronts.
+  double l1_wavefronts = 0, l1_local_wavefronts = 0;
 };
 
 // What the `simt` tracer measures over one batch (every rule in simt/simt.h; the cache model in
