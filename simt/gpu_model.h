@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "simt/cache_model.h"
+#include "simt/warp_trace.h"
 
 namespace raycoh {
 
@@ -27,6 +28,9 @@ struct GpuSpec {
   double l2_latency = 187;          // load-to-use cycles of an L1 miss that hits in L2
   double dram_latency = 441;        // load-to-use cycles of an L2 miss
   double launch_cycles = 0;         // from the launch to the first block's start, part of the kernel time (0: none)
+  // 0: a global load takes one L1 wavefront per l1_tags_per_clk distinct lines. > 0: GPGPU-Sim's rule, one access
+  // per distinct 32-byte sector, l1_banks a cycle until a bank repeats (l1_bank_cycles, simt/warp_trace.h).
+  uint32_t l1_banks = 0;
   double dram_bytes_per_clk() const { return dram_gb_s * 1e3 / clock_mhz; }
 };
 
@@ -37,10 +41,12 @@ const char* to_string(TraceKernel k);
 // (one dispatch per cycle, or its busiest pipe), its global load instructions (each one L1 request,
 // whose tag stage needs a wavefront per `l1_tags_per_clk` distinct lines the active lanes touch) and its local
 // memory instructions (the traversal stack and state; one wavefront each, the lanes' addresses interleaved).
+// word_loads[w]: how many of the global loads read the record's 16-byte word w (used by the l1_banks rule).
 struct StepCost {
   double issue_cycles = 0;
   uint32_t global_loads = 0;
   uint32_t local_accesses = 0;
+  std::array<uint8_t, kMaxRecordWords> word_loads{};
 };
 
 // The kernel being modelled: the `cuda` tracer's launch and its per-step costs (scripts/count-step-instructions).
@@ -49,7 +55,7 @@ struct KernelSpec {
   uint32_t block_threads = 128;  // threads per block, a multiple of 32
   uint32_t warp_size = 32;       // lanes per warp (the `simt` tracer's `warp`)
   uint32_t regs_per_thread = 55;
-  StepCost node{115, 14, 18}, triangle{124, 10, 0}, leaf{42, 0, 4};
+  StepCost node{115, 14, 18, {4, 4, 4, 2, 0}}, triangle{124, 10, 0, {4, 3, 3, 0, 0}}, leaf{42, 0, 4};
   StepCost ray_begin{28, 2, 0};             // fetch of 32 rays (two 16-byte loads per lane) and traversal_begin
   uint32_t ray_bytes = 32, hit_bytes = 16;  // one ray read and one hit written per lane
 };

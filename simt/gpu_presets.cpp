@@ -23,13 +23,17 @@ constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
 //     sm_86: node step 115 instructions = 115 cycles, 14 global loads, 18 local accesses; triangle 124 = 124,
 //     10 loads; leaf bookkeeping 39 = 42, 4 local accesses; traversal_begin 28 = 28 (sm_90 within 4%). The ray
 //     fetch is two 16-byte loads per lane (cuda/trace_kernels.cu, load_ray).
+//   loads per 16-byte word of the record (core/bvh.h): a node's 14 are its 12 box floats and 2 child indices, one
+//     4-byte load each (Vec3 is 12 bytes: nvcc does not widen them; scripts/count-ptx-step-instructions counts 14
+//     ld.global per PTX node step too), at bytes 0-52: 4, 4, 4, 2 per word; a triangle's 10 are v0, prim, v1, v2
+//     at bytes 0-12, 16-24, 32-40: 4, 3, 3.
 KernelSpec our_kernel() {
   KernelSpec k;
   k.kind = TraceKernel::Persistent;  // the `cuda` tracer's default kernel and block size
   k.block_threads = 128;
   k.regs_per_thread = 55;
-  k.node = {115, 14, 18};
-  k.triangle = {124, 10, 0};
+  k.node = {115, 14, 18, {4, 4, 4, 2, 0}};
+  k.triangle = {124, 10, 0, {4, 3, 3, 0, 0}};
   k.leaf = {42, 0, 4};
   k.ray_begin = {28, 2, 0};
   return k;
@@ -142,9 +146,13 @@ GpuModelConfig gpgpusim_rtx3070() {
   // shader_core_config::max_cta (src/gpgpu-sim/shader.cc) rounds registers per thread up to a multiple of 4:
   // 4 x 32 lanes = 128 registers per warp.
   g.reg_alloc_unit = 128;
-  // cfg:94 -gpgpu_l1_banks 4: ldst_unit::process_memory_access_queue_l1cache (shader.cc) takes up to 4 of an
-  // instruction's line requests per cycle, fewer on a bank conflict: as the model's 4 tags per wavefront.
+  // cfg:94 -gpgpu_l1_banks 4 (cfg:111 -gpgpu_coalesce_arch 86; byte interleaving 32 and the linear bank function
+  // are the defaults, gpu-sim.cc): a load instruction's accesses are its distinct 32-byte sectors, and
+  // ldst_unit::process_memory_access_queue_l1cache (shader.cc) takes up to 4 of them a cycle, the highest address
+  // first, until a bank repeats (l1_bank_cycles, simt/warp_trace.h). Before 2026-11-27 the preset used the
+  // hardware presets' rule here (4 distinct lines per cycle), which the source does not implement.
   g.l1_tags_per_clk = 4;
+  g.l1_banks = 4;
   // L2: memory_sub_partition::cache_cycle (src/gpgpu-sim/l2cache.cc) takes one request (a 32-byte sector) per L2
   // cycle per sub-partition: 32 sub-partitions (cfg:26, cfg:27) x 32 bytes, at the core clock (cfg:31).
   g.l2_bytes_per_clk = 32 * 32;
@@ -179,8 +187,8 @@ GpuModelConfig gpgpusim_rtx3070() {
 // space with separate multiply and add (--fmad=false) so that its hits equal the BVH2's bit for bit, where the
 // paper transforms the ray into the node's frame and uses one FMA per plane.
 void use_cwbvh_kernel(KernelSpec& k) {
-  k.node = {722, 5, 46};
-  k.triangle = {126, 10, 0};
+  k.node = {722, 5, 46, {1, 1, 1, 1, 1}};
+  k.triangle = {126, 10, 0, {4, 3, 3, 0, 0}};
   k.leaf = {6, 0, 1};
 }
 
@@ -223,6 +231,18 @@ void validate(const GpuModelConfig& c) {
                             g.l2_latency, g.dram_latency));
   if (c.kernel.block_threads < 32 || c.kernel.block_threads > 1024 || c.kernel.block_threads % 32 != 0)
     throw Error(fmt::format("simt: block={} is not a multiple of 32 in [32, 1024]", c.kernel.block_threads));
+  if (g.l1_banks != 0) {
+    if (g.l1_banks > 32 || (g.l1_banks & (g.l1_banks - 1)) != 0 || c.cache.sector_bytes != 32)
+      throw Error(fmt::format("simt: l1_banks={} needs a power of two in [1, 32] and 32-byte sectors (got {})",
+                              g.l1_banks, c.cache.sector_bytes));
+    for (const StepCost* s : {&c.kernel.node, &c.kernel.triangle}) {
+      uint32_t words = 0;
+      for (uint8_t n : s->word_loads) words += n;
+      if (words != s->global_loads)
+        throw Error(
+            fmt::format("simt: a step's word_loads add up to {}, not its {} global loads", words, s->global_loads));
+    }
+  }
   resident_warps(c);  // throws when not one block fits
 }
 

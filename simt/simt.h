@@ -42,15 +42,25 @@ constexpr uint32_t kTriBytes = sizeof(BvhTriangle);
 // of >= 16 bytes.
 constexpr uint32_t kMaxUnitsPerLane = 5;
 
-// The fetches of one step: lines and sectors of the active lanes, made distinct by finish().
+// The fetches of one step: lines and sectors of the active lanes, made distinct by finish(); and per 16-byte word w
+// of the record, the sector each lane's word lies in (GPGPU-Sim's L1 takes a load instruction's accesses by sector:
+// WarpTrace::word_cycles).
 struct StepFetches {
   uint64_t lines[kMaxWarpSize * kMaxUnitsPerLane];
   uint64_t sectors[kMaxWarpSize * kMaxUnitsPerLane];
+  uint64_t words[kMaxRecordWords][kMaxWarpSize];
   uint32_t line_count = 0, sector_count = 0;
+  uint32_t word_count[kMaxRecordWords] = {};
 
+  void reset() {
+    line_count = sector_count = 0;
+    std::fill(word_count, word_count + kMaxRecordWords, 0u);
+  }
   void add(uint64_t addr, uint32_t bytes, const SimtConfig& c) {
     for (uint64_t l = addr / c.line_bytes; l <= (addr + bytes - 1) / c.line_bytes; ++l) lines[line_count++] = l;
     for (uint64_t s = addr / c.sector_bytes; s <= (addr + bytes - 1) / c.sector_bytes; ++s) sectors[sector_count++] = s;
+    for (uint32_t w = 0; w < bytes / 16 && w < kMaxRecordWords; ++w)
+      words[w][word_count[w]++] = (addr + 16 * w) / c.sector_bytes;
   }
   static uint32_t sort_unique(uint64_t* v, uint32_t n) {
     std::sort(v, v + n);
@@ -60,8 +70,14 @@ struct StepFetches {
     line_count = sort_unique(lines, line_count);
     sector_count = sort_unique(sectors, sector_count);
   }
-  void emit(WarpTrace* trace, SimtStepKind kind) const {
-    if (trace) trace->add_step(kind, sectors, sector_count);
+  void emit(WarpTrace* trace, SimtStepKind kind) {
+    if (!trace) return;
+    trace->add_step(kind, sectors, sector_count);
+    if (!trace->l1_banks) return;
+    for (uint32_t w = 0; w < kMaxRecordWords; ++w) {
+      const uint32_t n = sort_unique(words[w], word_count[w]);
+      trace->word_cycles.back()[w] = static_cast<uint8_t>(l1_bank_cycles(words[w], n, trace->l1_banks));
+    }
   }
 };
 
@@ -79,8 +95,8 @@ uint64_t lanes_where(const State* st, uint64_t among, Pred&& pred) {
 }
 
 // Counts one Node or Triangle step of the lanes in `mask` whose fetches f are finished.
-inline void count_fetch_step(SimtStepKind kind, uint64_t mask, const StepFetches& f, CoherenceCounters& c,
-                             WarpTrace* trace, std::vector<SimtStep>* steps) {
+inline void count_fetch_step(SimtStepKind kind, uint64_t mask, StepFetches& f, CoherenceCounters& c, WarpTrace* trace,
+                             std::vector<SimtStep>* steps) {
   f.emit(trace, kind);
   const bool node = kind == SimtStepKind::Node;
   (node ? c.node_steps : c.triangle_steps) += 1;
@@ -141,7 +157,7 @@ void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes, const 
     // Node loop.
     uint64_t n = lanes_where(live, [](const TraversalState& s) { return traversal_wants_node(s); });
     while (n) {
-      f.line_count = f.sector_count = 0;
+      f.reset();
       for (uint64_t m = n; m; m &= m - 1) {
         const int l = std::countr_zero(m);
         f.add(config.node_base + uint64_t{kNodeBytes} * static_cast<uint32_t>(st[l].node_ref), kNodeBytes, config);
@@ -164,7 +180,7 @@ void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes, const 
       }
       count_leaf_step(leaf, counters, trace, steps);
       for (uint32_t j = 0; j < max_count; ++j) {
-        f.line_count = f.sector_count = 0;
+        f.reset();
         uint64_t sub = 0;
         for (uint64_t m = leaf; m; m &= m - 1) {
           const int l = std::countr_zero(m);

@@ -42,7 +42,7 @@ void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_t lanes
   while (live) {
     const uint64_t n = lanes_where(live, [](const CwbvhState& s) { return cwbvh_wants_node(s); });
     if (n) {
-      f.line_count = f.sector_count = 0;
+      f.reset();
       for (uint64_t m = n; m; m &= m - 1) {
         const int l = std::countr_zero(m);
         const uint32_t index = cwbvh_next_node(st[l]);
@@ -59,7 +59,7 @@ void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_t lanes
       count_leaf_step(tri, counters, trace, steps);
       for (uint64_t m = tri; m; m &= m - 1) rc[std::countr_zero(m)].on_leaf(0);
       while (tri) {
-        f.line_count = f.sector_count = 0;
+        f.reset();
         for (uint64_t m = tri; m; m &= m - 1) {
           const int l = std::countr_zero(m);
           const uint32_t i = st[l].tri_base + lowest_bit(st[l].tri_hits);

@@ -123,6 +123,7 @@ class SimtTracer final : public Tracer {
           const auto lanes = static_cast<uint32_t>(std::min<size_t>(simt_.warp_size, count - first));
           per_warp[w - ready] = CoherenceCounters{};
           CoherenceCounters& c = per_warp[w - ready];
+          traces[w].l1_banks = gpu_.gpu.l1_banks;
           if (cwbvh_ && masked_)
             simt_trace_warp_cwbvh(cwbvh_->view(), rays + first, lanes, simt_, hits + first, c, &traces[w], nullptr,
                                   nullptr, alpha_);
@@ -196,6 +197,9 @@ const ParamTable& simt_params() {
       preset_row("l1_kb", ParamType::Int, 1, 65536, "L1 per SM in KiB (4 sets)"),
       preset_row("l2_mb", ParamType::Float, 0.002, 4096, "L2 in MiB (16 ways, whole sets)"),
       preset_row("l1_tags", ParamType::Int, 1, 32, "distinct lines the L1 tag stage resolves per cycle (wavefront)"),
+      preset_row("l1_banks", ParamType::Int, 0, 32,
+                 "0: l1_tags lines a cycle; N: GPGPU-Sim's rule, a load's distinct sectors N a cycle until a bank "
+                 "repeats"),
       preset_row("dram_gbs", ParamType::Float, 1, 100000, "DRAM bandwidth in GB/s"),
       preset_row("l2_bpc", ParamType::Float, 1, 1e6, "L2 bandwidth in bytes per cycle"),
       choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
@@ -240,6 +244,7 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, c
   const int l1_kb = preset_int(params, "l1_kb", cache.l1.bytes >> 10);
   const float l2_mb = preset_float(params, "l2_mb", double(cache.l2.bytes) / double(1 << 20));
   gpu.gpu.l1_tags_per_clk = preset_int(params, "l1_tags", static_cast<uint64_t>(gpu.gpu.l1_tags_per_clk));
+  gpu.gpu.l1_banks = static_cast<uint32_t>(preset_int(params, "l1_banks", gpu.gpu.l1_banks));
   gpu.gpu.dram_gb_s = preset_float(params, "dram_gbs", gpu.gpu.dram_gb_s);
   gpu.gpu.l2_bytes_per_clk = preset_float(params, "l2_bpc", gpu.gpu.l2_bytes_per_clk);
   const bool cw = params.get_choice("bvh") == "cwbvh";

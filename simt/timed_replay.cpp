@@ -52,17 +52,47 @@ double TimedReplay::issue(uint32_t sm, double t, double issue_cycles) {
 }
 
 // Wavefronts of the step's memory instructions in the SM's L1 pipeline, one per cycle: each global load needs
-// one per l1_tags_per_clk distinct lines the active lanes touch, each local access one.
-double TimedReplay::l1_wavefronts(const StepCost& cost, const uint32_t* sectors, uint32_t count) const {
+// one per l1_tags_per_clk distinct lines the active lanes touch (with l1_banks: the cycles of GPGPU-Sim's bank rule
+// for the sectors of the record word it reads, WarpTrace::word_cycles), each local access one.
+double TimedReplay::l1_wavefronts(const StepCost& cost, const WarpTrace& trace, uint32_t r) const {
+  if (config_.gpu.l1_banks) {
+    RAYCOH_CHECK(trace.l1_banks == config_.gpu.l1_banks && r < trace.word_cycles.size(),
+                 "the warp trace was recorded with the model's l1_banks");
+    double cycles = 0;
+    for (uint32_t w = 0; w < kMaxRecordWords; ++w)
+      cycles += static_cast<double>(cost.word_loads[w]) * trace.word_cycles[r][w];
+    return cycles + cost.local_accesses;
+  }
+  const uint32_t begin = r == 0 ? 0 : trace.request_end[r - 1];
   uint32_t lines = 0;
   uint64_t last = UINT64_MAX;
-  for (uint32_t i = 0; i < count; ++i) {  // sectors are sorted: distinct lines are the changes of sector / per_line
-    const uint64_t line = sectors[i] / sectors_per_line_;
+  for (uint32_t i = begin; i < trace.request_end[r]; ++i) {  // sorted: distinct lines are the changes of line
+    const uint64_t line = trace.sectors[i] / sectors_per_line_;
     lines += line != last;
     last = line;
   }
   const double per_load = std::max(1.0, std::ceil(lines / config_.gpu.l1_tags_per_clk));
   return cost.global_loads * per_load + cost.local_accesses;
+}
+
+// Wavefronts of the ray fetch: 16-byte loads of consecutive rays; each moves 16 x lanes bytes through the L1's
+// 128-byte data path (with l1_banks: the bank rule for the sectors each load's words lie in).
+double TimedReplay::ray_wavefronts(uint32_t warp, uint32_t lanes) const {
+  const KernelSpec& k = config_.kernel;
+  if (!config_.gpu.l1_banks) return k.ray_begin.global_loads * std::max(1.0, 16.0 * lanes / 128.0);
+  const uint64_t sector = config_.cache.sector_bytes;
+  const uint64_t base = ray_base_sector_ * sector + uint64_t{warp} * k.warp_size * k.ray_bytes;
+  double cycles = 0;
+  uint64_t sectors[kMaxWarpLanes];
+  for (uint32_t load = 0; load < k.ray_begin.global_loads; ++load) {
+    uint32_t n = 0;
+    for (uint32_t l = 0; l < lanes && l < kMaxWarpLanes; ++l) {
+      const uint64_t s = (base + uint64_t{l} * k.ray_bytes + 16u * (load % std::max(1u, k.ray_bytes / 16))) / sector;
+      if (n == 0 || sectors[n - 1] != s) sectors[n++] = s;  // ascending: lanes' rays are consecutive
+    }
+    cycles += l1_bank_cycles(sectors, n, config_.gpu.l1_banks);
+  }
+  return cycles;
 }
 
 // The request passes the SM's L1 pipeline (`wavefronts` cycles); then each sector takes the latency of the level
@@ -109,8 +139,7 @@ double TimedReplay::step(uint32_t slot_index, double t, std::vector<WarpTrace>& 
     const uint64_t first = ray_base_sector_ + uint64_t{slot.warp} * k.warp_size * ray_sectors_per_lane_;
     for (uint32_t i = 0; i < n; ++i) ray_sectors[i] = static_cast<uint32_t>(first + i);
     ray_sectors_ += n;
-    // Each 16-byte load of 32 lanes moves 512 bytes: four cycles of the L1's 128-byte data path.
-    const double wavefronts = k.ray_begin.global_loads * std::max(1.0, 16.0 * trace.lanes / 128.0);
+    const double wavefronts = ray_wavefronts(slot.warp, trace.lanes);
     const double start = issue(sm, t, k.ray_begin.issue_cycles);
     return fetch_sectors(sm, start, wavefronts, ray_sectors, n, false) + k.ray_begin.issue_cycles;
   }
@@ -122,7 +151,7 @@ double TimedReplay::step(uint32_t slot_index, double t, std::vector<WarpTrace>& 
   const uint32_t count = trace.request_end[r] - begin;
   const double start = issue(sm, t, cost.issue_cycles);
   l1_local_wavefronts_ += cost.local_accesses;
-  const double data = fetch_sectors(sm, start, l1_wavefronts(cost, sectors, count), sectors, count, true);
+  const double data = fetch_sectors(sm, start, l1_wavefronts(cost, trace, r), sectors, count, true);
   return data + cost.issue_cycles;
 }
 

@@ -78,7 +78,9 @@ class TimedReplay {
   // Runs one step of the slot's warp starting at t; returns when the warp is ready again.
   double step(uint32_t slot, double t, std::vector<WarpTrace>& traces);
   double issue(uint32_t sm, double t, double issue_cycles);
-  double l1_wavefronts(const StepCost& cost, const uint32_t* sectors, uint32_t count) const;
+  double l1_wavefronts(const StepCost& cost, const WarpTrace& trace, uint32_t r) const;
+  double ray_wavefronts(uint32_t warp, uint32_t lanes) const;
+  static constexpr uint32_t kMaxWarpLanes = 64;
   double fetch_sectors(uint32_t sm, double t, double wavefronts, const uint32_t* sectors, uint32_t count, bool bvh);
 
   GpuModelConfig config_;

@@ -10,6 +10,7 @@
 
 #include "simt/cache_model.h"
 #include "simt/gpu_model.h"
+#include "simt/simt.h"
 #include "simt/timed_replay.h"
 
 namespace raycoh {
@@ -35,6 +36,9 @@ TEST(GpgpusimPreset, MirrorsTheSimulatorsRtx3070) {
   EXPECT_DOUBLE_EQ(g.gpu.l2_latency, 187.0);
   EXPECT_DOUBLE_EQ(g.gpu.dram_latency, 441.0);
   EXPECT_DOUBLE_EQ(g.gpu.launch_cycles, 5000.0);
+  EXPECT_EQ(g.gpu.l1_banks, 4u);  // cfg:94; the hardware presets keep the tag rule
+  EXPECT_EQ(gpu_preset("rtx3060").gpu.l1_banks, 0u);
+  EXPECT_EQ(gpu_preset("h100").gpu.l1_banks, 0u);
   EXPECT_DOUBLE_EQ(gpu_preset("rtx3060").gpu.launch_cycles, 0.0);  // no published figure for the hardware
   EXPECT_DOUBLE_EQ(gpu_preset("h100").gpu.launch_cycles, 0.0);
   EXPECT_NO_THROW(validate(g));
@@ -49,6 +53,7 @@ TEST(GpgpusimPreset, LaunchLatencyAddsToTheKernelTime) {
     std::vector<WarpTrace> traces(100);
     for (size_t w = 0; w < traces.size(); ++w) {
       traces[w].lanes = 32;
+      traces[w].l1_banks = g.gpu.l1_banks;
       for (uint64_t s = 0; s < 6; ++s) {
         const uint64_t sector = (w * 7 + s * 131) % 4096;
         traces[w].add_step(SimtStepKind::Node, &sector, 1);
@@ -64,6 +69,58 @@ TEST(GpgpusimPreset, LaunchLatencyAddsToTheKernelTime) {
   EXPECT_DOUBLE_EQ(b.cycles, a.cycles + 5000);
   EXPECT_DOUBLE_EQ(b.ms, b.cycles / 1132e3);
   EXPECT_DOUBLE_EQ(b.issue_busy, a.issue_busy);
+}
+
+// ldst_unit::process_memory_access_queue_l1cache: from the highest sector down, up to 4 a cycle, a cycle ends at
+// the first repeated bank (sector mod 4).
+TEST(GpgpusimPreset, L1BankCyclesFollowTheSimulatorsQueue) {
+  auto cycles = [](std::vector<uint64_t> s) { return l1_bank_cycles(s.data(), static_cast<uint32_t>(s.size()), 4); };
+  EXPECT_EQ(cycles({}), 0u);
+  EXPECT_EQ(cycles({7}), 1u);
+  EXPECT_EQ(cycles({0, 1, 2, 3}), 1u);     // a coalesced 128-byte line
+  EXPECT_EQ(cycles({0, 1, 2, 3, 4}), 2u);  // 4(b0) 3 2 1 | 0
+  EXPECT_EQ(cycles({0, 4, 8}), 3u);        // one bank
+  EXPECT_EQ(cycles({0, 2, 4, 6}), 2u);     // 6(b2) 4(b0) | 2(b2) 0(b0)
+  EXPECT_EQ(cycles({0, 1, 5, 6}), 2u);     // 6(b2) 5(b1) | 1(b1) 0(b0): the order matters, not the set
+  std::vector<uint64_t> line32;
+  for (uint64_t i = 0; i < 32; ++i) line32.push_back(i);
+  EXPECT_EQ(cycles(line32), 8u);
+  EXPECT_EQ(l1_bank_cycles(line32.data(), 32, 1), 32u);
+}
+
+// One warp, one node step of 32 lanes on 32 consecutive 64-byte nodes: each load's 32 sectors fall in 2 banks
+// (a node's words 0-1 in sector 2n, words 2-3 in 2n + 1), 2 a cycle: 16 cycles x 14 loads, where the tag rule
+// takes ceil(16 lines / 4) = 4 x 14. Plus 18 local accesses, and the ray fetch: 2 loads of 32 consecutive
+// sectors, 8 cycles each (tag rule: 512 bytes through 128 bytes a cycle, 4 each).
+TEST(GpgpusimPreset, TheBankRuleTakesALoadsSectorsFourBanksAtATime) {
+  GpuModelConfig g = gpu_preset("gpgpusim-rtx3070");
+  g.cache.sms = 1;
+  g.gpu.launch_cycles = 0;
+  SimtConfig sc;
+  sc.line_bytes = 128;
+  sc.sector_bytes = 32;
+  auto run = [&](uint32_t banks) {
+    g.gpu.l1_banks = banks;
+    std::vector<WarpTrace> traces(1);
+    traces[0].lanes = 32;
+    traces[0].l1_banks = banks;
+    simt_detail::StepFetches f;
+    f.reset();
+    for (uint64_t l = 0; l < 32; ++l) f.add(64 * l, 64, sc);
+    f.finish();
+    f.emit(&traces[0], SimtStepKind::Node);
+    TimedReplay r(g, 1, 1 << 20);
+    r.run(traces, 1);
+    EXPECT_TRUE(r.done());
+    return r.result();
+  };
+  EXPECT_DOUBLE_EQ(run(4).l1_busy, 16 + 14 * 16 + 18);
+  EXPECT_DOUBLE_EQ(run(0).l1_busy, 8 + 14 * 4 + 18);
+  g.gpu.l1_banks = 3;
+  EXPECT_THROW(validate(g), Error);
+  g.gpu.l1_banks = 4;
+  g.kernel.node.word_loads = {4, 4, 4, 1, 0};  // 13, not the node's 14 loads
+  EXPECT_THROW(validate(g), Error);
 }
 
 TEST(GpgpusimPreset, OccupancyFollowsTheSimulatorsRegisterRounding) {
