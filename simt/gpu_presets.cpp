@@ -167,10 +167,19 @@ GpuModelConfig gpgpusim_rtx3070() {
   // block before that count reaches 0, inside the kernel's cycles. The rtx3060 and h100 presets leave it at 0: no
   // published figure for the hardware.
   g.launch_cycles = 5000;
-  // The kernel: the SASS step costs of our_kernel() (the simulator runs PTX instead: docs/simt-model.md section
-  // 6 counts both). Registers: the simulator takes them from ptxas (nvcc 11.8, sm_86) on the same PTX, which
-  // reports 55 for persistent_kernel<false, BvhView, NoAlphaTest> (raycoh.N.sm_86.ptxas), as nvcc 13 does.
+  // The kernel as the simulator runs it: PTX, one instruction issued per cycle, not SASS. The step costs are the
+  // PTX counts of scripts/count-ptx-step-instructions (the probe kernels of simt/probe/step_probes.cu compiled by
+  // the simulator build's nvcc 11.8 for compute_86, every branch of a step counted once, as for SASS): node step
+  // 146 instructions, 14 ld.global, 23 ld/st.local; triangle 134, 10, 0 (its pair differs by -1 local: none);
+  // leaf 35, 0, 8; traversal_begin 32 beside the ray's two loads. Until 2026-11-27 this preset used the SASS costs
+  // of our_kernel() (115, 124, 39, 28). Registers: the simulator takes them from ptxas (nvcc 11.8, sm_86) on the
+  // same PTX, which reports 55 for persistent_kernel<false, BvhView, NoAlphaTest> (raycoh.N.sm_86.ptxas), as
+  // nvcc 13 does.
   m.kernel = our_kernel();
+  m.kernel.node = {146, 14, 23, {4, 4, 4, 2, 0}};
+  m.kernel.triangle = {134, 10, 0, {4, 3, 3, 0, 0}};
+  m.kernel.leaf = {35, 0, 8};
+  m.kernel.ray_begin = {32, 2, 0};
   return m;
 }
 

@@ -36,7 +36,12 @@ TEST(GpgpusimPreset, MirrorsTheSimulatorsRtx3070) {
   EXPECT_DOUBLE_EQ(g.gpu.l2_latency, 187.0);
   EXPECT_DOUBLE_EQ(g.gpu.dram_latency, 441.0);
   EXPECT_DOUBLE_EQ(g.gpu.launch_cycles, 5000.0);
-  EXPECT_EQ(g.gpu.l1_banks, 4u);  // cfg:94; the hardware presets keep the tag rule
+  EXPECT_EQ(g.gpu.l1_banks, 4u);
+  EXPECT_DOUBLE_EQ(g.kernel.node.issue_cycles, 146.0);  // PTX (scripts/count-ptx-step-instructions), not SASS
+  EXPECT_EQ(g.kernel.node.local_accesses, 23u);
+  EXPECT_DOUBLE_EQ(g.kernel.triangle.issue_cycles, 134.0);
+  EXPECT_DOUBLE_EQ(gpu_preset("rtx3060").kernel.node.issue_cycles,
+                   115.0);  // SASS  // cfg:94; the hardware presets keep the tag rule
   EXPECT_EQ(gpu_preset("rtx3060").gpu.l1_banks, 0u);
   EXPECT_EQ(gpu_preset("h100").gpu.l1_banks, 0u);
   EXPECT_DOUBLE_EQ(gpu_preset("rtx3060").gpu.launch_cycles, 0.0);  // no published figure for the hardware
@@ -90,7 +95,7 @@ TEST(GpgpusimPreset, L1BankCyclesFollowTheSimulatorsQueue) {
 
 // One warp, one node step of 32 lanes on 32 consecutive 64-byte nodes: each load's 32 sectors fall in 2 banks
 // (a node's words 0-1 in sector 2n, words 2-3 in 2n + 1), 2 a cycle: 16 cycles x 14 loads, where the tag rule
-// takes ceil(16 lines / 4) = 4 x 14. Plus 18 local accesses, and the ray fetch: 2 loads of 32 consecutive
+// takes ceil(16 lines / 4) = 4 x 14. Plus the local accesses, and the ray fetch: 2 loads of 32 consecutive
 // sectors, 8 cycles each (tag rule: 512 bytes through 128 bytes a cycle, 4 each).
 TEST(GpgpusimPreset, TheBankRuleTakesALoadsSectorsFourBanksAtATime) {
   GpuModelConfig g = gpu_preset("gpgpusim-rtx3070");
@@ -114,8 +119,9 @@ TEST(GpgpusimPreset, TheBankRuleTakesALoadsSectorsFourBanksAtATime) {
     EXPECT_TRUE(r.done());
     return r.result();
   };
-  EXPECT_DOUBLE_EQ(run(4).l1_busy, 16 + 14 * 16 + 18);
-  EXPECT_DOUBLE_EQ(run(0).l1_busy, 8 + 14 * 4 + 18);
+  const double local = g.kernel.node.local_accesses;  // 23 (PTX)
+  EXPECT_DOUBLE_EQ(run(4).l1_busy, 16 + 14 * 16 + local);
+  EXPECT_DOUBLE_EQ(run(0).l1_busy, 8 + 14 * 4 + local);
   g.gpu.l1_banks = 3;
   EXPECT_THROW(validate(g), Error);
   g.gpu.l1_banks = 4;
