@@ -42,11 +42,14 @@ const char* to_string(TraceKernel k);
 // whose tag stage needs a wavefront per `l1_tags_per_clk` distinct lines the active lanes touch) and its local
 // memory instructions (the traversal stack and state; one wavefront each, the lanes' addresses interleaved).
 // word_loads[w]: how many of the global loads read the record's 16-byte word w (used by the l1_banks rule).
+// inorder_cycles: a warp's time for the step when it issues in program order, waiting for each operand, alone on
+// its scheduler with every load an L1 hit (0: its instructions issue back to back after its data).
 struct StepCost {
   double issue_cycles = 0;
   uint32_t global_loads = 0;
   uint32_t local_accesses = 0;
   std::array<uint8_t, kMaxRecordWords> word_loads{};
+  double inorder_cycles = 0;
 };
 
 // The kernel being modelled: the `cuda` tracer's launch and its per-step costs (scripts/count-step-instructions).

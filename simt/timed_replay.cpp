@@ -95,6 +95,12 @@ double TimedReplay::ray_wavefronts(uint32_t warp, uint32_t lanes) const {
   return cycles;
 }
 
+// A warp's cycles from its step's data to its next step: its instructions back to back, or with inorder_cycles
+// (in-order issue, each operand awaited) that time less the one L1 hit it assumed, whichever is longer.
+double TimedReplay::after_data(const StepCost& cost) const {
+  return std::max(cost.issue_cycles, cost.inorder_cycles - config_.gpu.l1_latency);
+}
+
 // The request passes the SM's L1 pipeline (`wavefronts` cycles); then each sector takes the latency of the level
 // that serves it, misses queueing at the GPU-wide L2 and DRAM ports. Returns when the last sector has arrived.
 double TimedReplay::fetch_sectors(uint32_t sm, double t, double wavefronts, const uint32_t* sectors, uint32_t count,
@@ -141,7 +147,7 @@ double TimedReplay::step(uint32_t slot_index, double t, std::vector<WarpTrace>& 
     ray_sectors_ += n;
     const double wavefronts = ray_wavefronts(slot.warp, trace.lanes);
     const double start = issue(sm, t, k.ray_begin.issue_cycles);
-    return fetch_sectors(sm, start, wavefronts, ray_sectors, n, false) + k.ray_begin.issue_cycles;
+    return fetch_sectors(sm, start, wavefronts, ray_sectors, n, false) + after_data(k.ray_begin);
   }
   const uint32_t r = slot.step++;
   const SimtStepKind kind = trace.kinds[r];
@@ -152,7 +158,7 @@ double TimedReplay::step(uint32_t slot_index, double t, std::vector<WarpTrace>& 
   const double start = issue(sm, t, cost.issue_cycles);
   l1_local_wavefronts_ += cost.local_accesses;
   const double data = fetch_sectors(sm, start, l1_wavefronts(cost, trace, r), sectors, count, true);
-  return data + cost.issue_cycles;
+  return data + after_data(cost);
 }
 
 size_t TimedReplay::block_slot(uint32_t slot_index) const {

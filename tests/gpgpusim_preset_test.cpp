@@ -40,6 +40,8 @@ TEST(GpgpusimPreset, MirrorsTheSimulatorsRtx3070) {
   EXPECT_DOUBLE_EQ(g.kernel.node.issue_cycles, 146.0);  // PTX (scripts/count-ptx-step-instructions), not SASS
   EXPECT_EQ(g.kernel.node.local_accesses, 23u);
   EXPECT_DOUBLE_EQ(g.kernel.triangle.issue_cycles, 134.0);
+  EXPECT_DOUBLE_EQ(g.kernel.node.inorder_cycles, 1242.0);                // in-order PTX issue, L1 hits
+  EXPECT_DOUBLE_EQ(gpu_preset("h100").kernel.node.inorder_cycles, 0.0);  // ptxas schedules SASS
   EXPECT_DOUBLE_EQ(gpu_preset("rtx3060").kernel.node.issue_cycles,
                    115.0);  // SASS  // cfg:94; the hardware presets keep the tag rule
   EXPECT_EQ(gpu_preset("rtx3060").gpu.l1_banks, 0u);

@@ -71,6 +71,15 @@ TEST(TimingModel, OneWarpTimelineByHand) {
   EXPECT_EQ(k.ray_sectors, 32u);
   EXPECT_EQ(k.ray_dram_sectors, 32u);
   EXPECT_DOUBLE_EQ(k.issue_cycles, 28.0 + 115.0);
+  // In-order issue (the gpgpusim-rtx3070 preset's PTX): after its data the node step takes its in-order time less
+  // the one L1 hit (10 cycles) that time assumed, 500 - 10 = 490 instead of 115; the issue port's share is unchanged.
+  GpuModelConfig in_order = c;
+  in_order.kernel.node.inorder_cycles = 500;
+  const ModeledKernel o = replay(in_order, {node_steps(32, {{0, 1}})});
+  EXPECT_DOUBLE_EQ(o.cycles, 815.0 - 115.0 + 490.0);
+  EXPECT_DOUBLE_EQ(o.issue_cycles, k.issue_cycles);
+  in_order.kernel.node.inorder_cycles = 100;  // shorter than the back-to-back issue: no effect
+  EXPECT_DOUBLE_EQ(replay(in_order, {node_steps(32, {{0, 1}})}).cycles, 815.0);
 }
 
 TEST(TimingModel, DivergentLoadsTakeMoreL1Wavefronts) {
