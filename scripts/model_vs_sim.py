@@ -149,7 +149,7 @@ def plot(rows, path):
         return
     os.environ.setdefault("MPLBACKEND", "Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6.4, 5.6))
+    fig, ax = plt.subplots(figsize=(9.6, 5.6))
     markers = dict(zip(SCENES, "osD^"))
     sizes = sorted({r["size"] for r in rows}, key=lambda s: eval(s.replace("x", "*")))
     colors = dict(zip(sizes, ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]))
@@ -177,9 +177,9 @@ def plot(rows, path):
     ax.set_ylim(lo, hi)
     ax.set_xlabel("SIMULATED trace-kernel cycles (GPGPU-Sim RTX 3070 config, not hardware)")
     ax.set_ylabel("MODELED trace-kernel cycles (simt:preset=gpgpusim-rtx3070)")
-    ax.set_title("MODELED vs SIMULATED trace kernel, one point per cell\n(filled: the current model, with the "
-                 "launch latency; hollow: before it)", fontsize=9)
-    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title("MODELED vs SIMULATED trace kernel, one point per cell\n(filled: the current model; hollow: the model in the "
+                 "simulator's process, before the bank, PTX and in-order rules)", fontsize=9)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     fig.tight_layout()
     os.makedirs(os.path.dirname(path), exist_ok=True)
     fig.savefig(path, dpi=120)
