@@ -16,8 +16,8 @@
 // The paper solves the same assignment with an auction; greedy is a documented simplification.
 //
 // Quantisation: p = the node box's low corner; per axis the smallest power-of-two scale with p + 255 scale >= hi;
-// child planes rounded outwards (floor for lo, ceil for hi) and then checked with the decoder's own arithmetic,
-// so every decoded child box contains the true one.
+// child planes rounded outwards (floor for lo, ceil for hi) and then checked on the real value of p + q scale
+// (directed rounding), so every decoded child box contains the true one in exact arithmetic.
 #include "bvh/cwbvh_build.h"
 
 #include <fmt/format.h>
@@ -28,6 +28,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/directed_rounding.h"
 #include "core/error.h"
 
 namespace raycoh {
@@ -45,9 +46,11 @@ void cwbvh_quantize(CwbvhNode& node, const Bounds& box, const Bounds child[kCwbv
       std::frexp(extent / 255.f, &exp2);  // extent / 255 < 2^exp2
       e = std::clamp(exp2 + 127 - 1, 1, 254);
     }
-    while (e < 254 && !(lo + 255.f * cwbvh_scale(static_cast<uint8_t>(e)) >= hi)) ++e;
-    if (e > 1 && lo + 255.f * cwbvh_scale(static_cast<uint8_t>(e - 1)) >= hi) --e;  // frexp rounding: one lower
-    RAYCOH_CHECK(lo + 255.f * cwbvh_scale(static_cast<uint8_t>(e)) >= hi, "cwbvh_quantize: extent out of range");
+    // The real value of lo + 255 scale (fma_down is at or below it) must reach hi.
+    auto reaches = [&](int ex) { return fma_down(255.f, cwbvh_scale(static_cast<uint8_t>(ex)), lo) >= hi; };
+    while (e < 254 && !reaches(e)) ++e;
+    if (e > 1 && reaches(e - 1)) --e;  // frexp rounding: one lower
+    RAYCOH_CHECK(reaches(e), "cwbvh_quantize: extent out of range");
     node.e[a] = static_cast<uint8_t>(e);
   }
   uint8_t* qlo[3] = {node.qlo_x, node.qlo_y, node.qlo_z};
@@ -59,12 +62,16 @@ void cwbvh_quantize(CwbvhNode& node, const Bounds& box, const Bounds child[kCwbv
       const float p = node.p[a], scale = cwbvh_scale(node.e[a]);
       const float clo = child[s].lo[a], chi = child[s].hi[a];
       RAYCOH_CHECK(clo >= box.lo[a] && chi <= box.hi[a], "cwbvh_quantize: child box outside the node box");
-      auto decode = [&](int q) { return p + static_cast<float>(q) * scale; };
+      // Bounds on the real value of p + q scale (the node step's FMAs contain it): at or above for a low plane,
+      // at or below for a high one.
+      auto decode_up = [&](int q) { return fma_up(static_cast<float>(q), scale, p); };
+      auto decode_down = [&](int q) { return fma_down(static_cast<float>(q), scale, p); };
       int l = std::clamp(static_cast<int>(std::floor((clo - p) / scale)), 0, 255);
-      while (l > 0 && decode(l) > clo) --l;
+      while (l > 0 && decode_up(l) > clo) --l;
       int h = std::clamp(static_cast<int>(std::ceil((chi - p) / scale)), 0, 255);
-      while (h < 255 && decode(h) < chi) ++h;
-      RAYCOH_CHECK(decode(l) <= clo && decode(h) >= chi, "cwbvh_quantize: a decoded box does not contain its child");
+      while (h < 255 && decode_down(h) < chi) ++h;
+      RAYCOH_CHECK(decode_up(l) <= clo && decode_down(h) >= chi,
+                   "cwbvh_quantize: a decoded box does not contain its child");
       qlo[a][s] = static_cast<uint8_t>(l);
       qhi[a][s] = static_cast<uint8_t>(h);
     }

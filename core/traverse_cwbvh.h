@@ -8,9 +8,9 @@
 //     visit first (bvh/cwbvh_build.cpp); a ray of octant o (bit k set when dir[k] < 0) keeps the hit of slot s in
 //     bit s ^ o and always takes the lowest bit, so it visits slots in the order o, o ^ 1, ..., o ^ 7: near to far
 //     without sorting, as in the paper.
-//   - Child boxes are decoded to world space (exact: q * 2^e has no rounding) and tested as the BVH2's slab test
-//     tests them, so the quantised boxes, which contain the true ones, cannot lose a hit. The triangle test is
-//     the BVH2's.
+//   - As in the paper, the ray is transformed into each node's quantised frame and each child plane costs one FMA;
+//     ours rounds it outwards (entry planes down, exit planes up), so the quantised boxes, which contain the true
+//     ones, cannot lose a hit. The triangle test is the BVH2's.
 // The loop bodies are exposed as cwbvh_node_step() and cwbvh_triangle_step() so that the SIMT model can step a
 // warp in lock step (simt/simt_cwbvh.h); closest_hit_cwbvh() is the scalar driver. A lane with a triangle group
 // does its triangles before its next node step, in either driver, so both compute the same hits bit for bit.
@@ -19,6 +19,7 @@
 #pragma once
 
 #include "core/cwbvh.h"
+#include "core/directed_rounding.h"
 #include "core/traverse.h"
 
 namespace raycoh {
@@ -97,11 +98,23 @@ RAYCOH_HD RAYCOH_INLINE float cwbvh_byte_float(uint32_t word, int k) {
   return cwbvh_bits_float(bits) - 8388608.f;
 }
 
+// The ray in a node's quantised frame, per axis: the distance to the plane q of the axis is t(q) = q * a + b
+// with a = scale * inv_dir (exact: the scale is a power of two) and b = (p - org) * inv_dir, kept as a lower and an
+// upper bound (directed rounding, core/directed_rounding.h).
+struct CwbvhFrame {
+  float a, b_down, b_up;
+};
+
+RAYCOH_HD RAYCOH_INLINE CwbvhFrame cwbvh_frame(float p, float scale, float org, float inv) {
+  const float lo = sub_down(p, org), hi = sub_up(p, org);
+  return {scale * inv, mul_down(inv < 0.f ? hi : lo, inv), mul_up(inv < 0.f ? lo : hi, inv)};
+}
+
 // One node step: take the nearest unvisited child of the node group, push the rest of the group, fetch the child
 // and test its 8 child boxes; the hit inner children become the node group, the hit leaves the triangle group.
-// Each box test computes exactly what intersect_box() computes on the box cwbvh_child_box() decodes (the same
-// roundings, in the same order), but takes the entry plane of each axis from the sign of the ray's inverse
-// direction instead of a min/max per plane pair, which is the same value.
+// Each plane is one FMA in the node's frame, rounded down for the entry planes and up for the exit planes, so a
+// child's [tnear, tfar] contains the exact distances to its decoded box (whose real value contains the child's
+// true box: bvh/cwbvh_build.cpp), before the far distance's 1 + 2 gamma(3) that intersect_box() applies too.
 template <class Counters>
 RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh, Counters& counters) {
   const uint32_t index = cwbvh_next_node(s);
@@ -116,9 +129,12 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh
 #endif
   counters.on_node(static_cast<int32_t>(index));
   const PreparedRay& r = s.ray;
-  const Vec3 p{cwbvh_bits_float(n.w[0]), cwbvh_bits_float(n.w[1]), cwbvh_bits_float(n.w[2])};
-  const float sx = cwbvh_bits_float((n.w[3] & 0xFFu) << 23), sy = cwbvh_bits_float(((n.w[3] >> 8) & 0xFFu) << 23),
-              sz = cwbvh_bits_float(((n.w[3] >> 16) & 0xFFu) << 23);
+  const CwbvhFrame x =
+      cwbvh_frame(cwbvh_bits_float(n.w[0]), cwbvh_bits_float((n.w[3] & 0xFFu) << 23), r.org.x, r.inv_dir.x);
+  const CwbvhFrame y =
+      cwbvh_frame(cwbvh_bits_float(n.w[1]), cwbvh_bits_float(((n.w[3] >> 8) & 0xFFu) << 23), r.org.y, r.inv_dir.y);
+  const CwbvhFrame z =
+      cwbvh_frame(cwbvh_bits_float(n.w[2]), cwbvh_bits_float(((n.w[3] >> 16) & 0xFFu) << 23), r.org.z, r.inv_dir.z);
   const uint32_t imask = n.w[3] >> 24;
   // Plane words: qlo_x = w[8..9], qlo_y = w[10..11], qlo_z = w[12..13], qhi_x = w[14..15], qhi_y = w[16..17],
   // qhi_z = w[18..19]; the entry plane of an axis is qlo unless the ray travels towards -axis.
@@ -140,12 +156,12 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh
     const int k = slot & 3;
     const uint32_t meta = ((h ? meta1 : meta0) >> (8 * k)) & 0xFFu;
     if (meta == 0) continue;
-    const float tx0 = (p.x + cwbvh_byte_float(h ? nx1 : nx0, k) * sx - r.org.x) * r.inv_dir.x;
-    const float tx1 = (p.x + cwbvh_byte_float(h ? fx1 : fx0, k) * sx - r.org.x) * r.inv_dir.x;
-    const float ty0 = (p.y + cwbvh_byte_float(h ? ny1 : ny0, k) * sy - r.org.y) * r.inv_dir.y;
-    const float ty1 = (p.y + cwbvh_byte_float(h ? fy1 : fy0, k) * sy - r.org.y) * r.inv_dir.y;
-    const float tz0 = (p.z + cwbvh_byte_float(h ? nz1 : nz0, k) * sz - r.org.z) * r.inv_dir.z;
-    const float tz1 = (p.z + cwbvh_byte_float(h ? fz1 : fz0, k) * sz - r.org.z) * r.inv_dir.z;
+    const float tx0 = fma_down(cwbvh_byte_float(h ? nx1 : nx0, k), x.a, x.b_down);
+    const float tx1 = fma_up(cwbvh_byte_float(h ? fx1 : fx0, k), x.a, x.b_up);
+    const float ty0 = fma_down(cwbvh_byte_float(h ? ny1 : ny0, k), y.a, y.b_down);
+    const float ty1 = fma_up(cwbvh_byte_float(h ? fy1 : fy0, k), y.a, y.b_up);
+    const float tz0 = fma_down(cwbvh_byte_float(h ? nz1 : nz0, k), z.a, z.b_down);
+    const float tz1 = fma_up(cwbvh_byte_float(h ? fz1 : fz0, k), z.a, z.b_up);
     const float tnear = max_f(max_f(tx0, ty0), max_f(tz0, r.tmin));
     const float tfar = min_f(min_f(tx1, ty1), min_f(tz1, tmax)) * 1.00000024f;  // as intersect_box()
     if (!(tnear <= tfar)) continue;
