@@ -98,6 +98,20 @@ RAYCOH_HD RAYCOH_INLINE float cwbvh_byte_float(uint32_t word, int k) {
   return cwbvh_bits_float(bits) - 8388608.f;
 }
 
+// Bit k set when byte k of a meta word is not 0 (an empty slot): every used slot has one of bits 5..7 set.
+RAYCOH_HD RAYCOH_INLINE uint32_t cwbvh_nonempty(uint32_t meta) {
+  const uint32_t b = ((((meta >> 5) & 0x07070707u) + 0x07070707u) & 0x08080808u) >> 3;  // bits 0, 8, 16, 24
+  return (b | (b >> 7) | (b >> 14) | (b >> 21)) & 0xFu;
+}
+
+// Bit slot of `bits` moved to bit slot ^ octant (the order in which a ray of that octant visits the slots).
+RAYCOH_HD RAYCOH_INLINE uint32_t cwbvh_octant_order(uint32_t bits, uint32_t octant) {
+  if (octant & 1u) bits = ((bits & 0x55u) << 1) | ((bits >> 1) & 0x55u);
+  if (octant & 2u) bits = ((bits & 0x33u) << 2) | ((bits >> 2) & 0x33u);
+  if (octant & 4u) bits = ((bits & 0x0Fu) << 4) | ((bits >> 4) & 0x0Fu);
+  return bits;
+}
+
 // The ray in a node's quantised frame, per axis: the distance to the plane q of the axis is t(q) = q * a + b
 // with a = scale * inv_dir (exact: the scale is a power of two) and b = (p - org) * inv_dir, kept as a lower and an
 // upper bound (directed rounding, core/directed_rounding.h).
@@ -145,35 +159,37 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh
   const uint32_t fy0 = fy ? n.w[10] : n.w[16], fy1 = fy ? n.w[11] : n.w[17];
   const uint32_t nz0 = fz ? n.w[18] : n.w[12], nz1 = fz ? n.w[19] : n.w[13];
   const uint32_t fz0 = fz ? n.w[12] : n.w[18], fz1 = fz ? n.w[13] : n.w[19];
-  const uint32_t meta0 = n.w[6], meta1 = n.w[7];
   const float tmax = s.hit.t;
-  uint32_t node_hits = 0, tri_hits = 0;
+  uint32_t box_hits = 0;  // bit slot: the slot's box is hit (empty slots masked below)
 #if defined(__CUDA_ARCH__)
 #pragma unroll
 #endif
   for (int slot = 0; slot < kCwbvhWidth; ++slot) {
     const bool h = slot >= 4;
     const int k = slot & 3;
-    const uint32_t meta = ((h ? meta1 : meta0) >> (8 * k)) & 0xFFu;
-    if (meta == 0) continue;
     const float tx0 = fma_down(cwbvh_byte_float(h ? nx1 : nx0, k), x.a, x.b_down);
     const float tx1 = fma_up(cwbvh_byte_float(h ? fx1 : fx0, k), x.a, x.b_up);
     const float ty0 = fma_down(cwbvh_byte_float(h ? ny1 : ny0, k), y.a, y.b_down);
     const float ty1 = fma_up(cwbvh_byte_float(h ? fy1 : fy0, k), y.a, y.b_up);
     const float tz0 = fma_down(cwbvh_byte_float(h ? nz1 : nz0, k), z.a, z.b_down);
     const float tz1 = fma_up(cwbvh_byte_float(h ? fz1 : fz0, k), z.a, z.b_up);
-    const float tnear = max_f(max_f(tx0, ty0), max_f(tz0, r.tmin));
-    const float tfar = min_f(min_f(tx1, ty1), min_f(tz1, tmax)) * 1.00000024f;  // as intersect_box()
-    if (!(tnear <= tfar)) continue;
-    if ((imask >> slot) & 1u)
-      node_hits |= 1u << (static_cast<uint32_t>(slot) ^ s.octant);
-    else
-      tri_hits |= ((1u << popcount32(meta >> 5)) - 1u) << (meta & 31u);
+    // fminf/fmaxf (one instruction each on the device): no operand is NaN, so they choose as max_f/min_f do
+    // except between +0 and -0, which compare equal below.
+    const float tnear = fmaxf(fmaxf(tx0, ty0), fmaxf(tz0, r.tmin));
+    const float tfar = fminf(fminf(tx1, ty1), fminf(tz1, tmax)) * 1.00000024f;  // as intersect_box()
+    box_hits |= (tnear <= tfar ? 1u : 0u) << slot;
   }
+  box_hits &= cwbvh_nonempty(n.w[6]) | (cwbvh_nonempty(n.w[7]) << 4);
   s.node_base = n.w[4];
   s.node_imask = imask;
-  s.node_hits = node_hits;
+  s.node_hits = cwbvh_octant_order(box_hits & imask, s.octant);
   s.tri_base = n.w[5];
+  uint32_t tri_hits = 0;
+  for (uint32_t leaves = box_hits & ~imask; leaves != 0; leaves &= leaves - 1u) {
+    const uint32_t slot = lowest_bit(leaves);
+    const uint32_t meta = (n.w[6 + (slot >> 2)] >> (8 * (slot & 3u))) & 0xFFu;
+    tri_hits |= (meta >> 5) << (meta & 31u);  // the unary count is the leaf's triangle mask
+  }
   s.tri_hits = tri_hits;
 }
 
