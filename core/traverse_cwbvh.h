@@ -187,7 +187,7 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh
   uint32_t tri_hits = 0;
   for (uint32_t leaves = box_hits & ~imask; leaves != 0; leaves &= leaves - 1u) {
     const uint32_t slot = lowest_bit(leaves);
-    const uint32_t meta = (n.w[6 + (slot >> 2)] >> (8 * (slot & 3u))) & 0xFFu;
+    const uint32_t meta = ((slot >= 4 ? n.w[7] : n.w[6]) >> (8 * (slot & 3u))) & 0xFFu;  // no indexed array
     tri_hits |= (meta >> 5) << (meta & 31u);  // the unary count is the leaf's triangle mask
   }
   s.tri_hits = tri_hits;
