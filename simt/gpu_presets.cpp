@@ -192,18 +192,20 @@ GpuModelConfig gpgpusim_rtx3070() {
 
 // The CWBVH kernel's step costs, counted as the BVH2's (scripts/count-cwbvh-step-instructions, SASS of the probe
 // kernels in simt/probe/cwbvh_step_probes.cu, nvcc 13 for sm_86; the same tools give the BVH2's 115 / 124 / 42
-// exactly): node step 716 instructions = 722 cycles, 5 global loads (the 80-byte node as five 16-byte words), 46
-// local accesses (the probe's state and stack spill around the unrolled 8-child loop); triangle step 126 = 126,
-// 10 loads. The Leaf step (entering the triangle loop) has no instructions of its own in closest_hit_cwbvh: it
-// is costed as one triangle's bookkeeping, 4 instructions = 6 cycles and 1 local access (probe_cw_triangle minus
-// probe_cw_test). Registers and block size: the BVH2 kernel's (an assumption: no CWBVH CUDA kernel exists yet).
-// Why the node step is long: our box test decodes each plane to world
-// space with separate multiply and add (--fmad=false) so that its hits equal the BVH2's bit for bit, where the
-// paper transforms the ray into the node's frame and uses one FMA per plane.
+// exactly): node step 395 instructions = 496 partition cycles (ALU-bound: 248 integer/compare/select
+// instructions at half rate — 48 byte permutes and 48 min/max for the 8 children's 6 planes, the per-slot
+// selector moves, masks), 5 global loads (the 80-byte node as five 16-byte words), 17 local accesses (the state
+// and stack entry); triangle step 126 = 126, 10 loads. The Leaf step (entering the triangle loop) has no
+// instructions of its own in closest_hit_cwbvh: it is costed as one triangle's bookkeeping, 4 instructions = 6
+// cycles and 1 local access (probe_cw_triangle minus probe_cw_test). Until 2026-11-27 the node step decoded each
+// plane to world space with a multiply and two adds and branched per slot: 716 instructions = 722 cycles, 46
+// local accesses. Registers: 64 (`nvcc -Xptxas -v` on cuda/trace_kernels.cu, persistent_kernel<.., CwbvhView, ..>
+// for sm_86), against the BVH2 kernel's 55: 32 resident warps per SM instead of 36.
 void use_cwbvh_kernel(KernelSpec& k) {
-  k.node = {722, 5, 46, {1, 1, 1, 1, 1}};
+  k.node = {496, 5, 17, {1, 1, 1, 1, 1}};
   k.triangle = {126, 10, 0, {4, 3, 3, 0, 0}};
   k.leaf = {6, 0, 1};
+  k.regs_per_thread = 64;
 }
 
 const char* to_string(TraceKernel k) { return k == TraceKernel::Persistent ? "persistent" : "simple"; }
