@@ -77,6 +77,7 @@ class CudaTracer final : public Tracer {
     run(rays, order, count, hits);
   }
   std::string params() const override { return params_; }
+  std::string bvh_layout() const override { return params_.find("bvh=cwbvh") != std::string::npos ? "cwbvh" : "bvh2"; }
   const CoherenceCounters* last_counters() const override { return counting_ ? &counters_ : nullptr; }
   double last_device_ms() const override { return device_->last_kernel_ms(); }
   DevicePipeline* device_pipeline() override { return pipeline_.get(); }

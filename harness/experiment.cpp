@@ -181,6 +181,7 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
   r.generator_params = primary ? kPrimaryParams : generators_[mi]->params();
   r.tracer = o_.tracers[ti].name;
   r.tracer_params = setup_->tracers[ti]->params();
+  r.bvh = setup_->tracers[ti]->bvh_layout();
   r.width = o_.width;
   r.height = o_.height;
   r.frame = frame;

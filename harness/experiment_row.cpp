@@ -18,6 +18,7 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("generator_params", &R::generator_params, Text{}, Key::Yes),
         column("tracer", &R::tracer, Text{}, Key::Yes),
         column("tracer_params", &R::tracer_params, Text{}, Key::Yes),
+        column("bvh", &R::bvh, Text{}),
         column("width", &R::width, Integer<int>{}, Key::Yes),
         column("height", &R::height, Integer<int>{}, Key::Yes),
         column("frame", &R::frame, Integer<int>{}, Key::Yes),

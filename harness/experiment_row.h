@@ -20,6 +20,7 @@ struct ExperimentRow {
   size_t scene_triangles = 0;
   std::string pass;  // "primary" or "secondary"
   std::string method, generator, generator_params, tracer, tracer_params;
+  std::string bvh;  // the tracer's acceleration structure (Tracer::bvh_layout)
   int width = 0, height = 0, frame = 0;
   uint32_t seed = 0;
   size_t rays = 0;

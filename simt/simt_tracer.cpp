@@ -165,6 +165,7 @@ class SimtTracer final : public Tracer {
   }
 
   std::string params() const override { return params_; }
+  std::string bvh_layout() const override { return cwbvh_ ? "cwbvh" : "bvh2"; }
   const CoherenceCounters* last_counters() const override { return &counters_; }
   const GpuModelConfig* gpu_model() const override { return &gpu_; }
 

@@ -36,6 +36,7 @@ TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
                                              "generator_params",
                                              "tracer",
                                              "tracer_params",
+                                             "bvh",
                                              "width",
                                              "height",
                                              "frame",

@@ -87,6 +87,7 @@ class CpuCwbvhTracer final : public Tracer {
   }
 
   std::string params() const override { return "bvh=cwbvh"; }
+  std::string bvh_layout() const override { return "cwbvh"; }
 
  private:
   Cwbvh cwbvh_;

@@ -165,6 +165,7 @@ class EmbreeTracer final : public Tracer {
   }
 
   std::string params() const override { return params_; }
+  std::string bvh_layout() const override { return "embree"; }
 
  private:
   // Ray i of the batch: rays[i], or rays[order[i]] when tracing through sorted indices.

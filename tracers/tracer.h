@@ -92,6 +92,8 @@ class Tracer {
   virtual void trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits);
   // Canonical, defaulted parameter set ("mode=single").
   virtual std::string params() const = 0;
+  // The acceleration structure it traverses: "bvh2", "cwbvh" (core/cwbvh.h) or "embree" (Embree's own).
+  virtual std::string bvh_layout() const { return "bvh2"; }
   // Counters of the last trace() call, for tracers that model coherence (`simt`); nullptr for the others.
   virtual const CoherenceCounters* last_counters() const { return nullptr; }
   // The modelled GPU of tracers that model one (`simt`), for modeling the rest of the pipeline on it.
