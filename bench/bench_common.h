@@ -19,6 +19,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "pipeline/first_hits.h"
 #include "tracers/tracer.h"
 
 namespace raycoh::bench {

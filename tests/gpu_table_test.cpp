@@ -18,7 +18,7 @@
 #include "encoders/reorder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
-#include "generators/primary.h"
+#include "pipeline/first_hits.h"
 #include "scenes/scene.h"
 #include "simt/simt.h"
 #include "tests/gpu_test_size.h"

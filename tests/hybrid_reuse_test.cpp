@@ -19,7 +19,7 @@
 #include "generators/generator.h"
 #include "generators/grouping.h"
 #include "generators/pixel_order.h"
-#include "generators/primary.h"
+#include "pipeline/first_hits.h"
 #include "shading/path_tracer.h"
 #include "tracers/tracer.h"
 

@@ -9,7 +9,7 @@
 #include "encoders/reorder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
-#include "generators/primary.h"
+#include "pipeline/first_hits.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

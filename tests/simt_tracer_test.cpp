@@ -15,7 +15,7 @@
 #include "core/flush_denormals.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
-#include "generators/primary.h"
+#include "pipeline/first_hits.h"
 #include "scenes/scene.h"
 #include "simt/simt.h"
 #include "tests/test_util.h"
