@@ -20,6 +20,7 @@
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"
 
 namespace raycoh::bench {

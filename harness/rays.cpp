@@ -19,6 +19,7 @@
 #include "harness/memory_check.h"
 #include "harness/record_csv.h"
 #include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

@@ -19,6 +19,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "simt/simt.h"
 #include "tests/gpu_test_size.h"

@@ -13,6 +13,7 @@
 #include "generators/tangent_reuse.h"
 #include "generators/tiles.h"
 #include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

@@ -20,6 +20,7 @@
 #include "generators/grouping.h"
 #include "generators/pixel_order.h"
 #include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "shading/path_tracer.h"
 #include "tracers/tracer.h"
 
