@@ -23,6 +23,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

@@ -38,6 +38,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tracers/tracer.h"
 

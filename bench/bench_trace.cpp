@@ -32,6 +32,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "embree/embree_device.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tracers/tracer.h"
 

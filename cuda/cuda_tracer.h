@@ -1,4 +1,5 @@
-// The `cuda` tracer's parameter table and factory, for the tracer registry (tracers/registry.cpp); CUDA builds only.
+// The `cuda` tracer's parameter table and factory, for the tracer registry (plugins/tracer_registry.cpp); CUDA builds
+// only.
 #pragma once
 
 #include <memory>

@@ -4,14 +4,12 @@
 
 #include <tbb/parallel_for.h>
 
-#include <chrono>
 #include <cmath>
 
 #include "core/sampling.h"
 #include "core/surface_textures.h"
 #include "generators/generator.h"
 #include "generators/primary_ray.h"
-#include "tracers/tracer.h"
 
 namespace raycoh {
 
@@ -123,18 +121,6 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
   for (const ShadingPoint& sp : g.points) g.hits += sp.valid();
   g.materials = std::move(table);
   return g;
-}
-
-FirstHits first_hits(const Scene& scene, Tracer& tracer, int width, int height, const std::vector<uint32_t>& order,
-                     uint32_t seed, uint32_t frame, bool jitter) {
-  FirstHits f;
-  f.primary = make_primary_rays(scene.camera, width, height, order, seed, frame, jitter);
-  f.hits.resize(f.primary.rays.size());
-  const auto t0 = std::chrono::steady_clock::now();
-  if (!f.hits.empty()) tracer.trace(f.primary.rays.data(), f.primary.rays.size(), f.hits.data());
-  f.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  f.gbuffer = make_gbuffer(scene, f.primary, f.hits);
-  return f;
 }
 
 }  // namespace raycoh

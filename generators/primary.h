@@ -1,4 +1,4 @@
-// Primary (camera) rays and the G-buffer of their first hits.
+// Primary (camera) rays and the G-buffer of their first hits (traced by pipeline/first_hits.h).
 #pragma once
 
 #include <vector>
@@ -8,8 +8,6 @@
 #include "scenes/scene.h"
 
 namespace raycoh {
-
-class Tracer;
 
 // Rays with the pixel each belongs to: the camera rays of a frame, and the path tracer's bounce and shadow rays
 // (make_gbuffer reads this type).
@@ -27,17 +25,5 @@ PixelRays make_primary_rays(const Camera& camera, int width, int height, const s
 
 // Shading points of the hits (hits[i] belongs to primary.rays[i]).
 GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::vector<Hit>& hits);
-
-// One frame's first hits: the camera rays in `order`, their closest hits and the G-buffer made from them.
-struct FirstHits {
-  PixelRays primary;
-  std::vector<Hit> hits;  // hits[i] belongs to primary.rays[i]
-  GBuffer gbuffer;
-  double trace_seconds = 0.0;  // wall-clock time of the tracer call alone
-};
-
-// order -> primary rays -> trace -> G-buffer: the one way every command, benchmark and test gets its first hits.
-FirstHits first_hits(const Scene& scene, Tracer& tracer, int width, int height, const std::vector<uint32_t>& order,
-                     uint32_t seed, uint32_t frame, bool jitter = true);
 
 }  // namespace raycoh

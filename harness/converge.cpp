@@ -33,6 +33,7 @@
 #include "harness/progress.h"
 #include "harness/record_csv.h"
 #include "harness/render_common.h"
+#include "plugins/tracer_registry.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "harness/memory_check.h"
 #include "harness/record_csv.h"
+#include "plugins/tracer_registry.h"
 #include "shading/reference.h"
 
 namespace raycoh {

@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "harness/command.h"
-#include "tracers/plugin_list.h"
+#include "plugins/plugin_list.h"
 
 namespace raycoh {
 

@@ -14,11 +14,12 @@
 #include "encoders/encoder.h"
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
-#include "generators/primary.h"
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/memory_check.h"
 #include "harness/record_csv.h"
+#include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

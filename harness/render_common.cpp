@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "harness/memory_check.h"
 #include "harness/progress.h"
+#include "plugins/tracer_registry.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 

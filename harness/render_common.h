@@ -10,6 +10,7 @@
 #include "bvh/bvh_build.h"
 #include "generators/generator.h"
 #include "harness/quality.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "shading/metrics.h"
 #include "shading/path_tracer.h"

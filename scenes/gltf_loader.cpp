@@ -1,5 +1,5 @@
 // glTF 2.0 loader (.gltf and .glb): load_gltf reads the file, lets tinygltf (Debian 2.7, a shared library) parse
-// it, decoding images to 8-bit RGBA through shading/image.h, refuses required extensions it cannot honour (one
+// it, decoding images to 8-bit RGBA through oiio/image_codec.h, refuses required extensions it cannot honour (one
 // line naming the extension, Draco included) and hands the model to GltfReader. The scenes/gltf_*.cpp files are
 // the only place that talks to tinygltf: node walking and the camera (gltf_nodes.cpp), accessors
 // (gltf_accessors.cpp), meshes and primitives (gltf_meshes.cpp), materials (gltf_materials.cpp) and textures
@@ -33,9 +33,9 @@
 
 #include "core/error.h"
 #include "core/params.h"
+#include "oiio/image_codec.h"
 #include "scenes/gltf_reader.h"
 #include "scenes/scene.h"
-#include "shading/image.h"
 
 namespace raycoh {
 
@@ -60,7 +60,7 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
   return image->component == 4 && image->bits == 8;
 }
 
-// Images are decoded to 8-bit RGBA (shading/image.h, OpenImageIO; stb_image in builds without it). One that cannot
+// Images are decoded to 8-bit RGBA (oiio/image_codec.h, OpenImageIO; stb_image in builds without it). One that cannot
 // be decoded is a warning, not a failure: the materials using it keep their factors, and scenes info lists it.
 bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string* warn, int, int,
                   const unsigned char* bytes, int size, void*) {

@@ -1,10 +1,11 @@
 // Camera pass of the path tracer (path_stages.h): camera rays through jittered pixel positions in the frame's
 // pixel order, traced, and the G-buffer of their hits, which the generator of the first bounce reads (all three
-// from generators/primary.h's first_hits). A camera ray sees an emitter's radiance on its front face, or the
+// from pipeline/first_hits.h). A camera ray sees an emitter's radiance on its front face, or the
 // environment (sky + sun disc) when it misses; every hit becomes a path vertex with throughput 1 and the camera's
 // MIS state (delta).
 #include <utility>
 
+#include "pipeline/first_hits.h"
 #include "shading/environment.h"
 #include "shading/path_stages.h"
 

@@ -19,9 +19,10 @@
 //              then the sRGB OETF (IEC 61966-2-1) and a clamp to [0, 1]. Both curves are monotone
 //              non-decreasing; NaN maps to 0, +Inf to 1. PNG files and the PSNR/SSIM metrics use this image.
 // Files        .pfm (Portable Float Map, little endian, written and read here: always available),
-//              .exr (32-bit float, zip) and .png (tone-mapped 8-bit sRGB) through OpenImageIO in
-//              shading/image_io.cpp when built with RAYCOH_IMAGE_IO=ON (the default). Without it, .exr and .png
-//              are a raycoh::Error naming the option.
+//              .exr (32-bit float, zip) and .png (tone-mapped 8-bit sRGB) through the OpenImageIO adapter
+//              oiio/image_codec.h when built with RAYCOH_IMAGE_IO=ON (the default). Without it, .exr and .png
+//              are a raycoh::Error naming the option. image_io_available() and the texture decoder
+//              decode_rgba8 are that adapter's, included here for this header's users.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +30,7 @@
 #include <vector>
 
 #include "core/vec.h"
+#include "oiio/image_codec.h"
 
 namespace raycoh {
 
@@ -135,16 +137,6 @@ Image read_image(const std::string& path);
 // Throws raycoh::Error naming `what` (e.g. "--out") unless write_image can write `path` in this build (a known
 // extension, and image I/O for .exr/.png): lets a command fail before it renders rather than after.
 void check_output_image_path(const std::string& what, const std::string& path);
-// An 8-bit RGBA image decoded from an encoded file's bytes (scene textures: PNG, JPEG, WebP): grey is replicated
-// and missing alpha is 255. Returns false and says why when the bytes cannot be decoded, or when this build has
-// no image I/O (RAYCOH_IMAGE_IO=OFF).
-struct Rgba8Image {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgba;
-};
-bool decode_rgba8(const unsigned char* bytes, size_t size, Rgba8Image& out, std::string& why);
-// True when this build reads and writes EXR/PNG (RAYCOH_IMAGE_IO=ON).
-bool image_io_available();
 // The extension references and float images use in this build: ".exr" with image I/O, else ".pfm".
 const char* float_image_extension();
 

@@ -21,6 +21,7 @@
 #include "core/durable_file.h"
 #include "core/error.h"
 #include "generators/generator.h"
+#include "plugins/tracer_registry.h"
 #include "raycoh_git.h"
 
 namespace raycoh {

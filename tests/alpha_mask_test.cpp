@@ -19,6 +19,7 @@
 #include "bvh/bvh_build.h"
 #include "cuda/trace_kernels.h"
 #include "generators/generator.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "shading/path_tracer.h"
 #include "tests/alpha_card.h"

@@ -10,6 +10,7 @@
 #include "harness/csv.h"
 #include "harness/gpu_clock.h"
 #include "harness/quality.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 

@@ -13,6 +13,7 @@
 #include "bvh/cwbvh_build.h"
 #include "core/sampling.h"
 #include "core/traverse_cwbvh.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 #include "tracers/tracer.h"

@@ -12,6 +12,8 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

@@ -22,6 +22,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tests/alpha_card.h"
 #include "tests/gpu_test_size.h"

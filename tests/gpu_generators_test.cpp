@@ -20,6 +20,8 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tests/gpu_test_size.h"
 #include "tests/test_util.h"

@@ -27,6 +27,8 @@
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "harness/provenance.h"
+#include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 #include "tests/trace_test_util.h"

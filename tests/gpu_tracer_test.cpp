@@ -23,6 +23,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "simt/simt.h"
 #include "tests/gpu_test_size.h"

@@ -10,9 +10,10 @@
 #include "core/tile_grid.h"
 #include "generators/grouping_block.h"
 #include "generators/pixel_order.h"
-#include "generators/primary.h"
 #include "generators/tangent_reuse.h"
 #include "generators/tiles.h"
+#include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

@@ -19,7 +19,8 @@
 #include "generators/generator.h"
 #include "generators/grouping.h"
 #include "generators/pixel_order.h"
-#include "generators/primary.h"
+#include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
 #include "shading/path_tracer.h"
 #include "tracers/tracer.h"
 

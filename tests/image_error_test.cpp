@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "generators/generator.h"
 #include "harness/quality.h"
+#include "plugins/tracer_registry.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 #include "tests/shading_test_util.h"

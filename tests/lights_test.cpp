@@ -11,6 +11,7 @@
 
 #include "bvh/bvh_build.h"
 #include "generators/generator.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "shading/emitters.h"
 #include "shading/path_tracer.h"

@@ -9,6 +9,7 @@
 #include "bvh/bvh_build.h"
 #include "generators/generator.h"
 #include "generators/primary.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "shading/path_tracer.h"
 #include "tests/shading_test_util.h"

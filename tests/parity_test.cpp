@@ -21,6 +21,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 #include "tracers/tracer.h"

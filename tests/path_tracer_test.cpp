@@ -13,6 +13,7 @@
 #include "core/bsdf.h"
 #include "core/error.h"
 #include "generators/generator.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "shading/metrics.h"
 #include "tests/shading_test_util.h"

@@ -6,9 +6,10 @@
 #include "core/error.h"
 #include "encoders/encoder.h"
 #include "generators/generator.h"
+#include "plugins/plugin_list.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/builtin_scenes.h"
 #include "scenes/scene.h"
-#include "tracers/plugin_list.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

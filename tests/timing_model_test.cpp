@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"

@@ -109,11 +109,7 @@ class Tracer {
 // Reads its values from a ParamSet over the record's table; throws raycoh::Error for bad ones. The Scene and Bvh
 // must outlive the tracer.
 using TracerFactory = std::unique_ptr<Tracer> (*)(ParamSet& params, const Scene& scene, const Bvh& bvh);
+// The registry of these records and make_tracer are plugins/tracer_registry.h, above every folder with a tracer.
 using TracerInfo = PluginInfo<TracerFactory>;
-
-// The explicit registry (adding a tracer = one file + one record in tracers/registry.cpp).
-const std::vector<TracerInfo>& tracer_infos();
-// Throws raycoh::Error for unknown names or bad parameters, naming the valid choices.
-std::unique_ptr<Tracer> make_tracer(const PluginSpec& spec, const Scene& scene, const Bvh& bvh);
 
 }  // namespace raycoh

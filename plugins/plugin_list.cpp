@@ -1,10 +1,10 @@
-// Lives in tracers/ because it reads every registry, and tracers are the last plugin kind of the data flow.
-#include "tracers/plugin_list.h"
+// Lives in plugins/ because it reads every registry: generators/, encoders/, scenes/ and plugins/tracer_registry.h.
+#include "plugins/plugin_list.h"
 
 #include "encoders/encoder.h"
 #include "generators/generator.h"
+#include "plugins/tracer_registry.h"
 #include "scenes/builtin_scenes.h"
-#include "tracers/tracer.h"
 
 namespace raycoh {
 

@@ -1,12 +1,13 @@
 // The explicit tracer registry: adding a tracer is one file (its doc block, parameter table and make_<name>_tracer
 // factory) plus one record in tracer_infos() here. No self-registering statics: the linker would drop them from
 // the static library. The CUDA tracer is registered from cuda/cuda_tracer.h in CUDA builds only.
+#include "plugins/tracer_registry.h"
+
 #include <fmt/format.h>
 
 #include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "scenes/scene.h"
-#include "tracers/tracer.h"
 #if defined(RAYCOH_HAVE_CUDA)
 #include "cuda/cuda_tracer.h"
 #endif
@@ -20,12 +21,6 @@ const ParamTable& embree_params();
 std::unique_ptr<Tracer> make_embree_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
 const ParamTable& simt_params();
 std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh);
-
-void Tracer::trace_indirect(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
-  std::vector<Ray> gathered(count);
-  for (size_t i = 0; i < count; ++i) gathered[i] = rays[order[i]];
-  trace(gathered.data(), count, hits);
-}
 
 const std::vector<TracerInfo>& tracer_infos() {
   static const std::vector<TracerInfo> infos = {

@@ -1,0 +1,141 @@
+// The one file that includes OpenImageIO (oiio/image_codec.h). OIIO bundles its own fmt and defines
+// FMT_EXCEPTIONS 0 when its headers come first, so nothing of fmt is included here (ECOSYSTEM.md).
+#include "oiio/image_codec.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "core/error.h"
+
+#if RAYCOH_IMAGE_IO
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#endif
+
+namespace raycoh {
+
+namespace {
+
+#if RAYCOH_IMAGE_IO
+// The file's bytes, encoded in memory (OIIO's IOVecOutput proxy); `path` only chooses the format.
+std::string encode_oiio(const std::string& path, int width, int height, bool png, const void* data) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out || !out->supports("ioproxy")) throw Error(path + ": cannot write: " + OIIO::geterror());
+  const OIIO::TypeDesc type = png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+  OIIO::ImageSpec spec(width, height, 3, type);
+  if (!png) spec.attribute("compression", "zip");
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  OIIO::Filesystem::IOProxy* proxy = &memory;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  if (!out->open(path, spec) || !out->write_image(type, data) || !out->close())
+    throw Error(path + ": cannot encode the image: " + out->geterror());
+  return std::string(encoded.begin(), encoded.end());
+}
+#else
+[[noreturn]] void no_image_io(const std::string& path) {
+  throw Error(path + ": EXR and PNG need a build with -DRAYCOH_IMAGE_IO=ON (OpenImageIO)");
+}
+#endif
+
+}  // namespace
+
+bool image_io_available() { return RAYCOH_IMAGE_IO != 0; }
+
+bool decode_rgba8([[maybe_unused]] const unsigned char* bytes, [[maybe_unused]] size_t size,
+                  [[maybe_unused]] Rgba8Image& out, std::string& why) {
+#if RAYCOH_IMAGE_IO
+  // The format comes from the magic bytes: embedded images have no file name, and URIs may lie.
+  const char* name = nullptr;
+  if (size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0) name = "texture.png";
+  if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) name = "texture.jpg";
+  if (size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0) name = "texture.webp";
+  if (!name) {
+    why = "not a PNG, JPEG or WebP image";
+    return false;
+  }
+  OIIO::Filesystem::IOMemReader memory(bytes, size);
+  auto in = OIIO::ImageInput::open(name, nullptr, &memory);
+  if (!in) {
+    why = OIIO::geterror();
+    return false;
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1 ||
+      static_cast<double>(spec.width) * spec.height > 1 << 28) {
+    why = "unsupported size or channel count";
+    return false;
+  }
+  const int channels = std::min(spec.nchannels, 4);
+  const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  std::vector<unsigned char> data(pixels * static_cast<size_t>(channels));
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, data.data())) {
+    why = in->geterror();
+    return false;
+  }
+  out.width = spec.width;
+  out.height = spec.height;
+  out.rgba.resize(pixels * 4);
+  for (size_t p = 0; p < pixels; ++p) {
+    const unsigned char* s = &data[p * static_cast<size_t>(channels)];
+    unsigned char* d = &out.rgba[4 * p];
+    const bool grey = channels <= 2;
+    d[0] = s[0];
+    d[1] = grey ? s[0] : s[1];
+    d[2] = grey ? s[0] : s[2];
+    d[3] = channels == 2 ? s[1] : (channels == 4 ? s[3] : 255);
+  }
+  return true;
+#else
+  why = "texture decoding needs a build with -DRAYCOH_IMAGE_IO=ON (OpenImageIO)";
+  return false;
+#endif
+}
+
+std::string encode_exr(const std::string& path, [[maybe_unused]] int width, [[maybe_unused]] int height,
+                       [[maybe_unused]] const float* rgb) {
+#if RAYCOH_IMAGE_IO
+  return encode_oiio(path, width, height, false, rgb);
+#else
+  no_image_io(path);
+#endif
+}
+
+std::string encode_png(const std::string& path, [[maybe_unused]] int width, [[maybe_unused]] int height,
+                       [[maybe_unused]] const unsigned char* rgb) {
+#if RAYCOH_IMAGE_IO
+  return encode_oiio(path, width, height, true, rgb);
+#else
+  no_image_io(path);
+#endif
+}
+
+RgbFloatImage read_rgb_float(const std::string& path) {
+#if RAYCOH_IMAGE_IO
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path + ": cannot read: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1)
+    throw Error(path + ": unsupported image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
+                std::to_string(spec.nchannels) + " channels)");
+  const int channels = std::min(spec.nchannels, 3);
+  std::vector<float> data(static_cast<size_t>(spec.width) * spec.height * channels);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))
+    throw Error(path + ": cannot read pixels: " + in->geterror());
+  in->close();
+  RgbFloatImage img;
+  img.width = spec.width;
+  img.height = spec.height;
+  img.rgb.resize(3 * static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
+  for (size_t p = 0; p < img.rgb.size() / 3; ++p) {
+    const float* s = &data[p * channels];
+    for (int c = 0; c < 3; ++c) img.rgb[3 * p + c] = s[channels >= 3 ? c : 0];
+  }
+  return img;
+#else
+  no_image_io(path);
+#endif
+}
+
+}  // namespace raycoh
