@@ -177,8 +177,8 @@ def plot(rows, path):
     ax.set_ylim(lo, hi)
     ax.set_xlabel("SIMULATED trace-kernel cycles (GPGPU-Sim RTX 3070 config, not hardware)")
     ax.set_ylabel("MODELED trace-kernel cycles (simt:preset=gpgpusim-rtx3070)")
-    ax.set_title("MODELED vs SIMULATED trace kernel, one point per cell\n(filled: the current model; hollow: "
-                 "the model in the simulator's process, before the bank, PTX and in-order rules)", fontsize=9)
+    ax.set_title("MODELED vs SIMULATED trace kernel, one point per cell\n(filled: the current model; "
+                 "hollow: before the bank, PTX and in-order rules)", fontsize=9)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     fig.tight_layout()
     os.makedirs(os.path.dirname(path), exist_ok=True)
