@@ -12,8 +12,7 @@
 
 constexpr int kOps = 4, kModes = 4, kN = 8;
 
-__global__ void compute(const float* a, const float* b, const float* c, const double* x, float* out,
-                        double* out64) {
+__global__ void compute(const float* a, const float* b, const float* c, const double* x, float* out, double* out64) {
   const int i = threadIdx.x;
   if (i >= kN) return;
   float* o = out + i * kOps * kModes;
