@@ -11,9 +11,9 @@
 //
 // Child slots: for a ray travelling towards octant s (direction signs (-1)^bit), the child whose box centre lies
 // furthest back along that direction, relative to the parent's centre, should be visited first, so it goes to
-// slot s (core/traverse_cwbvh.h visits slots o, o ^ 1, ... for a ray of octant o). The assignment minimises the
-// sum of dot(centre - parent centre, direction of slot) over the children, exactly (optimal_slots; the paper uses
-// an auction for the same problem; until 2026-11-27 a greedy pass took the least pair first).
+// slot s (core/traverse_cwbvh.h visits slots o, o ^ 1, ... for a ray of octant o). Assignment is greedy: the
+// (child, slot) pair of least dot(centre - parent centre, direction of slot) first, until every child has a slot.
+// The paper solves the same assignment with an auction; greedy is a documented simplification.
 //
 // Quantisation: p = the node box's low corner; per axis the smallest power-of-two scale with p + 255 scale >= hi;
 // child planes rounded outwards (floor for lo, ceil for hi) and then checked on the real value of p + q scale
@@ -24,7 +24,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -82,43 +81,6 @@ void cwbvh_quantize(CwbvhNode& node, const Bounds& box, const Bounds child[kCwbv
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// The assignment of n <= 8 children to distinct slots of least total cost (the paper solves it with an auction):
-// exact, by dynamic programming over the sets of used slots (child i takes a slot of the set of i + 1). Returns
-// slot -> child (-1: empty); ties go to the lower slot set in enumeration order.
-std::array<int, kCwbvhWidth> optimal_slots(const std::array<std::array<float, kCwbvhWidth>, kCwbvhWidth>& cost,
-                                           size_t n) {
-  constexpr uint32_t kSets = 1u << kCwbvhWidth;
-  std::array<float, kSets> best;
-  std::array<int8_t, kSets> last;  // the slot child popcount(set) - 1 took
-  best.fill(kInf);
-  last.fill(-1);
-  best[0] = 0.f;
-  for (uint32_t set = 0; set < kSets; ++set) {
-    const auto c = static_cast<size_t>(std::popcount(set));
-    if (c >= n || best[set] == kInf) continue;
-    for (int s = 0; s < kCwbvhWidth; ++s) {
-      if ((set >> s) & 1u) continue;
-      const uint32_t next = set | (1u << s);
-      const float v = best[set] + cost[c][s];
-      if (v < best[next]) {
-        best[next] = v;
-        last[next] = static_cast<int8_t>(s);
-      }
-    }
-  }
-  uint32_t set = 0;
-  for (uint32_t m = 0; m < kSets; ++m)
-    if (static_cast<size_t>(std::popcount(m)) == n && (set == 0 || best[m] < best[set])) set = m;
-  std::array<int, kCwbvhWidth> slot_child;
-  slot_child.fill(-1);
-  for (size_t c = n; c-- > 0;) {
-    const int s = last[set];
-    slot_child[s] = static_cast<int>(c);
-    set &= ~(1u << s);
-  }
-  return slot_child;
-}
 
 // A BVH2 subtree that becomes one child slot: a BVH2 leaf, or an inner node kept as an inner node or made a leaf.
 struct Entry {
@@ -252,15 +214,31 @@ class Collapser {
     out_.stats.max_depth = std::max(out_.stats.max_depth, depth);
     Bounds box;
     for (const Entry& e : children) box.grow(e.box);
-    // Octant slot assignment: the least total cost (optimal_slots).
+    // Greedy octant slot assignment.
     const Vec3 centre = box.center();
-    std::array<std::array<float, kCwbvhWidth>, kCwbvhWidth> cost{};
-    for (size_t c = 0; c < children.size(); ++c) {
-      const Vec3 d = children[c].box.center() - centre;
-      for (int s = 0; s < kCwbvhWidth; ++s)
-        cost[c][s] = dot(d, Vec3{(s & 1) ? -1.f : 1.f, (s & 2) ? -1.f : 1.f, (s & 4) ? -1.f : 1.f});
+    std::array<int, kCwbvhWidth> slot_child;
+    slot_child.fill(-1);
+    std::vector<bool> placed(children.size(), false);
+    for (size_t round = 0; round < children.size(); ++round) {
+      float best = kInf;
+      int best_c = -1, best_s = -1;
+      for (size_t c = 0; c < children.size(); ++c) {
+        if (placed[c]) continue;
+        const Vec3 d = children[c].box.center() - centre;
+        for (int s = 0; s < kCwbvhWidth; ++s) {
+          if (slot_child[s] >= 0) continue;
+          const Vec3 dir{(s & 1) ? -1.f : 1.f, (s & 2) ? -1.f : 1.f, (s & 4) ? -1.f : 1.f};
+          const float v = dot(d, dir);
+          if (best_c < 0 || v < best) {
+            best = v;
+            best_c = static_cast<int>(c);
+            best_s = s;
+          }
+        }
+      }
+      placed[best_c] = true;
+      slot_child[best_s] = best_c;
     }
-    const std::array<int, kCwbvhWidth> slot_child = optimal_slots(cost, children.size());
     // Inner children consecutive in slot order, then the leaves' triangles in slot order.
     CwbvhNode node{};
     std::array<Bounds, kCwbvhWidth> boxes;
