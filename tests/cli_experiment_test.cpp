@@ -109,11 +109,8 @@ TEST(CliExperiment, AnInterruptedTableResumesAndSkipsFinishedRows) {
   EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
 
   // A row of another code revision is refused, naming the field; --force starts afresh.
-  std::string stale = complete[1];
-  const size_t at = stale.find(",Release,");
-  ASSERT_NE(at, std::string::npos) << stale;
-  const size_t rev = stale.rfind(',', at - 1);
-  stale = stale.substr(0, rev + 1) + "0000000old" + stale.substr(at);
+  const std::string stale = with_git_revision(complete[1], "0000000old");
+  ASSERT_NE(stale.find(",0000000old,"), std::string::npos) << stale;
   std::filesystem::remove(out);
   write_file(out.string() + ".partial", complete[0] + "\n" + stale + "\n");
   const CommandResult again = run_raycoh(args);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/provenance.h"
 #include "tests/test_util.h"
 
 namespace raycoh::test {
@@ -28,6 +29,19 @@ inline void expect_error(const std::string& args, const std::string& must_contai
   EXPECT_EQ(r.exit_code, code) << args << "\n" << r.output;
   EXPECT_NE(r.output.find(must_contain), std::string::npos) << args << "\n" << r.output;
   EXPECT_NE(r.output.find("error"), std::string::npos) << r.output;
+}
+
+// `row` (a CSV row this build's raycoh wrote) with its git_revision column replaced by `revision`. The row is
+// found by its revision and build type, both this build's: Release, RelWithDebInfo (scripts/sanitize) or any other.
+inline std::string with_git_revision(const std::string& row, const std::string& revision) {
+  const Provenance p = collect_provenance(0, nullptr, 1);
+  const std::string fields = "," + p.git_revision + "," + p.build_type + ",";
+  const size_t at = row.find(fields);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no '" << fields << "' in " << row;
+    return row;
+  }
+  return row.substr(0, at + 1) + revision + row.substr(at + 1 + p.git_revision.size());
 }
 
 }  // namespace raycoh::test
