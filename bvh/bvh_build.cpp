@@ -22,6 +22,9 @@
 
 #include <algorithm>
 #include <chrono>
+#if defined(__SANITIZE_THREAD__)
+#include <sanitizer/tsan_interface.h>
+#endif
 #include <new>
 
 #include "core/error.h"
@@ -33,6 +36,30 @@ namespace {
 // Embree's depth counts the root as 1 and our stats count it as 0, so Embree's limit of kTraversalStackSize - 2
 // leaves one level of headroom below the stack size; the flattened depth is checked again anyway.
 constexpr unsigned kEmbreeMaxDepth = kTraversalStackSize - 2;
+
+// Embree runs the callbacks below on its TBB workers and orders them (a node is made before its children are set;
+// every callback returns before rtcBuildBVH does) inside its own code, which ThreadSanitizer does not see (Debian's
+// libembree3 is not instrumented). Under TSan (scripts/tsan) each callback therefore acquires and releases the
+// build's token (RTCBuildArguments::userPtr), and the builder acquires it after rtcBuildBVH returns: that states
+// Embree's ordering, and nothing else, to TSan. Without TSan these are no-ops.
+class EmbreeOrdered {
+ public:
+  explicit EmbreeOrdered(void* token) : token_(token) {
+#if defined(__SANITIZE_THREAD__)
+    __tsan_acquire(token_);
+#endif
+  }
+  ~EmbreeOrdered() {
+#if defined(__SANITIZE_THREAD__)
+    __tsan_release(token_);
+#endif
+  }
+  EmbreeOrdered(const EmbreeOrdered&) = delete;
+  EmbreeOrdered& operator=(const EmbreeOrdered&) = delete;
+
+ private:
+  [[maybe_unused]] void* token_;
+};
 
 // The temporary tree Embree builds through the callbacks, in memory owned by the RTCBVH.
 struct BuildNode {
@@ -49,7 +76,8 @@ struct BuildLeaf : BuildNode {
   const uint32_t* prims() const { return reinterpret_cast<const uint32_t*>(this + 1); }
 };
 
-void* create_inner(RTCThreadLocalAllocator alloc, unsigned child_count, void*) {
+void* create_inner(RTCThreadLocalAllocator alloc, unsigned child_count, void* token) {
+  const EmbreeOrdered ordered(token);
   RAYCOH_CHECK(child_count == 2, fmt::format("Embree asked for an inner node with {} children", child_count));
   void* mem = rtcThreadLocalAlloc(alloc, sizeof(BuildInner), alignof(BuildInner));
   auto* node = new (mem) BuildInner;
@@ -58,12 +86,14 @@ void* create_inner(RTCThreadLocalAllocator alloc, unsigned child_count, void*) {
   return node;
 }
 
-void set_children(void* node_ptr, void** children, unsigned child_count, void*) {
+void set_children(void* node_ptr, void** children, unsigned child_count, void* token) {
+  const EmbreeOrdered ordered(token);
   auto* node = static_cast<BuildInner*>(node_ptr);
   for (unsigned i = 0; i < child_count; ++i) node->child[i] = static_cast<BuildNode*>(children[i]);
 }
 
-void set_bounds(void* node_ptr, const RTCBounds** bounds, unsigned child_count, void*) {
+void set_bounds(void* node_ptr, const RTCBounds** bounds, unsigned child_count, void* token) {
+  const EmbreeOrdered ordered(token);
   auto* node = static_cast<BuildInner*>(node_ptr);
   for (unsigned i = 0; i < child_count; ++i) {
     node->box[i].lo = {bounds[i]->lower_x, bounds[i]->lower_y, bounds[i]->lower_z};
@@ -71,7 +101,8 @@ void set_bounds(void* node_ptr, const RTCBounds** bounds, unsigned child_count, 
   }
 }
 
-void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void*) {
+void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void* token) {
+  const EmbreeOrdered ordered(token);
   RAYCOH_CHECK(count <= static_cast<size_t>(kMaxLeafSize),
                fmt::format("Embree made a leaf of {} triangles; the layout holds at most {}", count, kMaxLeafSize));
   const size_t bytes = sizeof(BuildLeaf) + count * sizeof(uint32_t);
@@ -217,7 +248,10 @@ const BuildNode* run_embree_builder(const Scene& scene, const BvhBuildConfig& co
   args.setNodeChildren = set_children;
   args.setNodeBounds = set_bounds;
   args.createLeaf = create_leaf;
+  char order_token = 0;  // its address only: see EmbreeOrdered
+  args.userPtr = &order_token;
   void* root = rtcBuildBVH(&args);
+  { const EmbreeOrdered ordered(&order_token); }
   embree_check(fmt::format("building the BVH of scene '{}'", scene.name));
   RAYCOH_CHECK(root != nullptr, "rtcBuildBVH returned no root without reporting an error");
   return static_cast<const BuildNode*>(root);
