@@ -54,8 +54,13 @@ namespace {
 class CudaTracer final : public Tracer {
  public:
   CudaTracer(std::unique_ptr<cuda::DeviceTracer> device, const cuda::TraceLaunch& launch, bool counting,
-             const SimtConfig& layout, std::string params)
-      : device_(std::move(device)), launch_(launch), counting_(counting), layout_(layout), params_(std::move(params)) {
+             const SimtConfig& layout, bool cwbvh, std::string params)
+      : device_(std::move(device)),
+        launch_(launch),
+        counting_(counting),
+        layout_(layout),
+        cwbvh_(cwbvh),
+        params_(std::move(params)) {
     counters_.warp_size = 32;
     counters_.line_bytes = layout_.line_bytes;
     counters_.sector_bytes = layout_.sector_bytes;
@@ -77,7 +82,7 @@ class CudaTracer final : public Tracer {
     run(rays, order, count, hits);
   }
   std::string params() const override { return params_; }
-  std::string bvh_layout() const override { return params_.find("bvh=cwbvh") != std::string::npos ? "cwbvh" : "bvh2"; }
+  std::string bvh_layout() const override { return cwbvh_ ? "cwbvh" : "bvh2"; }
   const CoherenceCounters* last_counters() const override { return counting_ ? &counters_ : nullptr; }
   double last_device_ms() const override { return device_->last_kernel_ms(); }
   DevicePipeline* device_pipeline() override { return pipeline_.get(); }
@@ -111,6 +116,7 @@ class CudaTracer final : public Tracer {
   cuda::TraceLaunch launch_;
   bool counting_;
   SimtConfig layout_;
+  bool cwbvh_;
   std::string params_;
   std::vector<WarpStepCounters> warps_;
   CoherenceCounters counters_;
@@ -173,7 +179,7 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   // The CWBVH's host copy is dropped once uploaded.
   auto device = cwbvh ? std::make_unique<cuda::DeviceTracer>(build_cwbvh(scene, bvh.config).view(), alpha)
                       : std::make_unique<cuda::DeviceTracer>(bvh.view(), alpha);
-  auto tracer = std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, params.canonical());
+  auto tracer = std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, cwbvh, params.canonical());
   if (on_device) tracer->make_pipeline(scene, bvh);
   return tracer;
 }

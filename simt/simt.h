@@ -51,7 +51,13 @@ struct StepFetches {
   uint64_t words[kMaxRecordWords][kMaxWarpSize];
   uint32_t line_count = 0, sector_count = 0;
   uint32_t word_count[kMaxRecordWords] = {};
+  bool words_wanted = false;  // only a trace for the l1_banks rule reads them: set from it (for_trace)
 
+  static StepFetches for_trace(const WarpTrace* trace) {
+    StepFetches f;
+    f.words_wanted = trace && trace->l1_banks;
+    return f;
+  }
   void reset() {
     line_count = sector_count = 0;
     std::fill(word_count, word_count + kMaxRecordWords, 0u);
@@ -59,6 +65,7 @@ struct StepFetches {
   void add(uint64_t addr, uint32_t bytes, const SimtConfig& c) {
     for (uint64_t l = addr / c.line_bytes; l <= (addr + bytes - 1) / c.line_bytes; ++l) lines[line_count++] = l;
     for (uint64_t s = addr / c.sector_bytes; s <= (addr + bytes - 1) / c.sector_bytes; ++s) sectors[sector_count++] = s;
+    if (!words_wanted) return;
     for (uint32_t w = 0; w < bytes / 16 && w < kMaxRecordWords; ++w)
       words[w][word_count[w]++] = (addr + 16 * w) / c.sector_bytes;
   }
@@ -152,7 +159,7 @@ void simt_trace_warp(const BvhView& bvh, const Ray* rays, uint32_t lanes, const 
     if (!traversal_done(st[l])) live |= uint64_t{1} << l;
   }
   auto lanes_where = [&](uint64_t among, auto&& pred) { return simt_detail::lanes_where(st, among, pred); };
-  StepFetches f;
+  StepFetches f = StepFetches::for_trace(trace);
   while (live) {
     // Node loop.
     uint64_t n = lanes_where(live, [](const TraversalState& s) { return traversal_wants_node(s); });

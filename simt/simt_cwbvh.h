@@ -38,7 +38,7 @@ void simt_trace_warp_cwbvh(const CwbvhView& bvh, const Ray* rays, uint32_t lanes
   }
   auto lanes_where = [&](uint64_t among, auto&& pred) { return simt_detail::lanes_where(st, among, pred); };
   constexpr uint32_t kNodeBytes = sizeof(CwbvhNode);
-  StepFetches f;
+  StepFetches f = StepFetches::for_trace(trace);
   while (live) {
     const uint64_t n = lanes_where(live, [](const CwbvhState& s) { return cwbvh_wants_node(s); });
     if (n) {

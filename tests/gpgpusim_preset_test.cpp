@@ -111,7 +111,7 @@ TEST(GpgpusimPreset, TheBankRuleTakesALoadsSectorsFourBanksAtATime) {
     std::vector<WarpTrace> traces(1);
     traces[0].lanes = 32;
     traces[0].l1_banks = banks;
-    simt_detail::StepFetches f;
+    simt_detail::StepFetches f = simt_detail::StepFetches::for_trace(&traces[0]);
     f.reset();
     for (uint64_t l = 0; l < 32; ++l) f.add(64 * l, 64, sc);
     f.finish();
