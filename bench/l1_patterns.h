@@ -25,6 +25,7 @@
 namespace raycoh::l1probe {
 
 inline constexpr uint32_t kLine = 128, kSector = 32, kPage = 4096, kLanes = 32;
+inline constexpr uint32_t kSpan = 65536;  // the span patterns' range: address bits 7-15 of their lines vary
 
 struct Pattern {
   std::string name;
@@ -113,6 +114,28 @@ inline std::vector<Pattern> all_patterns(uint32_t random_count, uint32_t seed) {
     for (uint32_t& n : pool) n = rng() % (kPage / 64);
     Pattern p{"w4-node" + std::to_string(nodes) + "-" + std::to_string(i), 4, {}};
     for (uint32_t lane = 0; lane < kLanes; ++lane) p.offsets[lane] = pool[rng() % nodes] * 64 + field;
+    out.push_back(p);
+  }
+  return out;
+}
+
+// `count` patterns whose lanes read 2-16 random lines of a 64 KB span (the tag stage's hash beyond bits 7-11),
+// each line at its own 4-byte bank (line i of the pattern at word i) so that the data stage takes one wavefront
+// and the tag stage alone sets the time. 4-byte lanes; the probe runs them with the 8 loads of a trip at the same
+// addresses (the span is the whole footprint).
+inline std::vector<Pattern> span_patterns(uint32_t count, uint32_t seed) {
+  std::vector<Pattern> out;
+  std::mt19937 rng(seed);
+  for (uint32_t i = 0; i < count; ++i) {
+    const uint32_t lines = 2 + rng() % 15;
+    std::set<uint32_t> pool;
+    while (pool.size() < lines) pool.insert(rng() % (kSpan / kLine));
+    const std::vector<uint32_t> picked(pool.begin(), pool.end());
+    Pattern p{"w4-span" + std::to_string(lines) + "-" + std::to_string(i), 4, {}};
+    for (uint32_t lane = 0; lane < kLanes; ++lane) {
+      const uint32_t slot = lane % lines;
+      p.offsets[lane] = picked[slot] * kLine + (slot * 4) % kLine;
+    }
     out.push_back(p);
   }
   return out;

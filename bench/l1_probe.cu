@@ -11,7 +11,8 @@
 //   raycoh_bench_l1 --out l1.csv
 //   ncu --metrics l1tex__data_pipe_lsu_wavefronts_mem_global_op_ld.sum,... raycoh_bench_l1 --ncu --out l1-ncu.csv
 // Options: --iters N (loop trips, default 512), --blocks-per-sm N (4), --threads N (256), --random N (node-like
-// random patterns, 48), --seed S (1), --width W (only patterns of that width), --out FILE (CSV; default stdout).
+// random patterns, 48), --seed S (1), --width W (only patterns of that width), --span N (N patterns over a 64 KB
+// span, bank-free, for the tag stage's hash; --span-only: those alone), --out FILE (CSV; default stdout).
 #include <cuda_runtime.h>
 
 #include <algorithm>
@@ -56,10 +57,10 @@ __device__ __forceinline__ unsigned load(const unsigned char* p) {
 }
 
 template <int W>
-__device__ __forceinline__ unsigned trip(const unsigned char* p) {
+__device__ __forceinline__ unsigned trip(const unsigned char* p, unsigned stride) {
   unsigned acc = 0;
 #pragma unroll
-  for (int j = 0; j < kLoads; ++j) acc += load<W>(p + j * kPage);
+  for (int j = 0; j < kLoads; ++j) acc += load<W>(p + j * stride);
   return acc;
 }
 
@@ -85,14 +86,14 @@ __device__ __forceinline__ unsigned sm_id() {
 
 template <int W>
 __global__ void probe_kernel(const unsigned char* __restrict__ pages, const unsigned* __restrict__ offsets, int iters,
-                             unsigned zero, unsigned* __restrict__ sink, long long* __restrict__ clocks) {
+                             unsigned stride, unsigned zero, unsigned* __restrict__ sink, long long* __restrict__ clocks) {
   const unsigned char* p = pages + offsets[threadIdx.x & 31];
-  unsigned acc = trip<W>(p);  // warm-up: the 32 KB into L1
+  unsigned acc = trip<W>(p, stride);  // warm-up: the footprint (32 or 64 KB) into L1
   __syncthreads();
   const long long t0 = sm_clock();
   // `zero` is 0 at run time; the compiler cannot know it, so each trip's loads stay in the loop (ptxas hoists a
   // read-only load whose address does not change, volatile or not).
-  for (int i = 0; i < iters; ++i) acc += trip<W>(p + i * zero);
+  for (int i = 0; i < iters; ++i) acc += trip<W>(p + i * zero, stride);
   __syncthreads();
   const long long t1 = sm_clock();
   sink[blockIdx.x * blockDim.x + threadIdx.x] = acc;
@@ -104,7 +105,8 @@ __global__ void probe_kernel(const unsigned char* __restrict__ pages, const unsi
 }
 
 struct Options {
-  int iters = 512, blocks_per_sm = 4, threads = 256, random = 48, width = 0;
+  int iters = 512, blocks_per_sm = 4, threads = 256, random = 48, width = 0, span = 0;
+  bool span_only = false;
   unsigned seed = 1;
   bool ncu = false;
   std::string out;
@@ -112,7 +114,7 @@ struct Options {
 
 [[noreturn]] void usage(const char* why) {
   std::fprintf(stderr, "raycoh_bench_l1: %s (options: --iters N --blocks-per-sm N --threads N --random N --seed S "
-               "--width 4|8|16 --ncu --out FILE)\n", why);
+               "--width 4|8|16 --span N --span-only --ncu --out FILE)\n", why);
   std::exit(2);
 }
 
@@ -133,6 +135,8 @@ Options parse(int argc, char** argv) {
     else if (a == "--random") o.random = static_cast<int>(value());
     else if (a == "--seed") o.seed = static_cast<unsigned>(value());
     else if (a == "--width") o.width = static_cast<int>(value());
+    else if (a == "--span") o.span = static_cast<int>(value());
+    else if (a == "--span-only") o.span_only = true;
     else if (a == "--ncu") o.ncu = true;
     else if (a == "--out") { if (++i >= argc) usage("--out needs a file"); o.out = argv[i]; }
     else usage(("unknown option '" + a + "'").c_str());
@@ -149,10 +153,10 @@ struct Measured {
 };
 
 void launch(int width, int grid, int threads, const unsigned char* pages, const unsigned* offsets, int iters,
-            unsigned* sink, long long* clocks) {
-  if (width == 4) probe_kernel<4><<<grid, threads>>>(pages, offsets, iters, 0, sink, clocks);
-  else if (width == 8) probe_kernel<8><<<grid, threads>>>(pages, offsets, iters, 0, sink, clocks);
-  else probe_kernel<16><<<grid, threads>>>(pages, offsets, iters, 0, sink, clocks);
+            unsigned stride, unsigned* sink, long long* clocks) {
+  if (width == 4) probe_kernel<4><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
+  else if (width == 8) probe_kernel<8><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
+  else probe_kernel<16><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
   PROBE_CHECK(cudaGetLastError());
 }
 
@@ -192,8 +196,9 @@ int main(int argc, char** argv) {
   unsigned char* pages = nullptr;
   unsigned *offsets = nullptr, *sink = nullptr;
   long long* clocks = nullptr;
-  PROBE_CHECK(cudaMalloc(&pages, kLoads * kPage));
-  std::vector<unsigned char> host_pages(kLoads * kPage);
+  const size_t footprint = std::max<size_t>(kLoads * kPage, raycoh::l1probe::kSpan);
+  PROBE_CHECK(cudaMalloc(&pages, footprint));
+  std::vector<unsigned char> host_pages(footprint);
   for (size_t i = 0; i < host_pages.size(); ++i) host_pages[i] = static_cast<unsigned char>(i * 131 + 7);
   PROBE_CHECK(cudaMemcpy(pages, host_pages.data(), host_pages.size(), cudaMemcpyHostToDevice));
   PROBE_CHECK(cudaMalloc(&offsets, 32 * sizeof(unsigned)));
@@ -211,12 +216,18 @@ int main(int argc, char** argv) {
   std::fprintf(out, "launch,pattern,width,lines,sectors,bank_max,gpgpusim,lines4,sectors4,bytes128,"
                "cycles_per_load,min_sm,max_sm,kernel_ms,offsets\n");
   int index = 0;
-  for (const Pattern& p : raycoh::l1probe::all_patterns(o.random, o.seed)) {
+  std::vector<Pattern> patterns;
+  if (!o.span_only) patterns = raycoh::l1probe::all_patterns(o.random, o.seed);
+  const size_t regular = patterns.size();
+  for (const Pattern& p : raycoh::l1probe::span_patterns(o.span, o.seed)) patterns.push_back(p);
+  for (size_t i = 0; i < patterns.size(); ++i) {
+    const Pattern& p = patterns[i];
     if (o.width && static_cast<int>(p.width) != o.width) continue;
+    const unsigned stride = i < regular ? kPage : 0;  // span patterns: the 8 loads at the same addresses
     PROBE_CHECK(cudaMemcpy(offsets, p.offsets.data(), sizeof(p.offsets), cudaMemcpyHostToDevice));
-    if (!o.ncu) launch(p.width, grid, o.threads, pages, offsets, o.iters, sink, clocks);  // warm-up launch
+    if (!o.ncu) launch(p.width, grid, o.threads, pages, offsets, o.iters, stride, sink, clocks);  // warm-up launch
     PROBE_CHECK(cudaEventRecord(start));
-    launch(p.width, grid, o.threads, pages, offsets, o.iters, sink, clocks);
+    launch(p.width, grid, o.threads, pages, offsets, o.iters, stride, sink, clocks);
     PROBE_CHECK(cudaEventRecord(stop));
     PROBE_CHECK(cudaEventSynchronize(stop));
     std::vector<long long> host_clocks(static_cast<size_t>(grid) * 3);

@@ -31,6 +31,9 @@ struct GpuSpec {
   // 0: a global load takes one L1 wavefront per l1_tags_per_clk distinct lines. > 0: GPGPU-Sim's rule, one access
   // per distinct 32-byte sector, l1_banks a cycle until a bank repeats (l1_bank_cycles, simt/warp_trace.h).
   uint32_t l1_banks = 0;
+  // true: the H100's rule measured with bench/l1_probe.cu (hopper_l1_cycles, simt/warp_trace.h): a load's data
+  // stage by 4-byte banks, its tag stage by 4 hashed tag banks, the larger of the two.
+  bool l1_words = false;
   double dram_bytes_per_clk() const { return dram_gb_s * 1e3 / clock_mhz; }
 };
 
@@ -41,7 +44,8 @@ const char* to_string(TraceKernel k);
 // (one dispatch per cycle, or its busiest pipe), its global load instructions (each one L1 request,
 // whose tag stage needs a wavefront per `l1_tags_per_clk` distinct lines the active lanes touch) and its local
 // memory instructions (the traversal stack and state; one wavefront each, the lanes' addresses interleaved).
-// word_loads[w]: how many of the global loads read the record's 16-byte word w (used by the l1_banks rule).
+// word_loads[w]: how many of the global loads read the record's 16-byte word w (used by the l1_banks and l1_words
+// rules); load_bytes: the width of those loads (l1_words).
 // inorder_cycles: a warp's time for the step when it issues in program order, waiting for each operand, alone on
 // its scheduler with every load an L1 hit (0: its instructions issue back to back after its data).
 struct StepCost {
@@ -50,6 +54,7 @@ struct StepCost {
   uint32_t local_accesses = 0;
   std::array<uint8_t, kMaxRecordWords> word_loads{};
   double inorder_cycles = 0;
+  uint32_t load_bytes = 4;
 };
 
 // The kernel being modelled: the `cuda` tracer's launch and its per-step costs (scripts/count-step-instructions).

@@ -108,7 +108,10 @@ GpuModelConfig h100() {
   g.max_blocks_per_sm = 32;
   g.regs_per_sm = 65536;
   g.reg_alloc_unit = 256;
-  g.l1_tags_per_clk = 4;  // as rtx3060 (GV100 and later)
+  g.l1_tags_per_clk = 4;  // as rtx3060 (GV100 and later); unused with l1_words
+  // L1 rule measured on an H100 (bench/l1_probe.cu, results/gpu/h100-6f75752/README.md: Nsight Compute's data- and
+  // tag-stage wavefronts of every probed lane pattern): 4-byte data banks and 4 hashed tag banks.
+  g.l1_words = true;
   // L2: about 5.5 TB/s measured on the H100 PCIe, 114 SMs at 1755 MHz (Chips and Cheese, "Nvidia's H100: Funny
   // L2, and Tons of Bandwidth", 2023): 5.5e12 / 1.755e9 / 114 = 27.5 bytes per cycle per SM, times 132 SMs.
   g.l2_bytes_per_clk = 5.5e12 / 1.755e9 / 114.0 * 132.0;
@@ -203,6 +206,7 @@ GpuModelConfig gpgpusim_rtx3070() {
 // for sm_86), against the BVH2 kernel's 55: 32 resident warps per SM instead of 36.
 void use_cwbvh_kernel(KernelSpec& k) {
   k.node = {496, 5, 17, {1, 1, 1, 1, 1}};
+  k.node.load_bytes = 16;  // the node's five 16-byte words, LDG.E.128 each (triangles: 4-byte LDG.E)
   k.triangle = {126, 10, 0, {4, 3, 3, 0, 0}};
   k.leaf = {6, 0, 1};
   k.regs_per_thread = 64;
@@ -247,8 +251,10 @@ void validate(const GpuModelConfig& c) {
                             g.l2_latency, g.dram_latency));
   if (c.kernel.block_threads < 32 || c.kernel.block_threads > 1024 || c.kernel.block_threads % 32 != 0)
     throw Error(fmt::format("simt: block={} is not a multiple of 32 in [32, 1024]", c.kernel.block_threads));
-  if (g.l1_banks != 0) {
-    if (g.l1_banks > 32 || (g.l1_banks & (g.l1_banks - 1)) != 0 || c.cache.sector_bytes != 32)
+  if (g.l1_banks != 0 && g.l1_words)
+    throw Error("simt: l1_banks (GPGPU-Sim's rule) and l1_words (the H100's) exclude each other: set one to 0");
+  if (g.l1_banks != 0 || g.l1_words) {
+    if (g.l1_banks > 32 || (g.l1_banks & (g.l1_banks - 1)) != 0 || (g.l1_banks && c.cache.sector_bytes != 32))
       throw Error(fmt::format("simt: l1_banks={} needs a power of two in [1, 32] and 32-byte sectors (got {})",
                               g.l1_banks, c.cache.sector_bytes));
     for (const StepCost* s : {&c.kernel.node, &c.kernel.triangle}) {

@@ -43,19 +43,19 @@ constexpr uint32_t kTriBytes = sizeof(BvhTriangle);
 constexpr uint32_t kMaxUnitsPerLane = 5;
 
 // The fetches of one step: lines and sectors of the active lanes, made distinct by finish(); and per 16-byte word w
-// of the record, the sector each lane's word lies in (GPGPU-Sim's L1 takes a load instruction's accesses by sector:
-// WarpTrace::word_cycles).
+// of the record, each lane's byte address of that word (for the L1 rules that look at a load instruction's
+// addresses: WarpTrace::word_cycles).
 struct StepFetches {
   uint64_t lines[kMaxWarpSize * kMaxUnitsPerLane];
   uint64_t sectors[kMaxWarpSize * kMaxUnitsPerLane];
   uint64_t words[kMaxRecordWords][kMaxWarpSize];
   uint32_t line_count = 0, sector_count = 0;
   uint32_t word_count[kMaxRecordWords] = {};
-  bool words_wanted = false;  // only a trace for the l1_banks rule reads them: set from it (for_trace)
+  bool words_wanted = false;  // only a trace for the l1_banks or l1_words rule reads them: set from it (for_trace)
 
   static StepFetches for_trace(const WarpTrace* trace) {
     StepFetches f;
-    f.words_wanted = trace && trace->l1_banks;
+    f.words_wanted = trace && trace->wants_words();
     return f;
   }
   void reset() {
@@ -67,7 +67,7 @@ struct StepFetches {
     for (uint64_t s = addr / c.sector_bytes; s <= (addr + bytes - 1) / c.sector_bytes; ++s) sectors[sector_count++] = s;
     if (!words_wanted) return;
     for (uint32_t w = 0; w < bytes / 16 && w < kMaxRecordWords; ++w)
-      words[w][word_count[w]++] = (addr + 16 * w) / c.sector_bytes;
+      words[w][word_count[w]++] = addr + 16 * w;
   }
   static uint32_t sort_unique(uint64_t* v, uint32_t n) {
     std::sort(v, v + n);
@@ -80,10 +80,17 @@ struct StepFetches {
   void emit(WarpTrace* trace, SimtStepKind kind) {
     if (!trace) return;
     trace->add_step(kind, sectors, sector_count);
-    if (!trace->l1_banks) return;
+    if (!trace->wants_words()) return;
     for (uint32_t w = 0; w < kMaxRecordWords; ++w) {
-      const uint32_t n = sort_unique(words[w], word_count[w]);
-      trace->word_cycles.back()[w] = static_cast<uint8_t>(l1_bank_cycles(words[w], n, trace->l1_banks));
+      uint32_t cycles = 0;
+      if (trace->l1_words) {
+        const uint32_t width = kind == SimtStepKind::Node ? trace->node_load_bytes : trace->triangle_load_bytes;
+        cycles = word_count[w] ? hopper_l1_cycles(words[w], word_count[w], width) : 0;
+      } else {  // GPGPU-Sim's rule by 32-byte sector (the l1_banks presets are checked to have 32-byte sectors)
+        for (uint32_t i = 0; i < word_count[w]; ++i) words[w][i] /= 32;
+        cycles = l1_bank_cycles(words[w], sort_unique(words[w], word_count[w]), trace->l1_banks);
+      }
+      trace->word_cycles.back()[w] = static_cast<uint8_t>(cycles);
     }
   }
 };

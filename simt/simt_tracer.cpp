@@ -124,6 +124,9 @@ class SimtTracer final : public Tracer {
           per_warp[w - ready] = CoherenceCounters{};
           CoherenceCounters& c = per_warp[w - ready];
           traces[w].l1_banks = gpu_.gpu.l1_banks;
+          traces[w].l1_words = gpu_.gpu.l1_words;
+          traces[w].node_load_bytes = gpu_.kernel.node.load_bytes;
+          traces[w].triangle_load_bytes = gpu_.kernel.triangle.load_bytes;
           if (cwbvh_ && masked_)
             simt_trace_warp_cwbvh(cwbvh_->view(), rays + first, lanes, simt_, hits + first, c, &traces[w], nullptr,
                                   nullptr, alpha_);
@@ -201,6 +204,8 @@ const ParamTable& simt_params() {
       preset_row("l1_banks", ParamType::Int, 0, 32,
                  "0: l1_tags lines a cycle; N: GPGPU-Sim's rule, a load's distinct sectors N a cycle until a bank "
                  "repeats"),
+      preset_row("l1_words", ParamType::Int, 0, 1,
+                 "1: the H100's measured rule, a load's 4-byte data banks and 4 hashed tag banks (bench/l1_probe.cu)"),
       preset_row("dram_gbs", ParamType::Float, 1, 100000, "DRAM bandwidth in GB/s"),
       preset_row("l2_bpc", ParamType::Float, 1, 1e6, "L2 bandwidth in bytes per cycle"),
       choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
@@ -248,6 +253,7 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, c
   const float l2_mb = preset_float(params, "l2_mb", double(cache.l2.bytes) / double(1 << 20));
   gpu.gpu.l1_tags_per_clk = preset_int(params, "l1_tags", static_cast<uint64_t>(gpu.gpu.l1_tags_per_clk));
   gpu.gpu.l1_banks = static_cast<uint32_t>(preset_int(params, "l1_banks", gpu.gpu.l1_banks));
+  gpu.gpu.l1_words = preset_int(params, "l1_words", gpu.gpu.l1_words) != 0;
   gpu.gpu.dram_gb_s = preset_float(params, "dram_gbs", gpu.gpu.dram_gb_s);
   gpu.gpu.l2_bytes_per_clk = preset_float(params, "l2_bpc", gpu.gpu.l2_bytes_per_clk);
   kernel.node.issue_cycles = preset_float(params, "node_cycles", kernel.node.issue_cycles);

@@ -52,12 +52,13 @@ double TimedReplay::issue(uint32_t sm, double t, double issue_cycles) {
 }
 
 // Wavefronts of the step's memory instructions in the SM's L1 pipeline, one per cycle: each global load needs
-// one per l1_tags_per_clk distinct lines the active lanes touch (with l1_banks: the cycles of GPGPU-Sim's bank rule
-// for the sectors of the record word it reads, WarpTrace::word_cycles), each local access one.
+// one per l1_tags_per_clk distinct lines the active lanes touch (with l1_banks or l1_words: the cycles of that
+// rule for the record word it reads, WarpTrace::word_cycles), each local access one.
 double TimedReplay::l1_wavefronts(const StepCost& cost, const WarpTrace& trace, uint32_t r) const {
-  if (config_.gpu.l1_banks) {
-    RAYCOH_CHECK(trace.l1_banks == config_.gpu.l1_banks && r < trace.word_cycles.size(),
-                 "the warp trace was recorded with the model's l1_banks");
+  if (config_.gpu.l1_banks || config_.gpu.l1_words) {
+    RAYCOH_CHECK(trace.l1_banks == config_.gpu.l1_banks && trace.l1_words == config_.gpu.l1_words &&
+                     r < trace.word_cycles.size(),
+                 "the warp trace was recorded with the model's L1 rule");
     double cycles = 0;
     for (uint32_t w = 0; w < kMaxRecordWords; ++w)
       cycles += static_cast<double>(cost.word_loads[w]) * trace.word_cycles[r][w];
@@ -76,9 +77,10 @@ double TimedReplay::l1_wavefronts(const StepCost& cost, const WarpTrace& trace, 
 }
 
 // Wavefronts of the ray fetch: 16-byte loads of consecutive rays; each moves 16 x lanes bytes through the L1's
-// 128-byte data path (with l1_banks: the bank rule for the sectors each load's words lie in).
+// 128-byte data path (with l1_banks or l1_words: that rule for the addresses of each load).
 double TimedReplay::ray_wavefronts(uint32_t warp, uint32_t lanes) const {
   const KernelSpec& k = config_.kernel;
+  if (config_.gpu.l1_words) return hopper_ray_wavefronts(warp, lanes);
   if (!config_.gpu.l1_banks) return k.ray_begin.global_loads * std::max(1.0, 16.0 * lanes / 128.0);
   const uint64_t sector = config_.cache.sector_bytes;
   const uint64_t base = ray_base_sector_ * sector + uint64_t{warp} * k.warp_size * k.ray_bytes;
@@ -91,6 +93,21 @@ double TimedReplay::ray_wavefronts(uint32_t warp, uint32_t lanes) const {
       if (n == 0 || sectors[n - 1] != s) sectors[n++] = s;  // ascending: lanes' rays are consecutive
     }
     cycles += l1_bank_cycles(sectors, n, config_.gpu.l1_banks);
+  }
+  return cycles;
+}
+
+// The ray fetch under the H100's rule: each 16-byte load of the lanes' consecutive rays (hopper_l1_cycles).
+double TimedReplay::hopper_ray_wavefronts(uint32_t warp, uint32_t lanes) const {
+  const KernelSpec& k = config_.kernel;
+  const uint64_t base = ray_base_sector_ * config_.cache.sector_bytes + uint64_t{warp} * k.warp_size * k.ray_bytes;
+  uint64_t addr[kMaxWarpLanes];
+  const uint32_t n = std::min<uint32_t>(lanes, kMaxWarpLanes);
+  double cycles = 0;
+  for (uint32_t load = 0; load < k.ray_begin.global_loads; ++load) {
+    for (uint32_t l = 0; l < n; ++l)
+      addr[l] = base + uint64_t{l} * k.ray_bytes + 16u * (load % std::max(1u, k.ray_bytes / 16));
+    cycles += hopper_l1_cycles(addr, n, 16);
   }
   return cycles;
 }

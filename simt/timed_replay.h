@@ -80,6 +80,7 @@ class TimedReplay {
   double issue(uint32_t sm, double t, double issue_cycles);
   double l1_wavefronts(const StepCost& cost, const WarpTrace& trace, uint32_t r) const;
   double ray_wavefronts(uint32_t warp, uint32_t lanes) const;
+  double hopper_ray_wavefronts(uint32_t warp, uint32_t lanes) const;
   double after_data(const StepCost& cost) const;
   static constexpr uint32_t kMaxWarpLanes = 64;
   double fetch_sectors(uint32_t sm, double t, double wavefronts, const uint32_t* sectors, uint32_t count, bool bvh);
