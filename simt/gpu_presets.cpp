@@ -109,8 +109,9 @@ GpuModelConfig h100() {
   g.regs_per_sm = 65536;
   g.reg_alloc_unit = 256;
   g.l1_tags_per_clk = 4;  // as rtx3060 (GV100 and later); unused with l1_words
-  // L1 rule measured on an H100 (bench/l1_probe.cu, results/gpu/h100-6f75752/README.md: Nsight Compute's data- and
-  // tag-stage wavefronts of every probed lane pattern): 4-byte data banks and 4 hashed tag banks.
+  // L1 rule measured on an H100 (bench/l1_probe.cu; results/gpu/h100-6f75752/README.md and h100-9566ba3/README.md:
+  // Nsight Compute's data- and tag-stage wavefronts of every probed lane pattern): 4-byte data banks and 4 hashed
+  // tag banks (hopper_l1_cycles, simt/warp_trace.h).
   g.l1_words = true;
   // L2: about 5.5 TB/s measured on the H100 PCIe, 114 SMs at 1755 MHz (Chips and Cheese, "Nvidia's H100: Funny
   // L2, and Tons of Bandwidth", 2023): 5.5e12 / 1.755e9 / 114 = 27.5 bytes per cycle per SM, times 132 SMs.

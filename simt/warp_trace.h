@@ -37,13 +37,13 @@ inline uint32_t l1_bank_cycles(const uint64_t* sectors, uint32_t count, uint32_t
 
 // Cycles of an H100's L1 for one warp load of `width` (4, 8 or 16) bytes per lane at the lanes' byte addresses
 // addr[0..n) (lane order; only active lanes), as measured with bench/l1_probe.cu on L1 hits (results/gpu/
-// h100-6f75752/README.md: this rule gives Nsight Compute's data-stage wavefronts of all 165 probed patterns and its
-// tag-stage wavefronts of all 87 probed 4-byte patterns):
+// h100-9566ba3/README.md: this rule gives Nsight Compute's data-stage wavefronts of all 261 probed patterns and its
+// tag-stage wavefronts of all 183 probed 4-byte patterns):
 // - data stage: the warp in passes of 128 / width lanes (32, 16 or 8); a pass takes as many wavefronts as the most
 //   distinct 4-byte words that fall in one of the 32 four-byte banks (word address mod 32), at least one;
 // - tag stage: as many wavefronts as the most distinct 128-byte lines that fall in one of 4 tag banks, the bank of
-//   line k being (parity(k & 0b01111), parity(k & 0b10101)) over address bits 7-11 (the only hash of those bits
-//   that fits every count; bits from 12 up were not probed and are left out);
+//   line k (address bits 7-15) being (parity(k & 0x16F), parity(k & 0x0B5)): the only linear hash of those bits
+//   that fits every count (results/gpu/h100-9566ba3/README.md); bits from 16 up were not probed and are left out;
 // - the load: the larger of the two, one wavefront a cycle.
 struct HopperL1Stages {
   uint32_t data = 0, tag = 0;
@@ -69,7 +69,7 @@ inline HopperL1Stages hopper_l1_stages(const uint64_t* addr, uint32_t n, uint32_
   uint32_t per_tag_bank[4] = {}, tag = 1;
   for (uint32_t i = 0; i < line_count; ++i) {
     const uint64_t k = lines[i];
-    const uint32_t bank = (std::popcount(k & 0b01111u) & 1u) | (std::popcount(k & 0b10101u) & 1u) << 1;
+    const uint32_t bank = (std::popcount(k & 0x16Fu) & 1u) | (std::popcount(k & 0x0B5u) & 1u) << 1;
     tag = std::max(tag, ++per_tag_bank[bank]);
   }
   return {data, tag};

@@ -1,7 +1,7 @@
 // The L1 probe's patterns (bench/l1_patterns.h): each regular family touches the lines, sectors and sector
 // positions its name says, and the probe's copy of GPGPU-Sim's bank rule agrees with the model's (simt/warp_trace.h).
 // The model's H100 rule (hopper_l1_stages) against what the probe measured on an H100 for every pattern
-// (results/gpu/h100-6f75752/l1-measured.csv: Nsight Compute's data- and tag-stage wavefronts, clock64 cycles).
+// (results/gpu/h100-9566ba3/l1-measured.csv: Nsight Compute's data- and tag-stage wavefronts, clock64 cycles).
 #include "bench/l1_patterns.h"
 
 #include <gtest/gtest.h>
@@ -87,7 +87,7 @@ struct Measured {
 };
 
 std::vector<Measured> read_measured() {
-  const std::string path = std::string(RAYCOH_SOURCE_DIR) + "/results/gpu/h100-6f75752/l1-measured.csv";
+  const std::string path = std::string(RAYCOH_SOURCE_DIR) + "/results/gpu/h100-9566ba3/l1-measured.csv";
   std::ifstream in(path);
   std::vector<Measured> out;
   std::string line;
@@ -107,7 +107,7 @@ std::vector<Measured> read_measured() {
 
 TEST(HopperL1Rule, GivesEveryWavefrontCountMeasuredOnTheH100) {
   const std::vector<Measured> rows = read_measured();
-  ASSERT_EQ(rows.size(), 165u) << "results/gpu/h100-6f75752/l1-measured.csv";
+  ASSERT_EQ(rows.size(), 261u) << "results/gpu/h100-9566ba3/l1-measured.csv";
   int tags = 0;
   for (const Measured& m : rows) {
     ASSERT_EQ(m.offsets.size(), 32u) << m.pattern;
@@ -120,7 +120,7 @@ TEST(HopperL1Rule, GivesEveryWavefrontCountMeasuredOnTheH100) {
     // the timed cycles per load: the slower stage (one wavefront a cycle)
     EXPECT_EQ(hopper_l1_cycles(m.offsets.data(), 32, m.width), std::lround(m.cycles)) << m.pattern;
   }
-  EXPECT_EQ(tags, 87);
+  EXPECT_EQ(tags, 183);
 }
 
 }  // namespace
