@@ -9,7 +9,7 @@
 //                           (> 1: the generator reaches it sooner).
 // Curves are read by interpolating linearly in (log time, log error) between frames (error_at_time,
 // time_to_error in curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
-// --shard I/N: the shard renders its own generators (units scene x generator, harness/shard.h) and the baseline
+// --shard I/N: the shard renders its own generators (units scene x generator, records/shard.h) and the baseline
 // beside them, so that every ratio compares two curves timed in one process on one machine; the baseline's rows
 // are written only by the shard that owns it. `raycoh merge` joins both files of every shard.
 // The third clock, modeled_gpu, is each frame's modeled time on the `simt` tracer's GPU (--gpu-model,
@@ -31,7 +31,7 @@
 #include "harness/gpu_clock.h"
 #include "harness/merge.h"
 #include "harness/progress.h"
-#include "harness/record_csv.h"
+#include "records/record_csv.h"
 #include "harness/render_common.h"
 #include "plugins/tracer_registry.h"
 #include "shading/metrics.h"

@@ -16,7 +16,7 @@
 #include "harness/device_rows.h"
 #include "harness/experiment_setup.h"
 #include "harness/progress.h"
-#include "harness/record_csv.h"
+#include "records/record_csv.h"
 #include "pipeline/first_hits.h"
 #include "simt/pipeline_model.h"
 #include "simt/timed_replay.h"
@@ -136,7 +136,7 @@ std::vector<SceneResult> ExperimentRun::run() {
   return results;
 }
 
-// Units (harness/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
+// Units (records/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
 std::string ExperimentRun::unit(size_t si, int frame, size_t mi) const {
   return experiment_unit(scene_name_of(o_.scenes[si]), frame,
                          mi == o_.methods.size() ? "primary" : o_.methods[mi].label);

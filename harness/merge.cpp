@@ -15,13 +15,13 @@
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
-#include "harness/csv.h"
+#include "records/csv.h"
 #include "harness/experiment.h"
-#include "harness/experiment_row.h"
+#include "records/experiment_row.h"
 #include "harness/quality.h"
-#include "harness/quality_row.h"
+#include "records/quality_row.h"
 #include "harness/render_common.h"
-#include "harness/shard.h"
+#include "records/shard.h"
 
 namespace raycoh {
 
@@ -400,7 +400,7 @@ std::vector<std::string> hosts_of(const std::vector<const std::vector<std::strin
 }
 
 // table and sweep: every scene x frame x row kind the rows show, the shard owing a missing row from the deal of
-// scene x frame x method units (harness/shard.h).
+// scene x frame x method units (records/shard.h).
 int merge_experiment(const MergeOptions& o, const Kind& kind, const std::vector<Input>& inputs,
                      const std::vector<RunFacts>& facts) {
   const std::vector<std::string>& columns = kind.layout.columns;

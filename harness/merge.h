@@ -27,8 +27,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/provenance.h"
-#include "harness/schema.h"
+#include "records/provenance.h"
+#include "records/schema.h"
 
 namespace raycoh {
 

@@ -27,7 +27,7 @@
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
 // Images of every render 0, the reference and the crops go to --images. Resume: rows already in <out>.partial
 // from an interrupted run with the same settings, scene, method and git revision are kept, not rendered again.
-// --shard I/N: only the shard's scene x generator units (harness/shard.h); a scene none of them is of is not
+// --shard I/N: only the shard's scene x generator units (records/shard.h); a scene none of them is of is not
 // loaded, the reference comes from the cache (its entry lock lets one shard render it while the others wait), its
 // image is written by the shard of the scene's first generator, and `raycoh merge` joins the shards' files.
 #include <fmt/format.h>
@@ -47,8 +47,8 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/progress.h"
-#include "harness/quality_row.h"
-#include "harness/record_csv.h"
+#include "records/quality_row.h"
+#include "records/record_csv.h"
 #include "harness/render_common.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
@@ -80,7 +80,7 @@ void check_quality(const QualityOptions& o) {
   check_output_folder("--cache", o.cache_dir.empty() ? default_cache_dir() : o.cache_dir);
 }
 
-// What rows of an earlier run must hold to be this run's (harness/csv.h): the settings of every head().
+// What rows of an earlier run must hold to be this run's (records/csv.h): the settings of every head().
 ResumeRule quality_rule(const QualityOptions& o, const Provenance& p) {
   std::set<std::string> methods, scenes(o.scenes.begin(), o.scenes.end());
   for (const PluginSpec& g : o.generators) methods.insert(g.text());

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/params.h"
-#include "harness/provenance.h"
-#include "harness/shard.h"
+#include "records/provenance.h"
+#include "records/shard.h"
 #include "shading/image.h"
 #include "shading/metrics.h"
 
@@ -77,7 +77,7 @@ struct QualityOptions {
   std::string out = "raycoh-quality.csv";
   std::string image_dir;  // --images: where renders and crops go ("" = <out stem>-images)
   std::vector<Crop> crops;
-  Shard shard;  // --shard I/N: only this shard's scene x generator units (harness/shard.h); join with raycoh merge
+  Shard shard;  // --shard I/N: only this shard's scene x generator units (records/shard.h); join with raycoh merge
 };
 int run_quality(const QualityOptions& options, const Provenance& provenance);
 

@@ -17,7 +17,7 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/memory_check.h"
-#include "harness/record_csv.h"
+#include "records/record_csv.h"
 #include "pipeline/first_hits.h"
 #include "plugins/tracer_registry.h"
 #include "tracers/tracer.h"

@@ -22,7 +22,7 @@
 #include "core/durable_file.h"
 #include "core/error.h"
 #include "harness/command.h"
-#include "harness/csv.h"
+#include "records/csv.h"
 #include "shading/image.h"
 
 namespace raycoh {

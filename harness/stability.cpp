@@ -19,7 +19,7 @@
 #include "harness/command.h"
 #include "harness/exit_codes.h"
 #include "harness/memory_check.h"
-#include "harness/record_csv.h"
+#include "records/record_csv.h"
 
 namespace raycoh {
 

@@ -16,7 +16,7 @@
 #include "encoders/encoder.h"
 #include "harness/cli.h"
 #include "harness/command.h"
-#include "harness/provenance.h"
+#include "records/provenance.h"
 
 namespace raycoh {
 

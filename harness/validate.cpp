@@ -20,7 +20,7 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/exit_codes.h"
-#include "harness/record_csv.h"
+#include "records/record_csv.h"
 #include "harness/table.h"
 
 namespace raycoh {

@@ -8,7 +8,7 @@
 #include <map>
 #include <set>
 
-#include "harness/csv.h"
+#include "records/csv.h"
 #include "harness/merge.h"
 #include "shading/image.h"
 #include "shading/reference.h"

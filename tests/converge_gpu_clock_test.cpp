@@ -7,7 +7,7 @@
 #include <map>
 
 #include "bvh/bvh_build.h"
-#include "harness/csv.h"
+#include "records/csv.h"
 #include "harness/gpu_clock.h"
 #include "harness/quality.h"
 #include "plugins/tracer_registry.h"

@@ -1,6 +1,6 @@
 // The CSV layer of the harness: escaping, the column schemas (round trip, damaged values, resume keys), and
 // write errors.
-#include "harness/csv.h"
+#include "records/csv.h"
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <filesystem>
 
 #include "harness/exit_codes.h"
-#include "harness/experiment_row.h"
-#include "harness/quality_row.h"
-#include "harness/record_csv.h"
+#include "records/experiment_row.h"
+#include "records/quality_row.h"
+#include "records/record_csv.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {

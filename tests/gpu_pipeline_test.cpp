@@ -26,7 +26,7 @@
 #include "generators/generator.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
-#include "harness/provenance.h"
+#include "records/provenance.h"
 #include "pipeline/first_hits.h"
 #include "plugins/tracer_registry.h"
 #include "scenes/scene.h"

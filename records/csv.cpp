@@ -1,4 +1,4 @@
-#include "harness/csv.h"
+#include "records/csv.h"
 
 #include <fcntl.h>
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-#include "harness/experiment_row.h"
+#include "records/experiment_row.h"
 
 #include "simt/timed_replay.h"
 

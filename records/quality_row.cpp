@@ -1,4 +1,4 @@
-#include "harness/quality_row.h"
+#include "records/quality_row.h"
 
 namespace raycoh {
 

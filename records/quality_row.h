@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "harness/provenance.h"
-#include "harness/schema.h"
+#include "records/provenance.h"
+#include "records/schema.h"
 
 namespace raycoh {
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/ray_batch.h"
-#include "harness/provenance.h"
-#include "harness/schema.h"
+#include "records/provenance.h"
+#include "records/schema.h"
 #include "simt/pipeline_model.h"
 #include "tracers/tracer.h"
 
