@@ -30,12 +30,11 @@
 #include "harness/command.h"
 #include "harness/converge_run.h"
 #include "harness/gpu_clock.h"
-#include "harness/merge.h"
 #include "harness/progress.h"
-#include "records/record_csv.h"
 #include "harness/render_common.h"
-#include "records/converge_row.h"
 #include "plugins/tracer_registry.h"
+#include "records/converge_row.h"
+#include "records/record_csv.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 
@@ -64,8 +63,7 @@ void check_converge(const ConvergeOptions& o) {
 
 }  // namespace
 
-std::string summary_path_of(const ConvergeOptions& o) { return stem_path(o.out) + "-summary.csv"; }
-
+std::string summary_path_of(const ConvergeOptions& o) { return converge_summary_path(o.out); }
 
 ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
     : o_(o),
@@ -215,10 +213,6 @@ void ConvergeRun::render() {
   bar.clear();
   csv_.finish();
 }
-
-
-CsvLayout converge_layout() { return csv_layout(converge_schema()); }
-CsvLayout converge_summary_layout() { return csv_layout(summary_schema()); }
 
 int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   check_converge(o);

@@ -1,5 +1,7 @@
 #include "records/converge_row.h"
 
+#include <filesystem>
+
 namespace raycoh {
 
 const Schema<ConvergeRow>& converge_schema() {
@@ -90,6 +92,11 @@ const Schema<SummaryRow>& summary_schema() {
     return s;
   }();
   return schema;
+}
+
+std::string converge_summary_path(const std::string& out) {
+  const std::filesystem::path p(out);
+  return ((p.parent_path() / p.stem()).string()) + "-summary.csv";
 }
 
 }  // namespace raycoh

@@ -61,4 +61,7 @@ struct SummaryRow {
 const Schema<ConvergeRow>& converge_schema();
 const Schema<SummaryRow>& summary_schema();
 
+// Where the summary of the curves in `out` goes: <out stem>-summary.csv.
+std::string converge_summary_path(const std::string& out);
+
 }  // namespace raycoh

@@ -9,7 +9,7 @@
 #include <set>
 
 #include "records/csv.h"
-#include "harness/merge.h"
+#include "records/merge.h"
 #include "shading/image.h"
 #include "shading/reference.h"
 #include "tests/cli_util.h"
