@@ -32,6 +32,7 @@
 #include "harness/gpu_clock.h"
 #include "harness/progress.h"
 #include "harness/render_common.h"
+#include "plugins/recorded_params.h"
 #include "plugins/tracer_registry.h"
 #include "records/converge_row.h"
 #include "records/record_csv.h"
@@ -115,6 +116,7 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.generator_params = generators_[gi]->params();
   r.tracer = o_.common.tracer.name;
   r.tracer_params = ls_->tracer->params();
+  r.recorded = recorded_columns(r.generator, r.generator_params, r.tracer, r.tracer_params);
   r.width = o_.common.width;
   r.height = o_.common.height;
   r.seed = o_.common.seed;
@@ -150,6 +152,7 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.non_finite_samples = run.total.non_finite;
   if (run.model) {
     r.gpu_model = "simt[" + gpu_model_->params() + "]";
+    r.gpu_preset = recorded_tracer("simt", gpu_model_->params()).preset;
     r.modeled_frame = modeled ? 1 : 0;
     r.frame_modeled_gen_ms = run.modeled.gen_ms;
     r.frame_modeled_trace_ms = run.modeled.trace_ms;

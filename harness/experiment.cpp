@@ -193,6 +193,7 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
   r.permute = enc && enc->key_bits() > 0 ? o_.permute : "";
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.tracers[ti]);
+  set_recorded_params(r);
   return r;
 }
 

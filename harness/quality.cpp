@@ -239,6 +239,7 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
   row.generator_params = generators_[gi]->params();
   row.tracer = o_.common.tracer.name;
   row.tracer_params = ls.tracer->params();
+  row.recorded = recorded_columns(row.generator, row.generator_params, row.tracer, row.tracer_params);
   if (ref_kind_ != "file") row.ref_seed = o_.common.seed + kReferenceSeedOffset;
   row.exposure = tm.exposure;
   row.reference = ref.path;

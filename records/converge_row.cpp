@@ -55,6 +55,8 @@ const Schema<ConvergeRow>& converge_schema() {
         column("modeled_gpu_s", &R::modeled_gpu_s, G{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
+    append_columns(s, recorded_schema(), &R::recorded);
+    s.push_back(column("gpu_preset", &R::gpu_preset, Text{}));
     return s;
   }();
   return schema;

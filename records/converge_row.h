@@ -9,6 +9,7 @@
 #include <string>
 
 #include "records/provenance.h"
+#include "records/recorded_columns.h"
 #include "records/schema.h"
 
 namespace raycoh {
@@ -38,6 +39,8 @@ struct ConvergeRow {
   double frame_modeled_gen_ms = std::nan(""), frame_modeled_trace_ms = std::nan(""),
          frame_modeled_gpu_ms = std::nan(""), modeled_gpu_s = std::nan("");
   Provenance provenance;
+  RecordedColumns recorded;  // tile_w .. mode (records/recorded_columns.h), after the provenance
+  std::string gpu_preset;    // the preset of gpu_model (empty without --gpu-model), the last column
 };
 
 // One generator against the baseline on one clock.

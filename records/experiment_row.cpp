@@ -71,9 +71,14 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
+    append_columns(s, recorded_schema(), &R::recorded);
     return s;
   }();
   return schema;
+}
+
+void set_recorded_params(ExperimentRow& row) {
+  row.recorded = recorded_columns(row.generator, row.generator_params, row.tracer, row.tracer_params);
 }
 
 void set_generation(ExperimentRow& row, const GenerationStats& g) {
