@@ -103,6 +103,8 @@ struct SceneResult {
   size_t triangles = 0;
   double rays_per_frame = 0;
   std::vector<std::string> tracer_labels;
+  // tracer label -> the tracer's name and, for a GPU model, its preset ("simt[preset=h100]"), from the typed column.
+  std::map<std::string, std::string> tracer_names;
   std::map<std::string, std::map<std::string, Accumulated>> by_tracer;  // tracer label -> method label ("primary" too)
   std::map<std::string, GenerationStats> generation;                    // method label -> sums over frames
   std::map<std::string, double> gen_ms;                                 // method label -> mean per frame
