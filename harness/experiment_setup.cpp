@@ -12,8 +12,8 @@
 #include "core/durable_file.h"
 #include "core/error.h"
 #include "harness/memory_check.h"
-#include "records/record_csv.h"
 #include "plugins/tracer_registry.h"
+#include "records/record_csv.h"
 #include "shading/reference.h"
 
 namespace raycoh {

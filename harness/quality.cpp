@@ -48,10 +48,10 @@
 #include "harness/command.h"
 #include "harness/progress.h"
 #include "harness/quality_measure.h"
-#include "shading/flip.h"
+#include "harness/render_common.h"
 #include "records/quality_row.h"
 #include "records/record_csv.h"
-#include "harness/render_common.h"
+#include "shading/flip.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 

@@ -87,7 +87,6 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
   return out;
 }
 
-
 void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, const ReferenceNoise* noise) {
   row.psnr = mean_of(m.psnr);
   row.psnr_std = std::nan("");

@@ -42,11 +42,13 @@ struct ImageSink {
     write_image(img, main_path(), tm);
     for (size_t ci = 0; ci < crops.size(); ++ci)
       write_image(crop(img, crops[ci]),
-                  (std::filesystem::path(dir) / fmt::format("{}-crop{}{}", base, ci, display_extension())).string(), tm);
+                  (std::filesystem::path(dir) / fmt::format("{}-crop{}{}", base, ci, display_extension())).string(),
+                  tm);
   }
   // The bias map: signed false colour (display) and, in a build with EXR, (d, sigma, z) as float.
   void write_bias(const BiasReport& b) const {
-    write_image(bias_false_colour(b.map), (std::filesystem::path(dir) / (base + "-bias" + display_extension())).string(),
+    write_image(bias_false_colour(b.map),
+                (std::filesystem::path(dir) / (base + "-bias" + display_extension())).string(),
                 ToneMap{ToneMapKind::Clamp, 1.f, false});
     if (image_io_available()) write_image(b.map, (std::filesystem::path(dir) / (base + "-bias.exr")).string());
   }

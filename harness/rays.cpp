@@ -17,9 +17,9 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/memory_check.h"
-#include "records/record_csv.h"
 #include "pipeline/first_hits.h"
 #include "plugins/tracer_registry.h"
+#include "records/record_csv.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {

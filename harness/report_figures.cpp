@@ -340,11 +340,10 @@ std::string converge_figure(const ResultCsv& c, const std::string& clock, const 
                        left + w + 14, left + w + 40, top + 10 + 18 * i, top + 10 + 18 * i, colour, dash);
     svg += text(left + w + 46, top + 14 + 18 * i, methods[i], "start", 12);
   }
-  svg +=
-      text(10, height - 8,
-           fmt::format("{}; revision {}; {}", res, rev,
-                       modeled ? "MODELED on " + short_model(c, c.rows.front()) : "measured CPU time"),
-           "start", 10, " fill=\"#555\"");
+  svg += text(10, height - 8,
+              fmt::format("{}; revision {}; {}", res, rev,
+                          modeled ? "MODELED on " + short_model(c, c.rows.front()) : "measured CPU time"),
+              "start", 10, " fill=\"#555\"");
   return svg + "</svg>\n";
 }
 

@@ -20,8 +20,8 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/exit_codes.h"
-#include "records/record_csv.h"
 #include "harness/table.h"
+#include "records/record_csv.h"
 
 namespace raycoh {
 namespace {

@@ -113,7 +113,8 @@ GenerationStats generation_of(const ExperimentRow& row) {
 void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,
                 SceneResult& res) {
   Accumulated& acc = res.by_tracer[tracer_label][row.method];
-  res.tracer_names[tracer_label] = row.recorded.preset.empty() ? row.tracer : row.tracer + "[preset=" + row.recorded.preset + "]";
+  res.tracer_names[tracer_label] =
+      row.recorded.preset.empty() ? row.tracer : row.tracer + "[preset=" + row.recorded.preset + "]";
   const double rays = static_cast<double>(row.rays);
   acc.rays += rays;
   acc.trace_s += row.trace_ms * 1e-3;

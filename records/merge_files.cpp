@@ -146,9 +146,10 @@ const Kind& kind_of_file(const std::string& path) {
   for (const Kind& k : csv_kinds()) {
     const std::vector<std::string>& want = k.layout.columns;
     if (fields.size() < want.size() && std::equal(fields.begin(), fields.end(), want.begin()))
-      throw Error(fmt::format("merge: {}: a {} CSV of an older version: it lacks the column '{}' (and every later "
-                              "one) that this build writes; merge files written by one build",
-                              path, k.name, want[fields.size()]));
+      throw Error(
+          fmt::format("merge: {}: a {} CSV of an older version: it lacks the column '{}' (and every later "
+                      "one) that this build writes; merge files written by one build",
+                      path, k.name, want[fields.size()]));
   }
   throw Error(
       fmt::format("merge: {}: its columns are not those of this build's table/sweep, quality or converge CSV ({} "

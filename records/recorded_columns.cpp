@@ -17,9 +17,12 @@ const Schema<RecordedColumns>& recorded_schema() {
   using namespace csv_format;
   using R = RecordedColumns;
   static const Schema<R> schema = {
-      column("tile_w", &R::tile_w, Optional<Integer<int>>{}), column("tile_h", &R::tile_h, Optional<Integer<int>>{}),
-      column("k", &R::k, Optional<Integer<int>>{}),           column("order", &R::order, Text{}),
-      column("preset", &R::preset, Text{}),                   column("mode", &R::mode, Text{}),
+      column("tile_w", &R::tile_w, Optional<Integer<int>>{}),
+      column("tile_h", &R::tile_h, Optional<Integer<int>>{}),
+      column("k", &R::k, Optional<Integer<int>>{}),
+      column("order", &R::order, Text{}),
+      column("preset", &R::preset, Text{}),
+      column("mode", &R::mode, Text{}),
   };
   return schema;
 }

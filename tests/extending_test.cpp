@@ -20,9 +20,9 @@
 #include "encoders/key_encoder.h"
 #include "encoders/reorder.h"
 #include "generators/emit_per_pixel.h"
-#include "records/experiment_row.h"
 #include "pipeline/first_hits.h"
 #include "plugins/tracer_registry.h"
+#include "records/experiment_row.h"
 #include "simt/gpu_model.h"
 
 namespace raycoh {
