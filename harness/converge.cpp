@@ -8,7 +8,7 @@
 //   equal-error speedup     t_base(E) / t_g(E) with E = the larger of the two final errors, the error both reach
 //                           (> 1: the generator reaches it sooner).
 // Curves are read by interpolating linearly in (log time, log error) between frames (error_at_time,
-// time_to_error in curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
+// time_to_error in records/curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
 // --shard I/N: the shard renders its own generators (units scene x generator, records/shard.h) and the baseline
 // beside them, so that every ratio compares two curves timed in one process on one machine; the baseline's rows
 // are written only by the shard that owns it. `raycoh merge` joins both files of every shard.
