@@ -172,6 +172,11 @@ Input read_input(const std::string& path, const Kind& kind) {
     if (!csv_parse_line(line, fields) || line.empty() || line.find('\0') != std::string::npos)
       throw Error(fmt::format("merge: {} line {}: not a CSV record (damaged line)", path, number));
     if (number == 1) {
+      if (fields.size() < columns.size() && std::equal(fields.begin(), fields.end(), columns.begin()))
+        throw Error(
+            fmt::format("merge: {}: a {} CSV of an older version: it lacks the column '{}' (and every "
+                        "later one) that this build writes; merge files written by one build",
+                        path, kind.name, columns[fields.size()]));
       if (fields != columns)
         throw Error(
             fmt::format("merge: {}: its columns are not those of this build's {} CSV (first "
