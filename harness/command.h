@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/params.h"
-#include "harness/provenance.h"
+#include "records/provenance.h"
 
 namespace CLI {
 class App;

@@ -8,8 +8,8 @@
 //   equal-error speedup     t_base(E) / t_g(E) with E = the larger of the two final errors, the error both reach
 //                           (> 1: the generator reaches it sooner).
 // Curves are read by interpolating linearly in (log time, log error) between frames (error_at_time,
-// time_to_error in curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
-// --shard I/N: the shard renders its own generators (units scene x generator, harness/shard.h) and the baseline
+// time_to_error in records/curves.cpp): Monte Carlo error falls as a power of time, which this reads exactly.
+// --shard I/N: the shard renders its own generators (units scene x generator, records/shard.h) and the baseline
 // beside them, so that every ratio compares two curves timed in one process on one machine; the baseline's rows
 // are written only by the shard that owns it. `raycoh merge` joins both files of every shard.
 // The third clock, modeled_gpu, is each frame's modeled time on the `simt` tracer's GPU (--gpu-model,
@@ -28,12 +28,14 @@
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
+#include "harness/converge_run.h"
 #include "harness/gpu_clock.h"
-#include "harness/merge.h"
 #include "harness/progress.h"
-#include "harness/record_csv.h"
 #include "harness/render_common.h"
+#include "plugins/recorded_params.h"
 #include "plugins/tracer_registry.h"
+#include "records/converge_row.h"
+#include "records/record_csv.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 
@@ -42,141 +44,6 @@ namespace raycoh {
 namespace fs = std::filesystem;
 
 namespace {
-
-// One generator's running mean after one more frame.
-struct ConvergeRow {
-  std::string scene, scene_spec, scene_fingerprint, method, generator, generator_params, tracer, tracer_params;
-  int width = 0, height = 0;
-  uint32_t seed = 0;
-  std::optional<int> ref_frames;  // absent for an explicit --reference file
-  int max_depth = 0, rr_depth = 0;
-  std::string tone_map, reference;
-  std::string protocol, metrics;  // --protocol; space of psnr/ssim
-  int frame = 0;                  // frames rendered so far
-  double wall_s = 0, trace_s = 0, gen_s = 0, frame_wall_ms = 0, frame_trace_ms = 0;
-  uint64_t rays = 0;
-  double rel_mse = 0, mse = 0, rmse = 0, psnr = 0, ssim = 0;
-  // The reference's own noise (empty without a half reference) and the figures with it taken out
-  // (shading/metrics.h correct_for_noise, as quality's columns of the same names).
-  double ref_noise_mse = std::nan(""), ref_noise_rel_mse = std::nan(""), ref_noise_share = std::nan(""),
-         mse_corr = std::nan(""), rel_mse_corr = std::nan(""), psnr_corr = std::nan("");
-  uint64_t non_finite_samples = 0;
-  // Modeled GPU clock (empty without --gpu-model): this frame's modeled generation, trace and total, and the
-  // cumulative total. modeled_frame 0: not modeled (--model-every), the last modeled frame's figures held.
-  std::string gpu_model;
-  std::optional<int> modeled_frame;
-  double frame_modeled_gen_ms = std::nan(""), frame_modeled_trace_ms = std::nan(""),
-         frame_modeled_gpu_ms = std::nan(""), modeled_gpu_s = std::nan("");
-  Provenance provenance;
-};
-
-const Schema<ConvergeRow>& converge_schema() {
-  using namespace csv_format;
-  using R = ConvergeRow;
-  using G = GeneralOrEmpty;
-  static const Schema<R> schema = [] {
-    Schema<R> s = {
-        column("scene", &R::scene, Text{}),
-        column("scene_spec", &R::scene_spec, Text{}),
-        column("scene_fingerprint", &R::scene_fingerprint, Text{}),
-        column("method", &R::method, Text{}),
-        column("generator", &R::generator, Text{}),
-        column("generator_params", &R::generator_params, Text{}),
-        column("tracer", &R::tracer, Text{}),
-        column("tracer_params", &R::tracer_params, Text{}),
-        column("width", &R::width, Integer<int>{}),
-        column("height", &R::height, Integer<int>{}),
-        column("seed", &R::seed, Integer<uint32_t>{}),
-        column("ref_frames", &R::ref_frames, Optional<Integer<int>>{}),
-        column("max_depth", &R::max_depth, Integer<int>{}),
-        column("rr_depth", &R::rr_depth, Integer<int>{}),
-        column("tone_map", &R::tone_map, Text{}),
-        column("reference", &R::reference, Text{}),
-        column("protocol", &R::protocol, Text{}),
-        column("metrics", &R::metrics, Text{}),
-        column("frame", &R::frame, Integer<int>{}),
-        column("wall_s", &R::wall_s, G{}),
-        column("trace_s", &R::trace_s, G{}),
-        column("gen_s", &R::gen_s, G{}),
-        column("frame_wall_ms", &R::frame_wall_ms, G{}),
-        column("frame_trace_ms", &R::frame_trace_ms, G{}),
-        column("rays", &R::rays, Integer<uint64_t>{}),
-        column("rel_mse", &R::rel_mse, G{}),
-        column("mse", &R::mse, G{}),
-        column("rmse", &R::rmse, G{}),
-        column("psnr", &R::psnr, G{}),
-        column("ssim", &R::ssim, G{}),
-        column("ref_noise_mse", &R::ref_noise_mse, G{}),
-        column("ref_noise_rel_mse", &R::ref_noise_rel_mse, G{}),
-        column("ref_noise_share", &R::ref_noise_share, G{}),
-        column("mse_corr", &R::mse_corr, G{}),
-        column("rel_mse_corr", &R::rel_mse_corr, G{}),
-        column("psnr_corr", &R::psnr_corr, G{}),
-        column("non_finite_samples", &R::non_finite_samples, Integer<uint64_t>{}),
-        column("gpu_model", &R::gpu_model, Text{}),
-        column("modeled_frame", &R::modeled_frame, Optional<Integer<int>>{}),
-        column("frame_modeled_gen_ms", &R::frame_modeled_gen_ms, G{}),
-        column("frame_modeled_trace_ms", &R::frame_modeled_trace_ms, G{}),
-        column("frame_modeled_gpu_ms", &R::frame_modeled_gpu_ms, G{}),
-        column("modeled_gpu_s", &R::modeled_gpu_s, G{}),
-    };
-    append_columns(s, provenance_schema(), &R::provenance);
-    return s;
-  }();
-  return schema;
-}
-
-// One generator against the baseline on one clock.
-struct SummaryRow {
-  std::string scene, method, baseline, metric, clock;
-  double horizon_s = 0, error = 0, baseline_error = 0, equal_time_error_ratio = 0, target_error = 0, time_s = 0,
-         baseline_time_s = 0, equal_error_speedup = 0;
-  // The reference's noise (relMSE; empty without a half reference), its share of the smaller of error and
-  // baseline_error, both errors with it taken out and their ratio. equal_error_speedup needs no corrected twin: the
-  // noise is the same constant in both curves, so both reach target_error - noise at the times they reach
-  // target_error.
-  double ref_noise_rel_mse = std::nan(""), ref_noise_share = std::nan(""), error_corr = std::nan(""),
-         baseline_error_corr = std::nan(""), equal_time_error_ratio_corr = std::nan("");
-  // The noise estimate's standard error over the smaller error: the share of error_corr that is still the
-  // reference's noise.
-  double ref_noise_residual_share = std::nan("");
-  int frames = 0, baseline_frames = 0;
-  Provenance provenance;
-};
-
-const Schema<SummaryRow>& summary_schema() {
-  using namespace csv_format;
-  using R = SummaryRow;
-  using G = GeneralOrEmpty;
-  static const Schema<R> schema = [] {
-    Schema<R> s = {
-        column("scene", &R::scene, Text{}),
-        column("method", &R::method, Text{}),
-        column("baseline", &R::baseline, Text{}),
-        column("metric", &R::metric, Text{}),
-        column("clock", &R::clock, Text{}),
-        column("horizon_s", &R::horizon_s, G{}),
-        column("error", &R::error, G{}),
-        column("baseline_error", &R::baseline_error, G{}),
-        column("equal_time_error_ratio", &R::equal_time_error_ratio, G{}),
-        column("target_error", &R::target_error, G{}),
-        column("time_s", &R::time_s, G{}),
-        column("baseline_time_s", &R::baseline_time_s, G{}),
-        column("equal_error_speedup", &R::equal_error_speedup, G{}),
-        column("ref_noise_rel_mse", &R::ref_noise_rel_mse, G{}),
-        column("ref_noise_share", &R::ref_noise_share, G{}),
-        column("ref_noise_residual_share", &R::ref_noise_residual_share, G{}),
-        column("error_corr", &R::error_corr, G{}),
-        column("baseline_error_corr", &R::baseline_error_corr, G{}),
-        column("equal_time_error_ratio_corr", &R::equal_time_error_ratio_corr, G{}),
-        column("frames", &R::frames, Integer<int>{}),
-        column("baseline_frames", &R::baseline_frames, Integer<int>{}),
-    };
-    append_columns(s, provenance_schema(), &R::provenance);
-    return s;
-  }();
-  return schema;
-}
 
 void check_converge(const ConvergeOptions& o) {
   check_common(o.common, true);
@@ -195,57 +62,9 @@ void check_converge(const ConvergeOptions& o) {
         fmt::format("--gpu-model {}: expected a simt tracer (simt, simt:preset=h100, ...) or none", o.gpu_model));
 }
 
-std::string summary_path_of(const ConvergeOptions& o) { return stem_path(o.out) + "-summary.csv"; }
+}  // namespace
 
-// One generator's progress.
-struct Run {
-  std::string label;
-  std::unique_ptr<PathTracer> pt;
-  Accumulator acc;
-  FrameStats total;
-  int frames = 0;
-  std::vector<CurvePoint> by_wall, by_trace;
-  bool active = true;
-  // The modeled GPU clock (absent without --gpu-model).
-  std::unique_ptr<FrameModel> model;
-  ModeledFrame modeled;  // the last modeled frame
-  double modeled_s = 0;
-  std::vector<CurvePoint> by_gpu;
-};
-
-class ConvergeRun {
- public:
-  ConvergeRun(const ConvergeOptions& o, const Provenance& p);
-  // Both files already hold this very command's finished result: nothing is rendered.
-  bool complete() const { return csv_.already_complete(); }
-  void render();
-  void summarize();
-
- private:
-  bool render_round();
-  ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m, bool modeled) const;
-  // --shard: the generators whose rows this shard writes; it renders the baseline (0) too, for its ratios.
-  bool owns(size_t gi) const { return owned_[gi]; }
-  bool renders(size_t gi) const { return gi == 0 || owns(gi); }
-  SummaryRow compare(const Run& run, const std::string& clock) const;
-  std::vector<std::string> clocks() const;
-
-  const ConvergeOptions& o_;
-  Provenance provenance_;  // with this run's device
-  // A convergence curve is one timed measurement: an interrupted run starts again rather than resuming. Both
-  // files are opened (and locked) before anything is rendered.
-  RecordCsv<ConvergeRow> csv_;
-  RecordCsv<SummaryRow> summary_;
-  std::vector<std::unique_ptr<Generator>> generators_;
-  std::unique_ptr<LoadedScene> ls_;
-  ReferenceImage ref_;
-  ToneMap tm_;                           // resolved on the reference, the same for every generator
-  std::optional<ReferenceNoise> noise_;  // the reference's own noise, from its half image
-  std::unique_ptr<Tracer> gpu_model_;    // the `simt` tracer of --gpu-model, null for none
-  std::vector<Run> runs_;
-  std::vector<bool> owned_;
-  std::string fingerprint_;
-};
+std::string summary_path_of(const ConvergeOptions& o) { return converge_summary_path(o.out); }
 
 ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
     : o_(o),
@@ -297,6 +116,7 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.generator_params = generators_[gi]->params();
   r.tracer = o_.common.tracer.name;
   r.tracer_params = ls_->tracer->params();
+  r.recorded = recorded_columns(r.generator, r.generator_params, r.tracer, r.tracer_params);
   r.width = o_.common.width;
   r.height = o_.common.height;
   r.seed = o_.common.seed;
@@ -332,6 +152,7 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.non_finite_samples = run.total.non_finite;
   if (run.model) {
     r.gpu_model = "simt[" + gpu_model_->params() + "]";
+    r.gpu_preset = recorded_tracer("simt", gpu_model_->params()).preset;
     r.modeled_frame = modeled ? 1 : 0;
     r.frame_modeled_gen_ms = run.modeled.gen_ms;
     r.frame_modeled_trace_ms = run.modeled.trace_ms;
@@ -395,115 +216,6 @@ void ConvergeRun::render() {
   bar.clear();
   csv_.finish();
 }
-
-std::vector<std::string> ConvergeRun::clocks() const {
-  if (gpu_model_) return {"wall", "trace", "modeled_gpu"};
-  return {"wall", "trace"};
-}
-
-SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const {
-  const Run& base = runs_[0];
-  auto curve = [&clock](const Run& x) -> const std::vector<CurvePoint>& {
-    return clock == "wall" ? x.by_wall : clock == "trace" ? x.by_trace : x.by_gpu;
-  };
-  const CurveComparison cc = compare_curves(curve(run), curve(base));
-  SummaryRow r;
-  r.scene = ls_->scene.name;
-  r.method = run.label;
-  r.baseline = base.label;
-  r.metric = "rel_mse";
-  r.clock = clock;
-  r.horizon_s = cc.horizon;
-  r.error = cc.error;
-  r.baseline_error = cc.baseline_error;
-  r.equal_time_error_ratio = cc.equal_time_error_ratio;
-  r.target_error = cc.target_error;
-  r.time_s = cc.time;
-  r.baseline_time_s = cc.baseline_time;
-  r.equal_error_speedup = cc.equal_error_speedup;
-  if (noise_) {
-    const double n = noise_->rel_mse, smaller = std::min(cc.error, cc.baseline_error);
-    r.ref_noise_rel_mse = n;
-    ReferenceNoise relative;  // the summary's figures are relMSE
-    relative.rel_mse = n;
-    relative.rel_mse_se = noise_->rel_mse_se;
-    const NoiseCorrected c = correct_for_noise(relative, 0, smaller, 0);
-    r.ref_noise_share = c.share;
-    r.ref_noise_residual_share = c.residual_share;
-    r.error_corr = minus_noise(cc.error, n);
-    r.baseline_error_corr = minus_noise(cc.baseline_error, n);
-    r.equal_time_error_ratio_corr = r.baseline_error_corr > 0 ? r.error_corr / r.baseline_error_corr : std::nan("");
-  }
-  r.frames = run.frames;
-  r.baseline_frames = base.frames;
-  r.provenance = provenance_;
-  return r;
-}
-
-// Ratios against the baseline (the first generator), on relMSE, for the wall and the trace clock and the
-// modeled GPU clock.
-void ConvergeRun::summarize() {
-  const std::string summary_path = summary_path_of(o_);
-  RecordCsv<SummaryRow>& summary = summary_;
-  if (runs_.empty()) {
-    summary.finish();
-    std::printf("Wrote shard %s of the run to %s and %s: it owns no generator (more shards than generators)\n",
-                o_.shard.text().c_str(), o_.out.c_str(), summary_path.c_str());
-    return;
-  }
-  const std::string ref_frames_text =
-      o_.ref_frames_known ? fmt::format("{} frames", o_.ref_frames) : std::string("of unknown frames");
-  std::printf(
-      "\n%s, %dx%d, %.3g s per generator, reference %s (%s); error = relMSE (eps %.2g), "
-      "baseline %s; protocol %s, PSNR on %s\n\n",
-      ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, ref_frames_text.c_str(), ref_.kind.c_str(),
-      kRelMseEpsilon, runs_[0].label.c_str(), o_.common.protocol.c_str(), metric_space_name(o_.common.metrics));
-  std::printf(
-      "| generator | frames | final relMSE | relMSE−ref noise | ref noise share | final PSNR | wall s | modeled GPU ms "
-      "per "
-      "frame |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
-  const double nan = std::nan("");
-  for (const Run& r : runs_)
-    if (r.frames > 0) {
-      const double e = r.by_wall.back().error;
-      const double share = noise_ ? (e > 0 ? noise_->rel_mse / e : 1.0) : nan;
-      std::printf("| %s | %d | %.4g | %.4g | %.1f%% | %.2f | %.3g | %s |\n", r.label.c_str(), r.frames, e,
-                  noise_ ? minus_noise(e, noise_->rel_mse) : nan, 100 * share,
-                  psnr(r.acc.mean(), ref_.image, tm_, o_.common.metrics), r.total.wall_s,
-                  r.model ? fmt::format("{:.3g}", r.modeled_s * 1e3 / r.frames).c_str() : "-");
-      warn_reference_noise(fmt::format("{} after {} frames (relMSE)", r.label, r.frames), share);
-    }
-  if (gpu_model_)
-    std::printf("\nmodeled_gpu: MODELED time on simt[%s] (trace launches + generation, harness/gpu_clock.h)\n",
-                gpu_model_->params().c_str());
-  std::printf(
-      "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
-      "time s | baseline time s | equal-error speedup | equal-time ratio, ref noise out |\n"
-      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  for (size_t gi = 1; gi < runs_.size(); ++gi) {
-    if (!owns(gi)) continue;
-    for (const std::string& clock : clocks()) {
-      const SummaryRow r = compare(runs_[gi], clock);
-      summary.write(r);
-      std::printf("| %s | %s | %.3g | %.4g | %.4g | %.3f | %.4g | %.3g | %.3g | %.3f | %.3f |\n", r.method.c_str(),
-                  clock.c_str(), r.horizon_s, r.error, r.baseline_error, r.equal_time_error_ratio, r.target_error,
-                  r.time_s, r.baseline_time_s, r.equal_error_speedup, r.equal_time_error_ratio_corr);
-    }
-  }
-  summary.finish();
-  std::printf("\nWrote %s and %s (%s, %d threads)\n", o_.out.c_str(), summary_path.c_str(),
-              provenance_.git_revision.c_str(), provenance_.threads);
-  if (!o_.shard.whole())
-    std::printf(
-        "This is shard %s of the run (the baseline was rendered beside its generators for the ratios); "
-        "join the shards' files with raycoh merge\n",
-        o_.shard.text().c_str());
-}
-
-}  // namespace
-
-CsvLayout converge_layout() { return csv_layout(converge_schema()); }
-CsvLayout converge_summary_layout() { return csv_layout(summary_schema()); }
 
 int run_converge(const ConvergeOptions& o, const Provenance& provenance) {
   check_converge(o);

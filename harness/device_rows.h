@@ -5,7 +5,7 @@
 
 #include <functional>
 
-#include "harness/experiment_row.h"
+#include "records/experiment_row.h"
 #include "tracers/device_pipeline.h"
 
 namespace raycoh {

@@ -16,8 +16,8 @@
 #include "harness/device_rows.h"
 #include "harness/experiment_setup.h"
 #include "harness/progress.h"
-#include "harness/record_csv.h"
 #include "pipeline/first_hits.h"
+#include "records/record_csv.h"
 #include "simt/pipeline_model.h"
 #include "simt/timed_replay.h"
 #include "tracers/device_pipeline.h"
@@ -136,7 +136,7 @@ std::vector<SceneResult> ExperimentRun::run() {
   return results;
 }
 
-// Units (harness/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
+// Units (records/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
 std::string ExperimentRun::unit(size_t si, int frame, size_t mi) const {
   return experiment_unit(scene_name_of(o_.scenes[si]), frame,
                          mi == o_.methods.size() ? "primary" : o_.methods[mi].label);
@@ -193,6 +193,7 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
   r.permute = enc && enc->key_bits() > 0 ? o_.permute : "";
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.tracers[ti]);
+  set_recorded_params(r);
   return r;
 }
 

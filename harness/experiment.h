@@ -1,16 +1,16 @@
 // The measurement loop every experiment shares (`table`, `sweep`): per scene, load, build the BVH once, then
 // per frame trace the primary rays (G-buffer + the coherent bound), and for every method generate the
 // secondary batch and trace it with every tracer. One CSV row per scene x pass x method x tracer x frame
-// (harness/experiment_row.h, results/README.md); rows are flushed as they are measured.
+// (records/experiment_row.h, results/README.md); rows are flushed as they are measured.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "core/params.h"
-#include "harness/experiment_row.h"
-#include "harness/provenance.h"
-#include "harness/shard.h"
+#include "records/experiment_row.h"
+#include "records/provenance.h"
+#include "records/shard.h"
 
 namespace raycoh {
 
@@ -34,7 +34,7 @@ struct ExperimentOptions {
   std::string permute = "physical";  // physical | indirect: how a reordering is applied (encoders/permute.h)
   std::string out;
   bool force = false;  // --force: replace what --out and <out>.partial hold instead of resuming or refusing
-  Shard shard;         // --shard I/N: only this shard's scene x frame x method units (harness/shard.h)
+  Shard shard;         // --shard I/N: only this shard's scene x frame x method units (records/shard.h)
 };
 
 // Throws raycoh::Error on bad input; rows measured before the error stay in "<out>.partial". A shard's results

@@ -12,8 +12,8 @@
 #include "core/durable_file.h"
 #include "core/error.h"
 #include "harness/memory_check.h"
-#include "harness/record_csv.h"
 #include "plugins/tracer_registry.h"
+#include "records/record_csv.h"
 #include "shading/reference.h"
 
 namespace raycoh {
@@ -70,7 +70,7 @@ std::vector<std::unique_ptr<Generator>> checked_generators(const ExperimentOptio
   return generators;
 }
 
-// What rows of an earlier run must hold to be this run's (harness/csv.h): everything known before a scene is
+// What rows of an earlier run must hold to be this run's (records/csv.h): everything known before a scene is
 // loaded. Tracer and encoder parameters are known only then; rows differing there are found at the end (run()).
 ResumeRule experiment_rule(const ExperimentOptions& o, const std::vector<std::unique_ptr<Generator>>& generators,
                            const Provenance& p) {

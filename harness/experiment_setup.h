@@ -9,8 +9,8 @@
 #include "bvh/bvh_build.h"
 #include "encoders/encoder.h"
 #include "generators/generator.h"
-#include "harness/csv.h"
 #include "harness/experiment.h"
+#include "records/csv.h"
 #include "scenes/scene.h"
 #include "tracers/device_pipeline.h"
 #include "tracers/tracer.h"
@@ -25,7 +25,7 @@ inline constexpr const char* kPrimaryParams = "order=tile,tile=8x8";
 // is measured.
 std::vector<std::unique_ptr<Generator>> checked_generators(const ExperimentOptions& o);
 
-// What rows of an earlier run must hold to be this run's (harness/csv.h): everything known before a scene is
+// What rows of an earlier run must hold to be this run's (records/csv.h): everything known before a scene is
 // loaded. Tracer and encoder parameters are known only then; rows differing there are found at the end (run()).
 ResumeRule experiment_rule(const ExperimentOptions& o, const std::vector<std::unique_ptr<Generator>>& generators,
                            const Provenance& p);

@@ -27,7 +27,7 @@
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
 // Images of every render 0, the reference and the crops go to --images. Resume: rows already in <out>.partial
 // from an interrupted run with the same settings, scene, method and git revision are kept, not rendered again.
-// --shard I/N: only the shard's scene x generator units (harness/shard.h); a scene none of them is of is not
+// --shard I/N: only the shard's scene x generator units (records/shard.h); a scene none of them is of is not
 // loaded, the reference comes from the cache (its entry lock lets one shard render it while the others wait), its
 // image is written by the shard of the scene's first generator, and `raycoh merge` joins the shards' files.
 #include <fmt/format.h>
@@ -47,9 +47,11 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/progress.h"
-#include "harness/quality_row.h"
-#include "harness/record_csv.h"
+#include "harness/quality_measure.h"
 #include "harness/render_common.h"
+#include "records/quality_row.h"
+#include "records/record_csv.h"
+#include "shading/flip.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 
@@ -80,7 +82,7 @@ void check_quality(const QualityOptions& o) {
   check_output_folder("--cache", o.cache_dir.empty() ? default_cache_dir() : o.cache_dir);
 }
 
-// What rows of an earlier run must hold to be this run's (harness/csv.h): the settings of every head().
+// What rows of an earlier run must hold to be this run's (records/csv.h): the settings of every head().
 ResumeRule quality_rule(const QualityOptions& o, const Provenance& p) {
   std::set<std::string> methods, scenes(o.scenes.begin(), o.scenes.end());
   for (const PluginSpec& g : o.generators) methods.insert(g.text());
@@ -102,240 +104,6 @@ ResumeRule quality_rule(const QualityOptions& o, const Provenance& p) {
       .require("reference_kind", {o.reference.empty() ? "cache" : "file"});
   if (!o.reference.empty()) rule.require("reference", {o.reference});
   return require_provenance(rule, p);
-}
-
-double mean_of(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s / static_cast<double>(v.size());
-}
-
-// R independent renders of one generator against the reference.
-struct Renders {
-  std::vector<double> psnr, ssim, rmse, rel_mse, mse, metric_mse;  // per render
-  std::vector<double> ds[3];                                       // per render: rel_mse of the 2x/4x/8x images
-  double mse_of_mean = 0;                                          // MSE of the mean of the R renders
-  double rel_mse_of_mean = 0, ds8_of_mean = 0;                     // relMSE of the mean, full and 8x downsampled
-  BiasReport bias;
-  double bias_excluded_ds4 = std::nan("");  // bias_test's share on the 4 x 4 box-downsampled frames
-  bool has_bias = false;
-  FrameStats total;
-  uint64_t non_finite_pixels = 0;
-};
-
-constexpr int kDownsample[3] = {2, 4, 8};
-
-// rel_mse of the factor x factor box-downsampled images; NaN when the image is smaller than a block.
-double downsampled_rel_mse(const Image& img, const Image& ref, int factor) {
-  if (img.width < factor || img.height < factor) return std::nan("");
-  return rel_mse(box_downsample(img, factor), box_downsample(ref, factor));
-}
-
-// Where a generator's renders are written: render 0 and its crops, tone-mapped for display.
-struct ImageSink {
-  std::string dir, base;  // base: "<scene>-<generator>"
-  const std::vector<Crop>& crops;
-  std::string hdr_dir = "";  // non-empty: every render's linear image also goes there as r<i>.exr, for HDR-FLIP
-  std::string hdr_path(int r) const { return (fs::path(hdr_dir) / fmt::format("r{}.exr", r)).string(); }
-  std::string main_path() const { return (fs::path(dir) / (base + display_extension())).string(); }
-  void write(const Image& img, const ToneMap& tm) const {
-    write_image(img, main_path(), tm);
-    for (size_t ci = 0; ci < crops.size(); ++ci)
-      write_image(crop(img, crops[ci]),
-                  (fs::path(dir) / fmt::format("{}-crop{}{}", base, ci, display_extension())).string(), tm);
-  }
-  // The bias map: signed false colour (display) and, in a build with EXR, (d, sigma, z) as float.
-  void write_bias(const BiasReport& b) const {
-    write_image(bias_false_colour(b.map), (fs::path(dir) / (base + "-bias" + display_extension())).string(),
-                ToneMap{ToneMapKind::Clamp, 1.f, false});
-    if (image_io_available()) write_image(b.map, (fs::path(dir) / (base + "-bias.exr")).string());
-  }
-};
-
-Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generator& generator, const std::string& label,
-                         const ReferenceImage& ref, const ToneMap& tm, const ImageSink& sink, size_t item,
-                         size_t items) {
-  Renders out;
-  Accumulator mean_acc(o.common.width, o.common.height);
-  BiasSamples samples(o.common.width, o.common.height);
-  // The same test on 4 x 4 blocks (shading/metrics.h): frames' block-mean luma against the downsampled reference.
-  constexpr int kBiasBlock = 4;
-  const bool blocks = o.common.width >= kBiasBlock && o.common.height >= kBiasBlock;
-  BiasSamples block_samples(o.common.width / kBiasBlock, o.common.height / kBiasBlock);
-  Progress bar;
-  const int R = o.bias_renders;
-  for (int r = 0; r < R; ++r) {
-    PathTracer pt(ls.scene, *ls.tracer, generator, settings_of(o.common, o.common.seed + r));
-    Accumulator acc(o.common.width, o.common.height);
-    for (int f = 0; f < o.frames; ++f) {
-      Accumulator frame(o.common.width, o.common.height);  // this frame alone, for the bias test's spread
-      out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame));
-      acc.merge(frame);
-      const std::vector<double> luma = frame_luma(frame);
-      samples.add_luma(luma);
-      if (blocks) block_samples.add_luma(box_downsample_luma(luma, o.common.width, o.common.height, kBiasBlock));
-      bar.update(item, items, r * o.frames + f, R * o.frames, fmt::format("{} {}", ls.scene.name, label));
-    }
-    out.non_finite_pixels += acc.pixels_with_non_finite();
-    const Image img = acc.mean();
-    const ErrorMetrics m = compare_images(img, ref.image, tm, o.common.metrics);
-    out.psnr.push_back(m.psnr);
-    out.ssim.push_back(m.ssim);
-    out.rmse.push_back(m.rmse);
-    out.rel_mse.push_back(m.rel_mse);
-    out.mse.push_back(m.mse);
-    out.metric_mse.push_back(std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
-    for (int k = 0; k < 3; ++k) out.ds[k].push_back(downsampled_rel_mse(img, ref.image, kDownsample[k]));
-    for (size_t p = 0; p < img.pixels(); ++p) mean_acc.add(p, img.at(p));
-    if (r == 0) sink.write(img, tm);
-    if (!sink.hdr_dir.empty()) write_image(img, sink.hdr_path(r));
-  }
-  bar.clear();
-  const Image mean_image = mean_acc.mean();
-  out.mse_of_mean = mse(mean_image, ref.image);
-  out.rel_mse_of_mean = rel_mse(mean_image, ref.image);
-  out.ds8_of_mean = downsampled_rel_mse(mean_image, ref.image, 8);
-  if (samples.frames() >= 2) {
-    out.bias = bias_test(samples, ref.image, ref.first_half.empty() ? nullptr : &ref.first_half);
-    out.has_bias = true;
-    sink.write_bias(out.bias);
-    if (blocks) {
-      const Image ref_blocks = box_downsample(ref.image, kBiasBlock);
-      const Image half_blocks = ref.first_half.empty() ? Image() : box_downsample(ref.first_half, kBiasBlock);
-      out.bias_excluded_ds4 =
-          bias_test(block_samples, ref_blocks, half_blocks.empty() ? nullptr : &half_blocks).excluded_fraction;
-    }
-  }
-  return out;
-}
-
-// The measured fields of a row (its head holds the settings and the resume key).
-void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, const ReferenceNoise* noise) {
-  row.psnr = mean_of(m.psnr);
-  row.psnr_std = std::nan("");
-  if (R > 1) {
-    double s2 = 0;
-    for (double x : m.psnr) s2 += (x - row.psnr) * (x - row.psnr);
-    row.psnr_std = std::sqrt(s2 / (R - 1));
-  }
-  row.ssim = mean_of(m.ssim);
-  row.rmse = mean_of(m.rmse);
-  row.rel_mse = mean_of(m.rel_mse);
-  row.mse = mean_of(m.mse);
-  row.mse_of_mean = m.mse_of_mean;
-  row.bias2 = R > 1 ? (R * m.mse_of_mean - row.mse) / (R - 1) : std::nan("");
-  row.variance = R > 1 ? (row.mse - m.mse_of_mean) * R / (R - 1) : std::nan("");
-  const double nan = std::nan("");
-  row.ref_noise_mse = noise ? noise->mse : nan;
-  row.ref_noise_rel_mse = noise ? noise->rel_mse : nan;
-  const NoiseCorrected corr = noise ? correct_for_noise(*noise, row.mse, row.rel_mse, mean_of(m.metric_mse))
-                                    : NoiseCorrected{nan, nan, nan, nan, nan};
-  row.ref_noise_share = corr.share;
-  row.ref_noise_residual_share = corr.residual_share;
-  row.mse_corr = corr.mse;
-  row.rel_mse_corr = corr.rel_mse;
-  row.psnr_corr = corr.psnr;
-  row.bias2_corr = noise && R > 1 ? row.bias2 - noise->mse : nan;
-  row.rel_mse_ds2 = mean_of(m.ds[0]);
-  row.rel_mse_ds4 = mean_of(m.ds[1]);
-  row.rel_mse_ds8 = mean_of(m.ds[2]);
-  // The variance part alone (as `variance` above, on relMSE): bias, which survives downsampling too, left out.
-  row.rel_var = R > 1 ? (row.rel_mse - m.rel_mse_of_mean) * R / (R - 1) : nan;
-  row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.ds8_of_mean) * R / (R - 1) : nan;
-  row.bias_excluded = m.has_bias ? m.bias.excluded_fraction : nan;
-  row.bias_excluded_dark = m.has_bias ? m.bias.excluded_dark : nan;
-  row.bias_excluded_bright = m.has_bias ? m.bias.excluded_bright : nan;
-  row.bias_excluded_skew = m.has_bias ? m.bias.excluded_skew : nan;
-  row.bias_excluded_ds4 = m.bias_excluded_ds4;
-  row.bias_mean = m.has_bias ? m.bias.mean_bias : nan;
-  row.bias_mean_ci = m.has_bias ? m.bias.mean_bias_ci : nan;
-  row.bias_mean_rel = m.has_bias ? m.bias.mean_bias / m.bias.ref_mean : nan;
-  row.bias_z2 = m.has_bias ? m.bias.z2 : nan;
-  row.bias_verdict = m.has_bias ? (m.bias.consistent ? "consistent" : "biased") : "";
-  row.non_finite_samples = m.total.non_finite;
-  row.non_finite_pixels = m.non_finite_pixels;
-  row.render_s = m.total.wall_s;
-  row.trace_s = m.total.trace_s;
-  row.gen_ms = m.total.gen_s * 1e3 / (static_cast<double>(R) * frames);
-  row.rays = m.total.rays();
-  row.mray_s = m.total.trace_s > 0 ? static_cast<double>(m.total.rays()) / m.total.trace_s * 1e-6 : 0.0;
-  row.below_geometric = m.total.generation.below_geometric;
-  row.reused_rays = m.total.generation.reused_rays;
-  row.hybrid_diffuse_share = m.total.generation.rays > 0 ? static_cast<double>(m.total.hybrid_diffuse) /
-                                                               static_cast<double>(m.total.generation.rays)
-                                                         : nan;
-}
-
-// ꟻLIP (Andersson et al. 2020) through NVIDIA's reference implementation (PyPI flip-evaluator, installed by
-// scripts/setup into .venv): $RAYCOH_FLIP, else .venv/bin/flip in the working folder; "" when neither exists.
-std::string flip_program() {
-  const char* env = std::getenv("RAYCOH_FLIP");
-  if (env && *env) return env;
-  std::error_code ec;
-  const fs::path venv = fs::path(".venv") / "bin" / "flip";
-  return fs::is_regular_file(venv, ec) ? fs::absolute(venv).string() : "";
-}
-
-// Single-quoted for the shell.
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-// Standard output of a flip command (stderr dropped), or nothing when it cannot start or exits non-zero.
-std::optional<std::string> flip_output(const std::string& cmd) {
-  FILE* pipe = ::popen((cmd + " 2>/dev/null").c_str(), "r");
-  if (!pipe) return std::nullopt;
-  std::string text;
-  char buf[256];
-  while (std::fgets(buf, sizeof buf, pipe)) text += buf;
-  if (::pclose(pipe) != 0) return std::nullopt;
-  return text;
-}
-
-// The number flip prints after `label`, searching text from `from`, and where the label stands (npos: absent).
-std::pair<double, size_t> flip_value(const std::string& text, const std::string& label, size_t from = 0) {
-  const size_t at = text.find(label, from);
-  return at == std::string::npos ? std::make_pair(std::nan(""), at)
-                                 : std::make_pair(std::strtod(text.c_str() + at + label.size(), nullptr), at);
-}
-
-// Mean LDR-FLIP of two display images (the PNGs written); NaN when flip fails or prints no mean.
-double run_flip(const std::string& program, const std::string& ref, const std::string& test) {
-  const auto text = flip_output(fmt::format("{} -r {} -t {} -v 1 -nerm", quoted(program), quoted(ref), quoted(test)));
-  return text ? flip_value(*text, "Mean:").first : std::nan("");
-}
-
-// HDR-FLIP (flip's mode for EXR input) of linear renders against a linear reference, in one call of the flip
-// program with its defaults: ACES tone mapper, 67 pixels per degree, and the exposure range (start, stop, count)
-// that flip derives from the reference's luminance, which `exposure` reports as "start..stop/count".
-struct HdrFlip {
-  double mean = std::nan("");  // mean over the test images of each image's mean HDR-FLIP
-  std::string exposure;
-};
-HdrFlip run_hdr_flip(const std::string& program, const std::string& ref, const std::vector<std::string>& tests,
-                     const std::string& dir) {
-  std::string cmd = fmt::format("{} -r {} -v 2 -nerm -nexm -d {} -t", quoted(program), quoted(ref), quoted(dir));
-  for (const std::string& t : tests) cmd += " " + quoted(t);
-  HdrFlip out;
-  const auto text = flip_output(cmd);
-  if (!text) return out;
-  double sum = 0;
-  size_t found = 0;
-  for (size_t at = 0;;) {
-    const auto [v, where] = flip_value(*text, "Mean:", at);
-    if (where == std::string::npos) break;
-    sum += v;
-    ++found;
-    at = where + 5;
-  }
-  if (found != tests.size()) return out;
-  out.mean = sum / static_cast<double>(found);
-  out.exposure =
-      fmt::format("{:.4g}..{:.4g}/{:.0f}", flip_value(*text, "Start exposure:").first,
-                  flip_value(*text, "Stop exposure:").first, flip_value(*text, "Number of exposures:").first);
-  return out;
 }
 
 void print_quality(const QualityOptions& o, const std::vector<QualityRow>& rows) {
@@ -471,6 +239,7 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
   row.generator_params = generators_[gi]->params();
   row.tracer = o_.common.tracer.name;
   row.tracer_params = ls.tracer->params();
+  row.recorded = recorded_columns(row.generator, row.generator_params, row.tracer, row.tracer_params);
   if (ref_kind_ != "file") row.ref_seed = o_.common.seed + kReferenceSeedOffset;
   row.exposure = tm.exposure;
   row.reference = ref.path;

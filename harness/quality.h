@@ -13,8 +13,9 @@
 #include <vector>
 
 #include "core/params.h"
-#include "harness/provenance.h"
-#include "harness/shard.h"
+#include "records/curves.h"
+#include "records/provenance.h"
+#include "records/shard.h"
 #include "shading/image.h"
 #include "shading/metrics.h"
 
@@ -77,7 +78,7 @@ struct QualityOptions {
   std::string out = "raycoh-quality.csv";
   std::string image_dir;  // --images: where renders and crops go ("" = <out stem>-images)
   std::vector<Crop> crops;
-  Shard shard;  // --shard I/N: only this shard's scene x generator units (harness/shard.h); join with raycoh merge
+  Shard shard;  // --shard I/N: only this shard's scene x generator units (records/shard.h); join with raycoh merge
 };
 int run_quality(const QualityOptions& options, const Provenance& provenance);
 
@@ -112,28 +113,5 @@ int run_compare(const CompareOptions& options);
 // "60s", "1.5m", "500ms", "2h" or a plain number of seconds; throws raycoh::Error naming `what` unless finite
 // and > 0.
 double parse_duration(const std::string& what, const std::string& text);
-
-// The equal-time / equal-error reading of error curves (public for tests). A curve is a list of (time, error)
-// points with increasing time, one per frame.
-struct CurvePoint {
-  double time = 0, error = 0;
-};
-// Error at time t, interpolated linearly in (log time, log error) between the frames around t (exact for a
-// power law such as error ~ 1/time); NaN before the first frame or after the last.
-double error_at_time(const std::vector<CurvePoint>& curve, double t);
-// First time the curve reaches error e, interpolated the same way between the last frame above e and the first
-// at or below it; the first frame's time if that one is already below; NaN if never reached.
-double time_to_error(const std::vector<CurvePoint>& curve, double e);
-// A curve against a baseline curve, both on one clock (wall, trace or modeled GPU time: never a sum of two):
-//   equal time   T = the shorter of the two curves' last times, the errors at T and their ratio
-//                error / baseline_error (< 1: the curve is more accurate in the same time);
-//   equal error  E = the larger of the two final errors (both curves reach it), the times to reach it and the
-//                speedup baseline_time / time (> 1: the curve reaches it sooner).
-struct CurveComparison {
-  double horizon = 0, error = 0, baseline_error = 0, equal_time_error_ratio = 0;
-  double target_error = 0, time = 0, baseline_time = 0, equal_error_speedup = 0;
-};
-// Both curves must have at least one point.
-CurveComparison compare_curves(const std::vector<CurvePoint>& curve, const std::vector<CurvePoint>& baseline);
 
 }  // namespace raycoh

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "core/params.h"
-#include "harness/provenance.h"
+#include "records/provenance.h"
 
 namespace raycoh {
 

@@ -16,7 +16,7 @@
 #include "harness/command.h"
 #include "harness/progress.h"
 #include "harness/render_common.h"
-#include "harness/shard.h"
+#include "records/shard.h"
 #include "shading/reference.h"
 
 namespace raycoh {

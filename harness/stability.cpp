@@ -19,7 +19,8 @@
 #include "harness/command.h"
 #include "harness/exit_codes.h"
 #include "harness/memory_check.h"
-#include "harness/record_csv.h"
+#include "records/record_csv.h"
+#include "records/stability_row.h"
 
 namespace raycoh {
 
@@ -34,46 +35,6 @@ const StabilityCase* StabilityReport::find(const std::string& batch, const std::
 }
 
 namespace {
-
-struct StabilityRow {
-  std::string scene, spec;
-  size_t triangles = 0;
-  std::string batch, name;
-  size_t count = 0, of = 0;
-  double rate = 0, threshold = 0;  // threshold NaN (empty) when reported only
-  std::string status;              // ok | FAIL | reported
-  int width = 0, height = 0, frame = 0;
-  uint32_t seed = 0;
-  size_t max_rays = 0;
-  Provenance provenance;
-};
-
-const Schema<StabilityRow>& stability_schema() {
-  using namespace csv_format;
-  using R = StabilityRow;
-  static const Schema<R> schema = [] {
-    Schema<R> s = {
-        column("scene", &R::scene, Text{}),
-        column("scene_spec", &R::spec, Text{}),
-        column("scene_triangles", &R::triangles, Integer<size_t>{}),
-        column("batch", &R::batch, Text{}),
-        column("case", &R::name, Text{}),
-        column("count", &R::count, Integer<size_t>{}),
-        column("of", &R::of, Integer<size_t>{}),
-        column("rate", &R::rate, General{}),
-        column("threshold", &R::threshold, GeneralOrEmpty{}),
-        column("status", &R::status, Text{}),
-        column("width", &R::width, Integer<int>{}),
-        column("height", &R::height, Integer<int>{}),
-        column("frame", &R::frame, Integer<int>{}),
-        column("seed", &R::seed, Integer<uint32_t>{}),
-        column("max_rays", &R::max_rays, Integer<size_t>{}),
-    };
-    append_columns(s, provenance_schema(), &R::provenance);
-    return s;
-  }();
-  return schema;
-}
 
 std::string status_of(const StabilityCase& c) { return !c.gated() ? "reported" : c.failed() ? "FAIL" : "ok"; }
 

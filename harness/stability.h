@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/params.h"
-#include "harness/provenance.h"
+#include "records/provenance.h"
 
 namespace raycoh {
 

@@ -75,9 +75,8 @@ int run_sweep(const SweepOptions& o, const Provenance& provenance) {
         labels[ti].push_back("");
         continue;
       }
-      const std::string params = fmt::format("tile={}x{},k={}", tw, th, k);
-      labels[ti].push_back(o.generator + ":" + params);
-      e.methods.push_back({labels[ti].back(), {o.generator, params}});
+      labels[ti].push_back(sweep_method_label(o.generator, tw, th, k));
+      e.methods.push_back({labels[ti].back(), {o.generator, fmt::format("tile={}x{},k={}", tw, th, k)}});
     }
   }
   e.tracers = expand_auto(e.tracers);

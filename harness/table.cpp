@@ -16,7 +16,7 @@
 #include "encoders/encoder.h"
 #include "harness/cli.h"
 #include "harness/command.h"
-#include "harness/provenance.h"
+#include "records/provenance.h"
 
 namespace raycoh {
 
@@ -195,13 +195,11 @@ std::string scene_header(const std::vector<SceneResult>& results) {
 
 // Tracer labels in headings: the name, and a GPU model's preset; the full parameters are printed once, above the
 // tables (print_tracers). Labels two tracers would share stay whole.
-std::map<std::string, std::string> short_labels(const std::vector<std::string>& labels) {
+std::map<std::string, std::string> short_labels(const SceneResult& first) {
   std::map<std::string, std::string> names;
   std::map<std::string, int> uses;
-  for (const std::string& tl : labels) {
-    std::string name = tl.substr(0, tl.find('['));
-    const size_t at = tl.find("preset=");
-    if (at != std::string::npos) name += "[" + tl.substr(at, tl.find_first_of(",]", at) - at) + "]";
+  for (const std::string& tl : first.tracer_labels) {
+    const std::string& name = first.tracer_names.at(tl);
     names[tl] = name;
     ++uses[name];
   }
@@ -292,7 +290,7 @@ int run_table(const TableOptions& options, const Provenance& provenance) {
   if (!e.shard.whole()) return print_shard_done(e, provenance);
 
   const std::string header = scene_header(results);
-  const std::map<std::string, std::string> names = short_labels(results.front().tracer_labels);
+  const std::map<std::string, std::string> names = short_labels(results.front());
   print_tracers(results.front(), names, e);
   for (const std::string& tl : results.front().tracer_labels) {
     if (results.front().by_tracer.at(tl).at("noopt").has_counters)

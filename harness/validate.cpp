@@ -20,8 +20,10 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/exit_codes.h"
-#include "harness/record_csv.h"
 #include "harness/table.h"
+#include "records/record_csv.h"
+#include "records/recorded_columns.h"
+#include "records/validate_row.h"
 
 namespace raycoh {
 namespace {
@@ -62,51 +64,7 @@ struct ValidateOptions {
   bool force = false;
 };
 
-// One compared cell: a row of the comparison CSV.
-struct ValidateRow {
-  std::string table;  // table1 | table3 | bound (primary rays, not in the paper)
-  std::string row;    // our method label
-  std::string paper_row;
-  std::string tile;
-  int k = 0;
-  double paper_mray_s = NAN, paper_ratio = NAN;
-  double modeled_mray_s = 0, modeled_ratio = 0, ratio_error = NAN;  // (modeled - paper) / paper
-  std::string limiter;
-  std::string scene, preset, tracer_params, order;
-  int width = 0, height = 0;
-  Provenance provenance;
-};
-
-const Schema<ValidateRow>& validate_schema() {
-  using namespace csv_format;
-  using R = ValidateRow;
-  static const Schema<R> schema = [] {
-    Schema<R> s = {
-        column("table", &R::table, Text{}, Key::Yes),
-        column("row", &R::row, Text{}, Key::Yes),
-        column("paper_row", &R::paper_row, Text{}),
-        column("tile", &R::tile, Text{}),
-        column("k", &R::k, Integer<int>{}),
-        column("paper_mray_s", &R::paper_mray_s, GeneralOrEmpty{}),
-        column("paper_ratio", &R::paper_ratio, GeneralOrEmpty{}),
-        column("modeled_mray_s", &R::modeled_mray_s, General{}),
-        column("modeled_ratio", &R::modeled_ratio, General{}),
-        column("ratio_error", &R::ratio_error, GeneralOrEmpty{}),
-        column("modeled_limiter", &R::limiter, Text{}),
-        column("scene", &R::scene, Text{}),
-        column("preset", &R::preset, Text{}),
-        column("tracer_params", &R::tracer_params, Text{}),
-        column("order", &R::order, Text{}),
-        column("width", &R::width, Integer<int>{}),
-        column("height", &R::height, Integer<int>{}),
-    };
-    append_columns(s, provenance_schema(), &R::provenance);
-    return s;
-  }();
-  return schema;
-}
-
-std::string cell_label(int w, int h, int k) { return fmt::format("ours:tile={}x{},k={}", w, h, k); }
+std::string cell_label(int w, int h, int k) { return sweep_method_label("ours", w, h, k); }
 
 ExperimentOptions experiment_of(const ValidateOptions& o) {
   ExperimentOptions e;

@@ -17,7 +17,7 @@ import csv
 import os
 from collections import defaultdict
 
-from plotlib import fail, footer, number, parse_params, plt, read_csv, save
+from plotlib import TRACER_COLUMNS, fail, footer, number, plt, read_csv, save
 
 CLOCKS = {
     "wall_s": "CPU wall-clock time of the frames (s), measured",
@@ -26,11 +26,9 @@ CLOCKS = {
 }
 
 
-def short_model(text):
-    """'simt[preset=rtx3060,kernel=persistent,...]' -> 'simt[preset=rtx3060]' (the CSV keeps every parameter)."""
-    name, _, params = text.partition("[")
-    preset = parse_params(params.rstrip("]")).get("preset")
-    return f"{name}[preset={preset}]" if preset else text
+def short_model(row):
+    """'simt[preset=rtx3060]' from the typed gpu_preset column (gpu_model keeps every parameter); '' without one."""
+    return f"simt[preset={row['gpu_preset']}]" if row.get("gpu_preset") else row.get("gpu_model", "")
 
 
 def summary_notes(path, clock):
@@ -61,7 +59,7 @@ def main():
                          "present, modeled_gpu_s)")
     a = ap.parse_args()
 
-    rows = read_csv(a.csv, ["scene", "method", "frame", a.metric])
+    rows = read_csv(a.csv, ["scene", "method", "frame", a.metric, "gpu_preset"] + TRACER_COLUMNS)
     if a.clock is None:
         has_model = any(r.get("modeled_gpu_s") not in (None, "") for r in rows)
         clocks = ["wall_s", "modeled_gpu_s"] if has_model else ["wall_s"]
@@ -105,7 +103,7 @@ def main():
             ax.set_ylabel(a.metric)
             title = scene + (" — MODELED GPU clock" if clock == "modeled_gpu_s" else "")
             if clock == "modeled_gpu_s":
-                models = sorted({short_model(r.get("gpu_model", "")) for r in rows if r["scene"] == scene} - {""})
+                models = sorted({short_model(r) for r in rows if r["scene"] == scene} - {""})
                 if models:
                     title += f"\n{', '.join(models)}"
             ax.set_title(title, fontsize=10)

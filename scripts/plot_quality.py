@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-from plotlib import fail, footer, number, plt, read_csv, save
+from plotlib import TRACER_COLUMNS, fail, footer, number, plt, read_csv, save
 
 
 def main():
@@ -25,7 +25,7 @@ def main():
     if not a.out and not a.markdown:
         fail("nothing to do: give --out and/or --markdown")
 
-    rows = read_csv(a.csv, ["scene", "method", "frames", "ref_frames", a.metric])
+    rows = read_csv(a.csv, ["scene", "method", "frames", "ref_frames", a.metric] + TRACER_COLUMNS)
     scenes, methods, cell, spread = [], [], {}, {}
     for r in rows:
         key = (r["method"], r["scene"])

@@ -2,7 +2,7 @@
 """Tile size x group size heatmap (the paper's Table 3) from a `raycoh sweep` CSV.
 
 Rows of the secondary pass whose generator is ours or contiguous (tile, its old name) are placed by the tile (W x H) and group size K of
-their generator_params ("tile=8x8,k=16,..."); each cell is sum(rays) / sum(trace_ms) over frames, shown as the
+their typed columns tile_w, tile_h and k; each cell is sum(rays) / sum(trace_ms) over frames, shown as the
 ratio to noopt on the same scene and tracer (--value speedup, the default) or in MRay/s (--value mray).
 One panel per scene and tracer. Cells the sweep did not run (K larger than the tile) stay empty.
 
@@ -14,7 +14,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from plotlib import cost_time, fail, footer, is_modeled, number, parse_params, plt, read_csv, save, tracer_label
+from plotlib import TRACER_COLUMNS, cost_time, fail, footer, is_modeled, number, plt, read_csv, save, tracer_label
 
 
 def tile_key(tile):
@@ -33,7 +33,8 @@ def main():
     ap.add_argument("--tracer", help="only this tracer (name)")
     a = ap.parse_args()
 
-    rows = read_csv(a.csv, ["scene", "pass", "method", "generator", "generator_params", "tracer", "rays", "trace_ms"])
+    rows = read_csv(a.csv, ["scene", "pass", "method", "generator", "tile_w", "tile_h", "k", "tracer", "rays",
+                            "trace_ms"] + TRACER_COLUMNS)
     sums = defaultdict(lambda: [0.0, 0.0])  # (scene, tracer, tile, k) -> [rays, ms]; tile "noopt" for the baseline
     panels, used_rows = [], []
     for r in rows:
@@ -45,10 +46,9 @@ def main():
         if r["generator"] == "noopt" and r.get("encoder", "none") in ("", "none"):
             tile, k = "noopt", 0
         elif r["generator"] in ("ours", "contiguous", "tile"):
-            p = parse_params(r["generator_params"])
-            if "tile" not in p or "k" not in p:
-                fail(f"method {r['method']}: generator_params '{r['generator_params']}' lacks tile= or k=")
-            tile, k = p["tile"], int(p["k"])
+            if not (r["tile_w"] and r["tile_h"] and r["k"]):
+                fail(f"method {r['method']}: its rows have no tile_w, tile_h or k")
+            tile, k = f"{r['tile_w']}x{r['tile_h']}", int(r["k"])
         else:
             continue
         panel = (r["scene"], tracer_label(r) + (" (modeled)" if is_modeled(r) else " (measured)"))

@@ -14,7 +14,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from plotlib import (OKABE_ITO, cost_time, fail, footer, is_modeled, lighten, number, plt, read_csv, save,
+from plotlib import (OKABE_ITO, TRACER_COLUMNS, cost_time, fail, footer, is_modeled, lighten, number, plt, read_csv, save,
                      tracer_label)
 
 
@@ -30,7 +30,7 @@ def main():
     a = ap.parse_args()
 
     time_col = "trace_ms" if a.speed == "trace" else "e2e_ms"
-    rows = read_csv(a.csv, ["scene", "pass", "method", "tracer", "rays", time_col])
+    rows = read_csv(a.csv, ["scene", "pass", "method", "tracer", "rays", time_col] + TRACER_COLUMNS)
     sums = defaultdict(lambda: [0.0, 0.0])  # (tracer, scene, method) -> [rays, ms]
     scenes, methods, tracers = [], [], []
     method_parts, used_rows = {}, []  # method -> (generator, encoder); the rows plotted (for the footer)

@@ -34,7 +34,8 @@ def read_csv(paths, required):
                 fail(f"{path}: empty file (no header)")
             missing = [c for c in required if c not in reader.fieldnames]
             if missing:
-                fail(f"{path}: missing column(s) {', '.join(missing)} (see results/README.md)")
+                fail(f"{path}: missing column(s) {', '.join(missing)} (written by an older raycoh, or not this kind of "
+                     "CSV; see results/README.md)")
             rows.extend(reader)
     if not rows:
         fail(f"{', '.join(paths)}: no data rows")
@@ -60,13 +61,18 @@ def parse_params(text):
     return out
 
 
+# The typed columns of a tracer's row (results/README.md) that tracer_label reads; a script that labels tracers
+# requires them, so that a CSV written before them is refused with one line naming the file and the column.
+TRACER_COLUMNS = ["preset", "mode"]
+
+
 def tracer_label(row):
     """The tracer as a title can hold it: the name and, for a GPU model, its preset (simt[preset=rtx3060]); an
-    embree mode (embree[mode=single]). The full parameters are in the CSV's tracer_params column."""
-    params = parse_params(row.get("tracer_params", ""))
-    for key in ("preset", "mode"):
-        if key in params:
-            return f"{row['tracer']}[{key}={params[key]}]"
+    embree mode (embree[mode=single]), from the typed preset and mode columns (the full parameters are in the
+    CSV's tracer_params column)."""
+    for key in TRACER_COLUMNS:
+        if row.get(key):
+            return f"{row['tracer']}[{key}={row[key]}]"
     return row["tracer"]
 
 

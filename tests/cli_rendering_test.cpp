@@ -6,7 +6,7 @@
 #include <iterator>
 #include <map>
 
-#include "harness/csv.h"
+#include "records/csv.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {

@@ -8,8 +8,8 @@
 #include <map>
 #include <set>
 
-#include "harness/csv.h"
-#include "harness/merge.h"
+#include "records/csv.h"
+#include "records/merge.h"
 #include "shading/image.h"
 #include "shading/reference.h"
 #include "tests/cli_util.h"

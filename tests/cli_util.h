@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/provenance.h"
+#include "records/provenance.h"
 #include "tests/test_util.h"
 
 namespace raycoh::test {

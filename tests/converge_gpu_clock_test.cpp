@@ -7,10 +7,10 @@
 #include <map>
 
 #include "bvh/bvh_build.h"
-#include "harness/csv.h"
 #include "harness/gpu_clock.h"
 #include "harness/quality.h"
 #include "plugins/tracer_registry.h"
+#include "records/csv.h"
 #include "scenes/scene.h"
 #include "tests/test_util.h"
 

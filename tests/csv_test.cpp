@@ -1,6 +1,6 @@
 // The CSV layer of the harness: escaping, the column schemas (round trip, damaged values, resume keys), and
 // write errors.
-#include "harness/csv.h"
+#include "records/csv.h"
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <filesystem>
 
 #include "harness/exit_codes.h"
-#include "harness/experiment_row.h"
-#include "harness/quality_row.h"
-#include "harness/record_csv.h"
+#include "records/experiment_row.h"
+#include "records/quality_row.h"
+#include "records/record_csv.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {
@@ -29,75 +29,76 @@ TEST(Csv, EscapesAndParsesQuotedFields) {
 // The experiment CSV's column order is part of every file already written: pinned here.
 TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
   const std::vector<std::string> names = column_names(experiment_schema());
-  const std::vector<std::string> expected = {"scene",
-                                             "scene_triangles",
-                                             "pass",
-                                             "method",
-                                             "generator",
-                                             "generator_params",
-                                             "tracer",
-                                             "tracer_params",
-                                             "bvh",
-                                             "width",
-                                             "height",
-                                             "frame",
-                                             "seed",
-                                             "rays",
-                                             "gen_ms",
-                                             "trace_ms",
-                                             "trace_ms_min",
-                                             "repeats",
-                                             "mray_s",
-                                             "below_geometric",
-                                             "below_shading",
-                                             "non_finite",
-                                             "groups_diffuse",
-                                             "groups_glossy",
-                                             "groups_hybrid",
-                                             "groups_independent",
-                                             "groups_world",
-                                             "hybrid_mean_fallback",
-                                             "reused_rays",
-                                             "encoder",
-                                             "encoder_params",
-                                             "permute",
-                                             "key_ms",
-                                             "sort_ms",
-                                             "permute_ms",
-                                             "e2e_ms",
-                                             "e2e_mray_s",
-                                             "simt_efficiency",
-                                             "node_simt_efficiency",
-                                             "lines_per_ray",
-                                             "fetches_per_ray",
-                                             "l1_misses_per_ray",
-                                             "l2_misses_per_ray",
-                                             "dram_bytes_per_ray",
-                                             "modeled_ms",
-                                             "modeled_mray_s",
-                                             "modeled_e2e_ms",
-                                             "modeled_e2e_mray_s",
-                                             "modeled_limiter",
-                                             "modeled_l1_wavefronts_per_ray",
-                                             "modeled_l1_local_wavefronts_per_ray",
-                                             "modeled_gen_ms",
-                                             "modeled_key_ms",
-                                             "modeled_sort_ms",
-                                             "modeled_permute_ms",
-                                             "pipeline",
-                                             "gpu_e2e_ms",
-                                             "gpu_e2e_mray_s",
-                                             "scene_fingerprint",
-                                             "git_revision",
-                                             "build_type",
-                                             "compiler",
-                                             "cpu",
-                                             "host",
-                                             "device",
-                                             "embree_version",
-                                             "threads",
-                                             "started_utc",
-                                             "command_line"};
+  std::vector<std::string> expected = {"scene",
+                                       "scene_triangles",
+                                       "pass",
+                                       "method",
+                                       "generator",
+                                       "generator_params",
+                                       "tracer",
+                                       "tracer_params",
+                                       "bvh",
+                                       "width",
+                                       "height",
+                                       "frame",
+                                       "seed",
+                                       "rays",
+                                       "gen_ms",
+                                       "trace_ms",
+                                       "trace_ms_min",
+                                       "repeats",
+                                       "mray_s",
+                                       "below_geometric",
+                                       "below_shading",
+                                       "non_finite",
+                                       "groups_diffuse",
+                                       "groups_glossy",
+                                       "groups_hybrid",
+                                       "groups_independent",
+                                       "groups_world",
+                                       "hybrid_mean_fallback",
+                                       "reused_rays",
+                                       "encoder",
+                                       "encoder_params",
+                                       "permute",
+                                       "key_ms",
+                                       "sort_ms",
+                                       "permute_ms",
+                                       "e2e_ms",
+                                       "e2e_mray_s",
+                                       "simt_efficiency",
+                                       "node_simt_efficiency",
+                                       "lines_per_ray",
+                                       "fetches_per_ray",
+                                       "l1_misses_per_ray",
+                                       "l2_misses_per_ray",
+                                       "dram_bytes_per_ray",
+                                       "modeled_ms",
+                                       "modeled_mray_s",
+                                       "modeled_e2e_ms",
+                                       "modeled_e2e_mray_s",
+                                       "modeled_limiter",
+                                       "modeled_l1_wavefronts_per_ray",
+                                       "modeled_l1_local_wavefronts_per_ray",
+                                       "modeled_gen_ms",
+                                       "modeled_key_ms",
+                                       "modeled_sort_ms",
+                                       "modeled_permute_ms",
+                                       "pipeline",
+                                       "gpu_e2e_ms",
+                                       "gpu_e2e_mray_s",
+                                       "scene_fingerprint",
+                                       "git_revision",
+                                       "build_type",
+                                       "compiler",
+                                       "cpu",
+                                       "host",
+                                       "device",
+                                       "embree_version",
+                                       "threads",
+                                       "started_utc",
+                                       "command_line"};
+  for (const char* c : {"tile_w", "tile_h", "k", "order", "preset", "mode"}) expected.push_back(c);
   EXPECT_EQ(names, expected);
   std::vector<std::string> key;
   for (const auto& c : experiment_schema())
@@ -117,6 +118,9 @@ TEST(Csv, RowsRoundTripThroughTheirSchema) {
   r.groups_diffuse = 7;
   r.simt_efficiency = 0.123456789;
   r.provenance.threads = 2;
+  r.recorded.tile_w = 8;
+  r.recorded.k = 16;
+  r.recorded.preset = "h100";
   const auto text = write_row(experiment_schema(), r);
   const std::vector<std::string> names = column_names(experiment_schema());
   auto at = [&](const std::string& name) {

@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "harness/experiment_row.h"
+#include "records/experiment_row.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
 #include "tracers/device_pipeline.h"

@@ -20,9 +20,9 @@
 #include "encoders/key_encoder.h"
 #include "encoders/reorder.h"
 #include "generators/emit_per_pixel.h"
-#include "harness/experiment_row.h"
 #include "pipeline/first_hits.h"
 #include "plugins/tracer_registry.h"
+#include "records/experiment_row.h"
 #include "simt/gpu_model.h"
 
 namespace raycoh {
@@ -260,7 +260,7 @@ TEST(Extending, EveryGpuPresetIsValidAndSelectable) {
   }
 }
 
-// A CSV column of harness/experiment_row.cpp: results/README.md documents it in the table CSV's section.
+// A CSV column of records/experiment_row.cpp: results/README.md documents it in the table CSV's section.
 TEST(Extending, EveryExperimentColumnIsDocumented) {
   std::ifstream in(std::string(RAYCOH_SOURCE_DIR) + "/results/README.md");
   ASSERT_TRUE(in) << "results/README.md";

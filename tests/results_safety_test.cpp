@@ -1,4 +1,4 @@
-// Results are never lost or silently wrong, at the level of the file layer (harness/csv.h, core/durable_file.h):
+// Results are never lost or silently wrong, at the level of the file layer (records/csv.h, core/durable_file.h):
 // damaged resume files keep every good row, foreign files are refused by field, finished files are not
 // rewritten, locks name their holder, refused writes keep whole rows and leave no temp file.
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 
 #include "core/durable_file.h"
 #include "core/error.h"
-#include "harness/csv.h"
+#include "records/csv.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {

@@ -12,31 +12,31 @@ export MPLBACKEND=Agg
 
 # `raycoh table` / `raycoh sweep` rows (the columns the scripts read, plus a few others).
 cat > table.csv <<'CSV'
-scene,pass,method,generator,generator_params,encoder,tracer,tracer_params,frame,rays,trace_ms,e2e_ms,mray_s
-cornell,primary,primary,primary,"order=tile,tile=8x8",,cpu,,0,1000,0.5,0.5,2
-cornell,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,0,900,1.0,1.1,0.9
-cornell,secondary,ours,ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,0,900,0.8,0.9,1.125
-cornell,secondary,noopt+origin,noopt,"order=tile,tile=8x8",origin,cpu,,0,900,0.9,1.3,1.0
-voxels,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,0,800,2.0,2.1,0.4
-voxels,secondary,ours,ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,0,800,1.5,1.6,0.53
-voxels,secondary,noopt+origin,noopt,"order=tile,tile=8x8",origin,cpu,,0,800,1.9,2.5,0.42
+scene,pass,method,generator,generator_params,encoder,tracer,tracer_params,tile_w,tile_h,k,order,preset,mode,frame,rays,trace_ms,e2e_ms,mray_s
+cornell,primary,primary,primary,"order=tile,tile=8x8",,cpu,,8,8,,tile,,,0,1000,0.5,0.5,2
+cornell,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,8,8,,tile,,,0,900,1.0,1.1,0.9
+cornell,secondary,ours,ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,8,8,8,tile,,,0,900,0.8,0.9,1.125
+cornell,secondary,noopt+origin,noopt,"order=tile,tile=8x8",origin,cpu,,8,8,,tile,,,0,900,0.9,1.3,1.0
+voxels,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,8,8,,tile,,,0,800,2.0,2.1,0.4
+voxels,secondary,ours,ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,8,8,8,tile,,,0,800,1.5,1.6,0.53
+voxels,secondary,noopt+origin,noopt,"order=tile,tile=8x8",origin,cpu,,8,8,,tile,,,0,800,1.9,2.5,0.42
 CSV
 cat > sweep.csv <<'CSV'
-scene,pass,method,generator,generator_params,encoder,tracer,tracer_params,frame,rays,trace_ms
-sibenik,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,0,1000,2.0
-sibenik,secondary,"ours:tile=8x8,k=8",ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,0,1000,1.6
-sibenik,secondary,"ours:tile=8x8,k=16",ours,"tile=8x8,k=16,order=tile,seed=0",none,cpu,,0,1000,1.4
-sibenik,secondary,"ours:tile=16x8,k=8",ours,"tile=16x8,k=8,order=tile,seed=0",none,cpu,,0,1000,1.7
-sibenik,secondary,"ours:tile=16x8,k=16",ours,"tile=16x8,k=16,order=tile,seed=0",none,cpu,,0,1000,1.5
+scene,pass,method,generator,generator_params,encoder,tracer,tracer_params,tile_w,tile_h,k,order,preset,mode,frame,rays,trace_ms
+sibenik,secondary,noopt,noopt,"order=tile,tile=8x8",none,cpu,,8,8,,tile,,,0,1000,2.0
+sibenik,secondary,"ours:tile=8x8,k=8",ours,"tile=8x8,k=8,order=tile,seed=0",none,cpu,,8,8,8,tile,,,0,1000,1.6
+sibenik,secondary,"ours:tile=8x8,k=16",ours,"tile=8x8,k=16,order=tile,seed=0",none,cpu,,8,8,16,tile,,,0,1000,1.4
+sibenik,secondary,"ours:tile=16x8,k=8",ours,"tile=16x8,k=8,order=tile,seed=0",none,cpu,,16,8,8,tile,,,0,1000,1.7
+sibenik,secondary,"ours:tile=16x8,k=16",ours,"tile=16x8,k=16,order=tile,seed=0",none,cpu,,16,8,16,tile,,,0,1000,1.5
 CSV
 cat > converge.csv <<'CSV'
-scene,method,frame,wall_s,trace_s,rel_mse,mse,rmse,psnr,ssim
-cornell,noopt,1,0.1,0.05,1.0,0.1,0.31,15,0.3
-cornell,noopt,2,0.2,0.1,0.5,0.05,0.22,18,0.4
-cornell,noopt,3,0.3,0.15,0.33,0.033,0.18,19.8,0.5
-cornell,ours,1,0.08,0.03,1.1,0.11,0.33,14.8,0.3
-cornell,ours,2,0.16,0.06,0.56,0.056,0.24,17.7,0.4
-cornell,ours,3,0.24,0.09,0.37,0.037,0.19,19.5,0.5
+scene,method,frame,wall_s,trace_s,rel_mse,mse,rmse,psnr,ssim,preset,mode,gpu_preset
+cornell,noopt,1,0.1,0.05,1.0,0.1,0.31,15,0.3,,,
+cornell,noopt,2,0.2,0.1,0.5,0.05,0.22,18,0.4,,,
+cornell,noopt,3,0.3,0.15,0.33,0.033,0.18,19.8,0.5,,,
+cornell,ours,1,0.08,0.03,1.1,0.11,0.33,14.8,0.3,,,
+cornell,ours,2,0.16,0.06,0.56,0.056,0.24,17.7,0.4,,,
+cornell,ours,3,0.24,0.09,0.37,0.037,0.19,19.5,0.5,,,
 CSV
 cat > converge-summary.csv <<'CSV'
 scene,method,baseline,metric,clock,horizon_s,error,baseline_error,equal_time_error_ratio,target_error,time_s,baseline_time_s,equal_error_speedup
@@ -44,18 +44,18 @@ cornell,ours,noopt,rel_mse,wall,0.24,0.37,0.41,0.9,0.37,0.24,0.27,1.12
 CSV
 # The same with the modeled GPU clock (converge --gpu-model).
 cat > converge_gpu.csv <<'CSV'
-scene,method,frame,wall_s,trace_s,rel_mse,mse,rmse,psnr,ssim,gpu_model,modeled_gpu_s
-cornell,noopt,1,0.1,0.05,1.0,0.1,0.31,15,0.3,simt[preset=rtx3060],0.002
-cornell,noopt,2,0.2,0.1,0.5,0.05,0.22,18,0.4,simt[preset=rtx3060],0.004
-cornell,ours,1,0.08,0.03,1.1,0.11,0.33,14.8,0.3,simt[preset=rtx3060],0.001
-cornell,ours,2,0.16,0.06,0.56,0.056,0.24,17.7,0.4,simt[preset=rtx3060],0.002
+scene,method,frame,wall_s,trace_s,rel_mse,mse,rmse,psnr,ssim,gpu_model,modeled_gpu_s,preset,mode,gpu_preset
+cornell,noopt,1,0.1,0.05,1.0,0.1,0.31,15,0.3,simt[preset=rtx3060],0.002,,,rtx3060
+cornell,noopt,2,0.2,0.1,0.5,0.05,0.22,18,0.4,simt[preset=rtx3060],0.004,,,rtx3060
+cornell,ours,1,0.08,0.03,1.1,0.11,0.33,14.8,0.3,simt[preset=rtx3060],0.001,,,rtx3060
+cornell,ours,2,0.16,0.06,0.56,0.056,0.24,17.7,0.4,simt[preset=rtx3060],0.002,,,rtx3060
 CSV
 cat > quality.csv <<'CSV'
-scene,method,frames,ref_frames,psnr,psnr_std,ssim,rel_mse,rmse,bias2
-cornell,noopt,32,512,25.1,0.15,0.70,0.05,0.06,0.0002
-cornell,ours,32,512,25.0,0.08,0.70,0.049,0.06,0.00024
-sibenik,noopt,32,512,19.6,0.2,0.6,0.1,0.01,0.000001
-sibenik,ours,32,512,19.5,0.1,0.6,0.1,0.01,0.000001
+scene,method,frames,ref_frames,psnr,psnr_std,ssim,rel_mse,rmse,bias2,preset,mode
+cornell,noopt,32,512,25.1,0.15,0.70,0.05,0.06,0.0002,,
+cornell,ours,32,512,25.0,0.08,0.70,0.049,0.06,0.00024,,
+sibenik,noopt,32,512,19.6,0.2,0.6,0.1,0.01,0.000001,,
+sibenik,ours,32,512,19.5,0.1,0.6,0.1,0.01,0.000001,,
 CSV
 # `raycoh validate` rows (two Table 1 rows, a Table 3 row per tile and K = 8, 16), and a simt table row.
 {
@@ -69,8 +69,8 @@ CSV
 } > validate.csv
 sed 's/l2_bpc=1327/l2_bpc=600/' validate.csv > validate_l2.csv
 sed -e 's/,mray_s$/,mray_s,modeled_ms,modeled_e2e_ms/' -e '2,$s/$/,,/' table.csv > table_simt.csv
-echo "cornell,secondary,noopt,noopt,\"order=tile,tile=8x8\",none,simt,,0,900,50.0,50.0,0.018,0.003,0.004" >> table_simt.csv
-echo "cornell,secondary,ours,ours,\"tile=8x8,k=8,order=tile,seed=0\",none,simt,,0,900,60.0,60.0,0.015,0.002,0.003" >> table_simt.csv
+echo "cornell,secondary,noopt,noopt,\"order=tile,tile=8x8\",none,simt,,8,8,,tile,rtx3060,,0,900,50.0,50.0,0.018,0.003,0.004" >> table_simt.csv
+echo "cornell,secondary,ours,ours,\"tile=8x8,k=8,order=tile,seed=0\",none,simt,,8,8,8,tile,rtx3060,,0,900,60.0,60.0,0.015,0.002,0.003" >> table_simt.csv
 cat > model.csv <<'CSV'
 scene,method,width,height,rays,modeled_ms,modeled_e2e_ms
 sibenik,noopt,64,32,2000,2.0,2.5
@@ -124,6 +124,12 @@ check fig/crops.png
 
 expect_error "no such CSV file" "$scripts/plot_table.py" missing.csv --out fig/x.png
 expect_error "missing column" "$scripts/plot_converge.py" quality.csv --out fig/x.png
+# A CSV written before the typed columns (tile_w, tile_h, k, preset, mode) is refused, naming the file and them.
+/usr/bin/python3 -c "
+import csv
+rows = list(csv.reader(open('sweep.csv')))
+csv.writer(open('sweep_old.csv', 'w'), lineterminator='\\n').writerows([r[:8] + r[14:] for r in rows])"
+expect_error "sweep_old.csv: missing column(s) tile_w, tile_h, k, preset, mode" "$scripts/plot_sweep.py" sweep_old.csv --out fig/x.png
 expect_error "missing column" "$scripts/plot_converge.py" converge.csv --out fig/x.png --clock modeled_gpu_s
 expect_error "expected one of" "$scripts/plot_converge.py" converge.csv --out fig/x.png --clock gpu
 grep -v ",noopt," table.csv > no_baseline.csv

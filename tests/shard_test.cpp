@@ -1,5 +1,5 @@
-// --shard I/N (harness/shard.h): the N shards of a work list are a partition of it, for any N.
-#include "harness/shard.h"
+// --shard I/N (records/shard.h): the N shards of a work list are a partition of it, for any N.
+#include "records/shard.h"
 
 #include <gtest/gtest.h>
 

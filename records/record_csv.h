@@ -1,4 +1,4 @@
-// A CSV of records: CsvWriter (harness/csv.h) driven by a column schema (harness/schema.h). Rows of an earlier run
+// A CSV of records: CsvWriter (records/csv.h) driven by a column schema (records/schema.h). Rows of an earlier run
 // are read back into records once, here; a row whose value its column cannot hold is skipped by CsvWriter with a
 // warning naming file, line and column.
 #pragma once
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/error.h"
-#include "harness/csv.h"
-#include "harness/provenance.h"
-#include "harness/schema.h"
+#include "records/csv.h"
+#include "records/provenance.h"
+#include "records/schema.h"
 
 namespace raycoh {
 

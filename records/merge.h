@@ -1,4 +1,5 @@
-// `raycoh merge --out OUT IN...`: joins the CSV files of a sharded `table`, `sweep`, `quality` or `converge` run
+// `raycoh merge --out OUT IN...` (the results layer's merge; the command's options are harness/merge.cpp's): joins the
+// CSV files of a sharded `table`, `sweep`, `quality` or `converge` run
 // (--shard I/N, each shard's finished --out; for converge also each one's <stem>-summary.csv, joined into
 // <OUT stem>-summary.csv) into the files a single process would have written. The kind is read from the header.
 //
@@ -27,8 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/provenance.h"
-#include "harness/schema.h"
+#include "records/provenance.h"
+#include "records/schema.h"
 
 namespace raycoh {
 
@@ -42,18 +43,37 @@ template <class Row>
 CsvLayout csv_layout(const Schema<Row>& schema) {
   return {column_names(schema), [&schema](const std::vector<std::string>& fields) { read_row(schema, fields); }};
 }
-// converge's per-frame and summary CSVs (their schemas live in converge.cpp).
+// converge's per-frame and summary CSVs (records/converge_row.h).
 CsvLayout converge_layout();
 CsvLayout converge_summary_layout();
+
+// quality and converge: the run's scene x generator units, in the order one process renders them, read from the
+// command line every row records (the shards dealt these same units).
+struct RunUnits {
+  std::vector<std::string> scenes, methods;
+  std::vector<std::string> keys;  // render_unit(scene, method), scene-major
+};
+
+// What merge needs of the commands whose files it joins (the command, harness/merge.cpp, fills it in): the frames a
+// table or sweep renders without --frames, and the scenes and methods a quality (quality = true) or converge
+// command line names, with the command's defaults for options it does not give (throws raycoh::Error for words it
+// cannot read).
+struct MergeCommands {
+  int experiment_frames = 1;
+  std::function<RunUnits(bool quality, const std::vector<std::string>& words)> units;
+};
 
 struct MergeOptions {
   std::vector<std::string> inputs;
   std::string out;
   bool force = false;
+  MergeCommands commands;
 };
 int run_merge(const MergeOptions& options, const Provenance& provenance);
 
 // A row's command line (provenance column, shell-quoted words) as words; the program name is left out.
 std::vector<std::string> command_words(const std::string& command_line);
+// The value of option `name` in a command's words ("--name v" or "--name=v"), or `fallback`.
+std::string option_value(const std::vector<std::string>& words, const std::string& name, const std::string& fallback);
 
 }  // namespace raycoh

@@ -5,8 +5,9 @@
 #include <optional>
 #include <string>
 
-#include "harness/provenance.h"
-#include "harness/schema.h"
+#include "records/provenance.h"
+#include "records/recorded_columns.h"
+#include "records/schema.h"
 
 namespace raycoh {
 
@@ -50,6 +51,7 @@ struct QualityRow {
   // generators without groups.
   double hybrid_diffuse_share = 0;
   Provenance provenance;
+  RecordedColumns recorded;  // tile_w .. mode, the last columns (records/recorded_columns.h)
 };
 
 const Schema<QualityRow>& quality_schema();

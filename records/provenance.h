@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/params.h"
-#include "harness/schema.h"
+#include "records/schema.h"
 
 namespace raycoh {
 

@@ -1,4 +1,4 @@
-#include "harness/experiment_row.h"
+#include "records/experiment_row.h"
 
 #include "simt/timed_replay.h"
 
@@ -71,9 +71,14 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
+    append_columns(s, recorded_schema(), &R::recorded);
     return s;
   }();
   return schema;
+}
+
+void set_recorded_params(ExperimentRow& row) {
+  row.recorded = recorded_columns(row.generator, row.generator_params, row.tracer, row.tracer_params);
 }
 
 void set_generation(ExperimentRow& row, const GenerationStats& g) {
@@ -108,6 +113,8 @@ GenerationStats generation_of(const ExperimentRow& row) {
 void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,
                 SceneResult& res) {
   Accumulated& acc = res.by_tracer[tracer_label][row.method];
+  res.tracer_names[tracer_label] =
+      row.recorded.preset.empty() ? row.tracer : row.tracer + "[preset=" + row.recorded.preset + "]";
   const double rays = static_cast<double>(row.rays);
   acc.rays += rays;
   acc.trace_s += row.trace_ms * 1e-3;

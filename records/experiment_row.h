@@ -8,8 +8,9 @@
 #include <vector>
 
 #include "core/ray_batch.h"
-#include "harness/provenance.h"
-#include "harness/schema.h"
+#include "records/provenance.h"
+#include "records/recorded_columns.h"
+#include "records/schema.h"
 #include "simt/pipeline_model.h"
 #include "tracers/tracer.h"
 
@@ -53,10 +54,14 @@ struct ExperimentRow {
   std::optional<double> gpu_e2e_ms, gpu_e2e_mray_s;
   std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
   Provenance provenance;
+  RecordedColumns recorded;  // tile_w .. mode, the last columns (records/recorded_columns.h)
 };
 
 // The experiment CSV's columns, in file order, provenance last.
 const Schema<ExperimentRow>& experiment_schema();
+
+// The typed columns (tile_w .. mode) from the row's generator, generator_params, tracer and tracer_params.
+void set_recorded_params(ExperimentRow& row);
 
 // Copies the generation statistics into / out of a row.
 void set_generation(ExperimentRow& row, const GenerationStats& g);
@@ -98,6 +103,8 @@ struct SceneResult {
   size_t triangles = 0;
   double rays_per_frame = 0;
   std::vector<std::string> tracer_labels;
+  // tracer label -> the tracer's name and, for a GPU model, its preset ("simt[preset=h100]"), from the typed column.
+  std::map<std::string, std::string> tracer_names;
   std::map<std::string, std::map<std::string, Accumulated>> by_tracer;  // tracer label -> method label ("primary" too)
   std::map<std::string, GenerationStats> generation;                    // method label -> sums over frames
   std::map<std::string, double> gen_ms;                                 // method label -> mean per frame

@@ -1,4 +1,4 @@
-#include "harness/quality_row.h"
+#include "records/quality_row.h"
 
 namespace raycoh {
 
@@ -81,6 +81,7 @@ const Schema<QualityRow>& quality_schema() {
         column("reused_rays", &R::reused_rays, Integer<size_t>{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
+    append_columns(s, recorded_schema(), &R::recorded);
     return s;
   }();
   return schema;

@@ -1,40 +1,11 @@
-// The readings of `converge` (parse_duration for --time; error curves read at equal time and equal error).
-#include <fmt/format.h>
+#include "records/curves.h"
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 
 #include "core/error.h"
-#include "harness/quality.h"
 
 namespace raycoh {
-
-double parse_duration(const std::string& what, const std::string& text) {
-  size_t end = 0;
-  double v = std::nan("");
-  try {
-    v = std::stod(text, &end);
-  } catch (const std::exception&) {
-    end = 0;
-  }
-  const std::string unit = end > 0 ? text.substr(end) : std::string();
-  double scale = 0;
-  if (unit.empty() || unit == "s")
-    scale = 1;
-  else if (unit == "ms")
-    scale = 1e-3;
-  else if (unit == "m" || unit == "min")
-    scale = 60;
-  else if (unit == "h")
-    scale = 3600;
-  if (end == 0 || scale == 0)
-    throw Error(fmt::format("{} '{}': expected a duration such as 60s, 1.5m, 500ms or 2h", what, text));
-  v *= scale;
-  if (!(v > 0) || !std::isfinite(v) || v > 1e6)
-    throw Error(fmt::format("{} '{}': must be more than 0 and at most 1e6 seconds", what, text));
-  return v;
-}
 
 namespace {
 

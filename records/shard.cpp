@@ -1,4 +1,4 @@
-#include "harness/shard.h"
+#include "records/shard.h"
 
 #include <fmt/format.h>
 

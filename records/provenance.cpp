@@ -1,4 +1,4 @@
-#include "harness/provenance.h"
+#include "records/provenance.h"
 
 #include <embree3/rtcore_config.h>
 #include <unistd.h>

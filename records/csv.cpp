@@ -1,4 +1,4 @@
-#include "harness/csv.h"
+#include "records/csv.h"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -96,6 +96,11 @@ std::string quoted_list(const std::set<std::string>& values) {
 }
 
 std::string first_column_difference(const std::vector<std::string>& found, const std::vector<std::string>& want) {
+  if (found.size() < want.size() && std::equal(found.begin(), found.end(), want.begin()))
+    return fmt::format(
+        "it lacks the column '{}'{} that this version writes after them (written by an older version)",
+        want[found.size()],
+        want.size() - found.size() > 1 ? fmt::format(" and {} more", want.size() - found.size() - 1) : std::string());
   for (size_t i = 0; i < std::max(found.size(), want.size()); ++i) {
     const std::string f = i < found.size() ? found[i] : "(none)", w = i < want.size() ? want[i] : "(none)";
     if (f != w) return fmt::format("column {} is '{}', this version writes '{}'", i + 1, f, w);

@@ -1,0 +1,75 @@
+// `raycoh converge`'s run (harness/converge.cpp: the options, the render loop; harness/converge_summary.cpp: the
+// ratios against the baseline, the summary CSV and the console tables).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "generators/generator.h"
+#include "harness/gpu_clock.h"
+#include "harness/quality.h"
+#include "harness/render_common.h"
+#include "records/converge_row.h"
+#include "records/record_csv.h"
+#include "shading/metrics.h"
+#include "shading/path_tracer.h"
+#include "tracers/tracer.h"
+
+namespace raycoh {
+
+// <out stem>-summary.csv.
+std::string summary_path_of(const ConvergeOptions& o);
+
+// One generator's progress.
+struct Run {
+  std::string label;
+  std::unique_ptr<PathTracer> pt;
+  Accumulator acc;
+  FrameStats total;
+  int frames = 0;
+  std::vector<CurvePoint> by_wall, by_trace;
+  bool active = true;
+  // The modeled GPU clock (absent without --gpu-model).
+  std::unique_ptr<FrameModel> model;
+  ModeledFrame modeled;  // the last modeled frame
+  double modeled_s = 0;
+  std::vector<CurvePoint> by_gpu;
+};
+
+class ConvergeRun {
+ public:
+  ConvergeRun(const ConvergeOptions& o, const Provenance& p);
+  // Both files already hold this very command's finished result: nothing is rendered.
+  bool complete() const { return csv_.already_complete(); }
+  void render();
+  void summarize();
+
+ private:
+  bool render_round();
+  ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m, bool modeled) const;
+  // --shard: the generators whose rows this shard writes; it renders the baseline (0) too, for its ratios.
+  bool owns(size_t gi) const { return owned_[gi]; }
+  bool renders(size_t gi) const { return gi == 0 || owns(gi); }
+  SummaryRow compare(const Run& run, const std::string& clock) const;
+  std::vector<std::string> clocks() const;
+
+  const ConvergeOptions& o_;
+  Provenance provenance_;  // with this run's device
+  // A convergence curve is one timed measurement: an interrupted run starts again rather than resuming. Both
+  // files are opened (and locked) before anything is rendered.
+  RecordCsv<ConvergeRow> csv_;
+  RecordCsv<SummaryRow> summary_;
+  std::vector<std::unique_ptr<Generator>> generators_;
+  std::unique_ptr<LoadedScene> ls_;
+  ReferenceImage ref_;
+  ToneMap tm_;                           // resolved on the reference, the same for every generator
+  std::optional<ReferenceNoise> noise_;  // the reference's own noise, from its half image
+  std::unique_ptr<Tracer> gpu_model_;    // the `simt` tracer of --gpu-model, null for none
+  std::vector<Run> runs_;
+  std::vector<bool> owned_;
+  std::string fingerprint_;
+};
+
+}  // namespace raycoh

@@ -1,0 +1,63 @@
+// `raycoh quality`'s measurement of one generator on one scene: R independent renders against the reference
+// (harness/quality.cpp's header comment defines every figure), and the figures written into its row.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "generators/generator.h"
+#include "harness/quality.h"
+#include "harness/render_common.h"
+#include "records/quality_row.h"
+#include "shading/metrics.h"
+#include "shading/path_tracer.h"
+
+namespace raycoh {
+
+// R independent renders of one generator against the reference.
+struct Renders {
+  std::vector<double> psnr, ssim, rmse, rel_mse, mse, metric_mse;  // per render
+  std::vector<double> ds[3];                                       // per render: rel_mse of the 2x/4x/8x images
+  double mse_of_mean = 0;                                          // MSE of the mean of the R renders
+  double rel_mse_of_mean = 0, ds8_of_mean = 0;                     // relMSE of the mean, full and 8x downsampled
+  BiasReport bias;
+  double bias_excluded_ds4 = std::nan("");  // bias_test's share on the 4 x 4 box-downsampled frames
+  bool has_bias = false;
+  FrameStats total;
+  uint64_t non_finite_pixels = 0;
+};
+
+// Where a generator's renders are written: render 0 and its crops, tone-mapped for display.
+struct ImageSink {
+  std::string dir, base;  // base: "<scene>-<generator>"
+  const std::vector<Crop>& crops;
+  std::string hdr_dir = "";  // non-empty: every render's linear image also goes there as r<i>.exr, for HDR-FLIP
+  std::string hdr_path(int r) const { return (std::filesystem::path(hdr_dir) / fmt::format("r{}.exr", r)).string(); }
+  std::string main_path() const { return (std::filesystem::path(dir) / (base + display_extension())).string(); }
+  void write(const Image& img, const ToneMap& tm) const {
+    write_image(img, main_path(), tm);
+    for (size_t ci = 0; ci < crops.size(); ++ci)
+      write_image(crop(img, crops[ci]),
+                  (std::filesystem::path(dir) / fmt::format("{}-crop{}{}", base, ci, display_extension())).string(),
+                  tm);
+  }
+  // The bias map: signed false colour (display) and, in a build with EXR, (d, sigma, z) as float.
+  void write_bias(const BiasReport& b) const {
+    write_image(bias_false_colour(b.map),
+                (std::filesystem::path(dir) / (base + "-bias" + display_extension())).string(),
+                ToneMap{ToneMapKind::Clamp, 1.f, false});
+    if (image_io_available()) write_image(b.map, (std::filesystem::path(dir) / (base + "-bias.exr")).string());
+  }
+};
+
+Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generator& generator, const std::string& label,
+                         const ReferenceImage& ref, const ToneMap& tm, const ImageSink& sink, size_t item,
+                         size_t items);
+// The figures of the renders (R of them, each of `frames` frames) into the row; noise: the reference's own.
+void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, const ReferenceNoise* noise);
+
+}  // namespace raycoh

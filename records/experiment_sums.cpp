@@ -1,0 +1,38 @@
+#include "records/experiment_sums.h"
+
+namespace raycoh {
+
+Experiment read_experiment(const ResultCsv& c) {
+  Experiment e;
+  std::map<std::string, std::set<std::string>> frames_of;
+  for (const auto& r : c.rows) {
+    const RecordedColumns recorded = recorded_of(c, r);
+    const std::string scene = c.get(r, "scene"), tl = tracer_label(c.get(r, "tracer"), recorded),
+                      method = c.get(r, "method");
+    add_unique(e.scenes, scene);
+    add_unique(e.tracers, tl);
+    add_unique(e.methods, method);
+    const bool modeled = !std::isnan(c.num(r, "modeled_ms"));
+    e.modeled[tl] = modeled;
+    Sums& s = e.sums[scene][tl][method];
+    s.generator = c.get(r, "generator");
+    s.recorded = recorded;
+    s.encoder = c.get(r, "encoder").empty() ? "none" : c.get(r, "encoder");
+    s.rays += c.num(r, "rays");
+    s.trace_ms += c.num(r, "trace_ms");
+    s.e2e_ms += c.num(r, "e2e_ms");
+    if (modeled) {
+      s.modeled_ms += c.num(r, "modeled_ms");
+      s.modeled_e2e_ms += c.num(r, "modeled_e2e_ms");
+    }
+    e.revisions.insert(c.get(r, "git_revision"));
+    e.resolutions.insert(c.get(r, "width") + "×" + c.get(r, "height"));
+    frames_of[scene].insert(c.get(r, "frame"));
+    e.cpus.insert(c.get(r, "cpu") + ", " + c.get(r, "threads") + " threads");
+    e.commands.insert(c.get(r, "command_line"));
+  }
+  for (const auto& [scene, f] : frames_of) e.frames.insert(std::to_string(f.size()));
+  return e;
+}
+
+}  // namespace raycoh

@@ -1,0 +1,40 @@
+#include "records/recorded_columns.h"
+
+#include <fmt/format.h>
+
+#include "plugins/recorded_params.h"
+
+namespace raycoh {
+
+RecordedColumns recorded_columns(const std::string& generator, const std::string& generator_params,
+                                 const std::string& tracer, const std::string& tracer_params) {
+  const RecordedGenerator g = recorded_generator(generator, generator_params);
+  const RecordedTracer t = recorded_tracer(tracer, tracer_params);
+  return {g.tile_w, g.tile_h, g.k, g.order, t.preset, t.mode};
+}
+
+const Schema<RecordedColumns>& recorded_schema() {
+  using namespace csv_format;
+  using R = RecordedColumns;
+  static const Schema<R> schema = {
+      column("tile_w", &R::tile_w, Optional<Integer<int>>{}),
+      column("tile_h", &R::tile_h, Optional<Integer<int>>{}),
+      column("k", &R::k, Optional<Integer<int>>{}),
+      column("order", &R::order, Text{}),
+      column("preset", &R::preset, Text{}),
+      column("mode", &R::mode, Text{}),
+  };
+  return schema;
+}
+
+std::string sweep_method_label(const std::string& generator, int tile_w, int tile_h, int k) {
+  return fmt::format("{}:tile={}x{},k={}", generator, tile_w, tile_h, k);
+}
+
+std::string tracer_label(const std::string& tracer, const RecordedColumns& recorded) {
+  if (!recorded.preset.empty()) return tracer + "[preset=" + recorded.preset + "]";
+  if (!recorded.mode.empty()) return tracer + "[mode=" + recorded.mode + "]";
+  return tracer;
+}
+
+}  // namespace raycoh

@@ -1,0 +1,35 @@
+// The recorded parameters a reader needs, as typed columns of every CSV whose rows name a generator or a tracer
+// (table/sweep, quality, converge): the generator's tile, group size K and batch order, the tracer's GPU preset
+// (simt) and Embree call mode (embree). They are the last columns, after the provenance, so that the columns
+// before them keep their places; a row fills them from its generator_params and tracer_params through the plugins'
+// own tables (plugins/recorded_params.h), and a reader of an older CSV (the report) fills them the same way. No
+// reader parses parameter text itself.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "records/schema.h"
+
+namespace raycoh {
+
+struct RecordedColumns {
+  std::optional<int> tile_w, tile_h, k;  // empty where the generator has no such parameter (and for noopt's K)
+  std::string order;                     // batch order: scanline | tile | group; empty where it has none
+  std::string preset, mode;              // simt's GPU preset, embree's call mode; empty for other tracers
+};
+
+RecordedColumns recorded_columns(const std::string& generator, const std::string& generator_params,
+                                 const std::string& tracer, const std::string& tracer_params);
+
+// tile_w, tile_h, k, order, preset, mode.
+const Schema<RecordedColumns>& recorded_schema();
+
+// The method label of one sweep cell ("ours:tile=8x8,k=16"): `raycoh sweep` names its methods so, and a reader
+// knows a sweep's cells by it (with the typed tile and K of their rows).
+std::string sweep_method_label(const std::string& generator, int tile_w, int tile_h, int k);
+
+// "simt[preset=rtx3060]", "embree[mode=packet16]", "cpu": a tracer as figures and tables name it.
+std::string tracer_label(const std::string& tracer, const RecordedColumns& recorded);
+
+}  // namespace raycoh
