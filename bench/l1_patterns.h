@@ -10,7 +10,7 @@
 //   sectors4 ceil(distinct sectors / 4)
 //   banks    the most distinct sectors that share a sector position (sector mod 4: the 8 of the 32 four-byte data
 //            banks that position occupies), i.e. a data-bank conflict degree at sector granularity
-//   gpgpusim GPGPU-Sim's rule (simt/warp_trace.h l1_bank_cycles: 4 sectors a cycle from the highest address, the
+//   gpgpusim GPGPU-Sim's rule (l1_bank_cycles, simt/warp_trace.h: 4 sectors a cycle from the highest address, the
 //            cycle ends at the first repeated bank)
 #pragma once
 
@@ -22,7 +22,11 @@
 #include <string>
 #include <vector>
 
+#include "simt/warp_trace.h"
+
 namespace raycoh::l1probe {
+
+using raycoh::l1_bank_cycles;
 
 inline constexpr uint32_t kLine = 128, kSector = 32, kPage = 4096, kLanes = 32;
 inline constexpr uint32_t kSpan = 65536;  // the span patterns' range: address bits 7-15 of their lines vary
@@ -36,23 +40,6 @@ struct Pattern {
 struct Features {
   uint32_t lines = 0, sectors = 0, bank_max = 0, gpgpusim = 0, lines4 = 0, sectors4 = 0, bytes128 = 0;
 };
-
-// GPGPU-Sim's cycles for the sorted distinct sectors (the same rule as simt/warp_trace.h, restated here so that the
-// probe builds without the model).
-inline uint32_t gpgpusim_cycles(const std::vector<uint32_t>& sorted, uint32_t banks = 4) {
-  uint32_t cycles = 0, taken = 0, in_cycle = 0;
-  for (auto it = sorted.rbegin(); it != sorted.rend(); ++it) {
-    const uint32_t bank = 1u << (*it % banks);
-    if (in_cycle == 0 || (taken & bank) || in_cycle == banks) {
-      ++cycles;
-      taken = 0;
-      in_cycle = 0;
-    }
-    taken |= bank;
-    ++in_cycle;
-  }
-  return cycles;
-}
 
 inline Features features(const Pattern& p) {
   std::set<uint32_t> lines, sectors;
@@ -68,7 +55,8 @@ inline Features features(const Pattern& p) {
   std::array<uint32_t, 4> per_position{};
   for (uint32_t s : sectors) ++per_position[s % 4];
   f.bank_max = *std::max_element(per_position.begin(), per_position.end());
-  f.gpgpusim = gpgpusim_cycles(std::vector<uint32_t>(sectors.begin(), sectors.end()));
+  const std::vector<uint64_t> sorted(sectors.begin(), sectors.end());
+  f.gpgpusim = l1_bank_cycles(sorted.data(), static_cast<uint32_t>(sorted.size()), 4);
   f.lines4 = std::max(1u, (f.lines + 3) / 4);
   f.sectors4 = (f.sectors + 3) / 4;
   f.bytes128 = (p.width * kLanes + kLine - 1) / kLine;

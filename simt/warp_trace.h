@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -69,7 +68,7 @@ inline HopperL1Stages hopper_l1_stages(const uint64_t* addr, uint32_t n, uint32_
   uint32_t per_tag_bank[4] = {}, tag = 1;
   for (uint32_t i = 0; i < line_count; ++i) {
     const uint64_t k = lines[i];
-    const uint32_t bank = (std::popcount(k & 0x16Fu) & 1u) | (std::popcount(k & 0x0B5u) & 1u) << 1;
+    const uint32_t bank = (__builtin_popcountll(k & 0x16Fu) & 1u) | (__builtin_popcountll(k & 0x0B5u) & 1u) << 1;
     tag = std::max(tag, ++per_tag_bank[bank]);
   }
   return {data, tag};

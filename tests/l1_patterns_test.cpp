@@ -1,5 +1,5 @@
 // The L1 probe's patterns (bench/l1_patterns.h): each regular family touches the lines, sectors and sector
-// positions its name says, and the probe's copy of GPGPU-Sim's bank rule agrees with the model's (simt/warp_trace.h).
+// positions its name says.
 // The model's H100 rule (hopper_l1_stages) against what the probe measured on an H100 for every pattern
 // (results/gpu/h100-9566ba3/l1-measured.csv: Nsight Compute's data- and tag-stage wavefronts, clock64 cycles).
 #include "bench/l1_patterns.h"
@@ -64,18 +64,6 @@ TEST(L1Patterns, SpanPatternsAreBankFreeAndInTheirSpan) {
     for (uint64_t a : addr) EXPECT_LT(a, kSpan) << p.name;
     EXPECT_EQ(hopper_l1_stages(addr.data(), 32, 4).data, 1u) << p.name;  // the tag stage alone sets the time
     EXPECT_GE(features(p).lines, 2u);
-  }
-}
-
-TEST(L1Patterns, GpgpusimRuleIsTheModelsRule) {
-  std::mt19937 rng(5);
-  for (int i = 0; i < 500; ++i) {
-    std::set<uint32_t> distinct;
-    const int n = 1 + static_cast<int>(rng() % 32);
-    for (int k = 0; k < n; ++k) distinct.insert(rng() % 128);
-    const std::vector<uint32_t> sorted(distinct.begin(), distinct.end());
-    const std::vector<uint64_t> wide(sorted.begin(), sorted.end());
-    EXPECT_EQ(gpgpusim_cycles(sorted), l1_bank_cycles(wide.data(), static_cast<uint32_t>(wide.size()), 4));
   }
 }
 
