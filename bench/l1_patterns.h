@@ -93,7 +93,8 @@ inline std::vector<Pattern> all_patterns(uint32_t random_count, uint32_t seed) {
       if (lines <= 16) out.push_back(spread(l + "-2sectors", width, lines, 0, 2));
       if (lines <= 8) out.push_back(spread(l + "-4sectors", width, lines, 0, 4));
     }
-    for (uint32_t s = 2; s <= 4; ++s) out.push_back(spread(w + "-line1-" + std::to_string(s) + "sectors", width, 1, 0, s));
+    for (uint32_t s = 2; s <= 4; ++s)
+      out.push_back(spread(w + "-line1-" + std::to_string(s) + "sectors", width, 1, 0, s));
   }
   std::mt19937 rng(seed);
   for (uint32_t i = 0; i < random_count; ++i) {

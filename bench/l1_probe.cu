@@ -29,13 +29,13 @@ namespace {
 using raycoh::l1probe::kPage;
 using raycoh::l1probe::Pattern;
 
-#define PROBE_CHECK(call)                                                                                  \
-  do {                                                                                                     \
-    const cudaError_t e_ = (call);                                                                         \
-    if (e_ != cudaSuccess) {                                                                               \
-      std::fprintf(stderr, "raycoh_bench_l1: %s: %s\n", #call, cudaGetErrorString(e_));                   \
-      std::exit(1);                                                                                        \
-    }                                                                                                      \
+#define PROBE_CHECK(call)                                                               \
+  do {                                                                                  \
+    const cudaError_t e_ = (call);                                                      \
+    if (e_ != cudaSuccess) {                                                            \
+      std::fprintf(stderr, "raycoh_bench_l1: %s: %s\n", #call, cudaGetErrorString(e_)); \
+      std::exit(1);                                                                     \
+    }                                                                                   \
   } while (0)
 
 constexpr int kLoads = 8;  // independent loads per trip, one per page
@@ -51,7 +51,10 @@ __device__ __forceinline__ unsigned load(const unsigned char* p) {
     asm volatile("ld.global.nc.v2.u32 {%0, %1}, [%2];" : "=r"(a), "=r"(b) : "l"(p) : "memory");
     return a + b;
   } else {
-    asm volatile("ld.global.nc.v4.u32 {%0, %1, %2, %3}, [%4];" : "=r"(a), "=r"(b), "=r"(c), "=r"(d) : "l"(p) : "memory");
+    asm volatile("ld.global.nc.v4.u32 {%0, %1, %2, %3}, [%4];"
+                 : "=r"(a), "=r"(b), "=r"(c), "=r"(d)
+                 : "l"(p)
+                 : "memory");
     return a + b + c + d;
   }
 }
@@ -86,7 +89,8 @@ __device__ __forceinline__ unsigned sm_id() {
 
 template <int W>
 __global__ void probe_kernel(const unsigned char* __restrict__ pages, const unsigned* __restrict__ offsets, int iters,
-                             unsigned stride, unsigned zero, unsigned* __restrict__ sink, long long* __restrict__ clocks) {
+                             unsigned stride, unsigned zero, unsigned* __restrict__ sink,
+                             long long* __restrict__ clocks) {
   const unsigned char* p = pages + offsets[threadIdx.x & 31];
   unsigned acc = trip<W>(p, stride);  // warm-up: the footprint (32 or 64 KB) into L1
   __syncthreads();
@@ -113,8 +117,10 @@ struct Options {
 };
 
 [[noreturn]] void usage(const char* why) {
-  std::fprintf(stderr, "raycoh_bench_l1: %s (options: --iters N --blocks-per-sm N --threads N --random N --seed S "
-               "--width 4|8|16 --span N --span-only --ncu --out FILE)\n", why);
+  std::fprintf(stderr,
+               "raycoh_bench_l1: %s (options: --iters N --blocks-per-sm N --threads N --random N --seed S "
+               "--width 4|8|16 --span N --span-only --ncu --out FILE)\n",
+               why);
   std::exit(2);
 }
 
@@ -129,17 +135,29 @@ Options parse(int argc, char** argv) {
       if (*end != '\0' || v < 0 || v > 1 << 20) usage(("option " + a + ": not a count in [0, 1048576]").c_str());
       return v;
     };
-    if (a == "--iters") o.iters = static_cast<int>(value());
-    else if (a == "--blocks-per-sm") o.blocks_per_sm = static_cast<int>(value());
-    else if (a == "--threads") o.threads = static_cast<int>(value());
-    else if (a == "--random") o.random = static_cast<int>(value());
-    else if (a == "--seed") o.seed = static_cast<unsigned>(value());
-    else if (a == "--width") o.width = static_cast<int>(value());
-    else if (a == "--span") o.span = static_cast<int>(value());
-    else if (a == "--span-only") o.span_only = true;
-    else if (a == "--ncu") o.ncu = true;
-    else if (a == "--out") { if (++i >= argc) usage("--out needs a file"); o.out = argv[i]; }
-    else usage(("unknown option '" + a + "'").c_str());
+    if (a == "--iters")
+      o.iters = static_cast<int>(value());
+    else if (a == "--blocks-per-sm")
+      o.blocks_per_sm = static_cast<int>(value());
+    else if (a == "--threads")
+      o.threads = static_cast<int>(value());
+    else if (a == "--random")
+      o.random = static_cast<int>(value());
+    else if (a == "--seed")
+      o.seed = static_cast<unsigned>(value());
+    else if (a == "--width")
+      o.width = static_cast<int>(value());
+    else if (a == "--span")
+      o.span = static_cast<int>(value());
+    else if (a == "--span-only")
+      o.span_only = true;
+    else if (a == "--ncu")
+      o.ncu = true;
+    else if (a == "--out") {
+      if (++i >= argc) usage("--out needs a file");
+      o.out = argv[i];
+    } else
+      usage(("unknown option '" + a + "'").c_str());
   }
   if (o.iters < 1 || o.threads < 32 || o.threads > 1024 || o.threads % 32 || o.blocks_per_sm < 1)
     usage("--iters >= 1, --threads a multiple of 32 in [32, 1024], --blocks-per-sm >= 1");
@@ -154,9 +172,12 @@ struct Measured {
 
 void launch(int width, int grid, int threads, const unsigned char* pages, const unsigned* offsets, int iters,
             unsigned stride, unsigned* sink, long long* clocks) {
-  if (width == 4) probe_kernel<4><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
-  else if (width == 8) probe_kernel<8><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
-  else probe_kernel<16><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
+  if (width == 4)
+    probe_kernel<4><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
+  else if (width == 8)
+    probe_kernel<8><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
+  else
+    probe_kernel<16><<<grid, threads>>>(pages, offsets, iters, stride, 0, sink, clocks);
   PROBE_CHECK(cudaGetLastError());
 }
 
@@ -213,7 +234,8 @@ int main(int argc, char** argv) {
   std::fprintf(out, "# raycoh_bench_l1 on %s (%d SMs, sm_%d%d), %s, iters %d, %d blocks of %d threads\n", prop.name,
                sms, prop.major, prop.minor, o.ncu ? "ncu mode (one launch per pattern)" : "timed", o.iters, grid,
                o.threads);
-  std::fprintf(out, "launch,pattern,width,lines,sectors,bank_max,gpgpusim,lines4,sectors4,bytes128,"
+  std::fprintf(out,
+               "launch,pattern,width,lines,sectors,bank_max,gpgpusim,lines4,sectors4,bytes128,"
                "cycles_per_load,min_sm,max_sm,kernel_ms,offsets\n");
   int index = 0;
   std::vector<Pattern> patterns;

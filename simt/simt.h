@@ -66,8 +66,7 @@ struct StepFetches {
     for (uint64_t l = addr / c.line_bytes; l <= (addr + bytes - 1) / c.line_bytes; ++l) lines[line_count++] = l;
     for (uint64_t s = addr / c.sector_bytes; s <= (addr + bytes - 1) / c.sector_bytes; ++s) sectors[sector_count++] = s;
     if (!words_wanted) return;
-    for (uint32_t w = 0; w < bytes / 16 && w < kMaxRecordWords; ++w)
-      words[w][word_count[w]++] = addr + 16 * w;
+    for (uint32_t w = 0; w < bytes / 16 && w < kMaxRecordWords; ++w) words[w][word_count[w]++] = addr + 16 * w;
   }
   static uint32_t sort_unique(uint64_t* v, uint32_t n) {
     std::sort(v, v + n);
