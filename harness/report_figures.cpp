@@ -120,24 +120,34 @@ std::string footer_of(const Experiment& e, const std::string& tracer) {
                      join_set(e.revisions));
 }
 
-// The Table 1 layout as bars: scenes across, in each scene the methods grouped by generator (one hue each, a gap
-// between groups), encoders as shades of the hue (none the full colour); the value is the ratio to noopt.
-std::string table_figure(const Experiment& e, const std::string& tl, bool e2e, const std::string& title) {
+namespace {
+
+// The methods of a Table 1 figure in generator-major order (primary first: the coherent bound), with the
+// generators and encoders among them in order of appearance.
+struct TableMethods {
   std::vector<std::string> generators, encoders, methods;
+};
+
+TableMethods table_methods(const Experiment& e, const std::string& tl, bool e2e) {
+  TableMethods t;
   for (const std::string& m : e.methods) {
     if (m == "primary" && e2e) continue;
     const Sums& s = e.sums.at(e.scenes.front()).at(tl).at(m);
-    add_unique(generators, s.generator);
-    add_unique(encoders, s.encoder);
+    add_unique(t.generators, s.generator);
+    add_unique(t.encoders, s.encoder);
   }
-  // Methods in generator-major order (primary first: the coherent bound).
-  for (const std::string& g : generators)
-    for (const std::string& enc : encoders)
+  for (const std::string& g : t.generators)
+    for (const std::string& enc : t.encoders)
       for (const std::string& m : e.methods) {
         if (m == "primary" && e2e) continue;
         const Sums& s = e.sums.at(e.scenes.front()).at(tl).at(m);
-        if (s.generator == g && s.encoder == enc) methods.push_back(m);
+        if (s.generator == g && s.encoder == enc) t.methods.push_back(m);
       }
+  return t;
+}
+
+// The highest ratio to noopt of any bar, at least 1.
+double highest_ratio(const Experiment& e, const std::string& tl, bool e2e, const std::vector<std::string>& methods) {
   const bool modeled = e.modeled.at(tl);
   double hi = 1.0;
   for (const std::string& scene : e.scenes)
@@ -146,82 +156,121 @@ std::string table_figure(const Experiment& e, const std::string& tl, bool e2e, c
       if (!t.count(m)) continue;
       hi = std::max(hi, t.at(m).speed(modeled, e2e) / std::max(t.at("noopt").speed(modeled, e2e), 1e-30));
     }
-  const std::vector<double> tk = ticks(hi * 1.05);
-  const double top = tk.back();
-  const double bar = 9, gap = 8, scene_gap = 30, left = 60, plot_h = 220, top_y = 40;
-  const double scene_w = methods.size() * bar + (generators.size() - 1) * gap;
-  const double width = left + e.scenes.size() * (scene_w + scene_gap) + 10;
-  const double legend_y = top_y + plot_h + 50;
-  const size_t per_row = 5;
-  const double height = legend_y + 22 + 18 * ((encoders.size() + per_row - 1) / per_row) + 16;
+  return hi;
+}
+
+// Where the parts of a Table 1 figure go.
+struct TableLayout {
+  double top = 0;  // the axis' highest tick
+  double bar = 9, gap = 8, scene_gap = 30, left = 60, plot_h = 220, top_y = 40;
+  double scene_w = 0, width = 0, legend_y = 0, height = 0;
+  size_t per_row = 5;  // encoders per legend row
+
+  TableLayout(const Experiment& e, const TableMethods& t, double axis_top) : top(axis_top) {
+    scene_w = t.methods.size() * bar + (t.generators.size() - 1) * gap;
+    width = left + e.scenes.size() * (scene_w + scene_gap) + 10;
+    legend_y = top_y + plot_h + 50;
+    height = legend_y + 22 + 18 * ((t.encoders.size() + per_row - 1) / per_row) + 16;
+  }
+  double y_of(double v) const { return top_y + plot_h * (1 - v / top); }
+};
+
+// The svg element, the title, the value axis' grid lines and ticks, the dashed line at 1 and the axis label.
+std::string table_axes(const TableLayout& l, const std::vector<double>& tk, bool modeled, const std::string& title) {
   std::string svg = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0f}\" height=\"{:.0f}\" viewBox=\"0 0 {:.0f} {:.0f}\" "
       "role=\"img\" font-family=\"sans-serif\">\n<title>{}</title>\n",
-      std::max(width, 700.0), height, std::max(width, 700.0), height, html_escape(title));
-  svg += text(left, 18, title, "start", 14, " font-weight=\"bold\"");
-  auto y_of = [&](double v) { return top_y + plot_h * (1 - v / top); };
+      std::max(l.width, 700.0), l.height, std::max(l.width, 700.0), l.height, html_escape(title));
+  svg += text(l.left, 18, title, "start", 14, " font-weight=\"bold\"");
   for (double v : tk) {
-    svg += fmt::format("<line x1=\"{}\" x2=\"{:.0f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ddd\"/>\n", left,
-                       width - 10, y_of(v), y_of(v));
-    svg += text(left - 6, y_of(v) + 4, fmt::format("{:g}", v), "end", 11);
+    svg += fmt::format("<line x1=\"{}\" x2=\"{:.0f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#ddd\"/>\n", l.left,
+                       l.width - 10, l.y_of(v), l.y_of(v));
+    svg += text(l.left - 6, l.y_of(v) + 4, fmt::format("{:g}", v), "end", 11);
   }
   svg += fmt::format(
-      "<line x1=\"{}\" x2=\"{:.0f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#000\" stroke-dasharray=\"4 3\"/>\n", left,
-      width - 10, y_of(1), y_of(1));
+      "<line x1=\"{}\" x2=\"{:.0f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#000\" stroke-dasharray=\"4 3\"/>\n", l.left,
+      l.width - 10, l.y_of(1), l.y_of(1));
   svg += fmt::format(
       "<text transform=\"translate(16,{:.0f}) rotate(-90)\" text-anchor=\"middle\" font-size=\"12\">{} speed / "
       "noopt (axis from 0; dashed: 1)</text>\n",
-      top_y + plot_h / 2, modeled ? "modeled" : "measured");
-  double x = left + scene_gap / 2;
+      l.top_y + l.plot_h / 2, modeled ? "modeled" : "measured");
+  return svg;
+}
+
+// Every scene's bars with the scene's name below them, then the axis at 0.
+std::string table_bars(const Experiment& e, const std::string& tl, bool e2e, const TableMethods& tm,
+                       const TableLayout& l) {
+  const bool modeled = e.modeled.at(tl);
+  std::string svg;
+  double x = l.left + l.scene_gap / 2;
   for (const std::string& scene : e.scenes) {
     const auto& t = e.sums.at(scene).at(tl);
     const double base = std::max(t.at("noopt").speed(modeled, e2e), 1e-30);
     double bx = x;
     std::string prev;
-    for (const std::string& m : methods) {
+    for (const std::string& m : tm.methods) {
       const Sums& s = e.sums.at(e.scenes.front()).at(tl).at(m);
-      if (!prev.empty() && s.generator != prev) bx += gap;
+      if (!prev.empty() && s.generator != prev) bx += l.gap;
       prev = s.generator;
       if (t.count(m)) {
         const double v = t.at(m).speed(modeled, e2e) / base;
-        const size_t ei = std::find(encoders.begin(), encoders.end(), s.encoder) - encoders.begin();
+        const size_t ei = std::find(tm.encoders.begin(), tm.encoders.end(), s.encoder) - tm.encoders.begin();
         const std::string fill = m == "primary" ? "#000000"
-                                                : lighten(generator_colour(s.generator, generators),
-                                                          0.75 * ei / std::max<size_t>(encoders.size(), 2));
+                                                : lighten(generator_colour(s.generator, tm.generators),
+                                                          0.75 * ei / std::max<size_t>(tm.encoders.size(), 2));
         svg += fmt::format(
             "<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"{}\" stroke=\"#333\" "
             "stroke-width=\"0.5\"><title>{} {}: {:.2f}x noopt</title></rect>\n",
-            bx, y_of(v), bar - 1, y_of(0) - y_of(v), fill, html_escape(scene), html_escape(m), v);
+            bx, l.y_of(v), l.bar - 1, l.y_of(0) - l.y_of(v), fill, html_escape(scene), html_escape(m), v);
       }
-      bx += bar;
+      bx += l.bar;
     }
-    svg += text(x + scene_w / 2, top_y + plot_h + 18, scene, "middle", 12);
-    x += scene_w + scene_gap;
+    svg += text(x + l.scene_w / 2, l.top_y + l.plot_h + 18, scene, "middle", 12);
+    x += l.scene_w + l.scene_gap;
   }
-  svg += fmt::format("<line x1=\"{}\" x2=\"{:.0f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#000\"/>\n", left, width - 10,
-                     y_of(0), y_of(0));
-  // Legend: hue = generator, shade = encoder.
-  double lx = left;
-  svg += text(lx, legend_y, "colour = generator:", "start", 12);
+  svg += fmt::format("<line x1=\"{}\" x2=\"{:.0f}\" y1=\"{:.1f}\" y2=\"{:.1f}\" stroke=\"#000\"/>\n", l.left,
+                     l.width - 10, l.y_of(0), l.y_of(0));
+  return svg;
+}
+
+// Legend: hue = generator, shade = encoder.
+std::string table_legend(const TableMethods& tm, const TableLayout& l) {
+  std::string svg;
+  double lx = l.left;
+  svg += text(lx, l.legend_y, "colour = generator:", "start", 12);
   lx += 125;
-  for (const std::string& g : generators) {
-    const std::string fill = g == "primary" ? "#000000" : generator_colour(g, generators);
-    svg += fmt::format("<rect x=\"{:.0f}\" y=\"{:.0f}\" width=\"12\" height=\"12\" fill=\"{}\"/>\n", lx, legend_y - 10,
-                       fill);
+  for (const std::string& g : tm.generators) {
+    const std::string fill = g == "primary" ? "#000000" : generator_colour(g, tm.generators);
+    svg += fmt::format("<rect x=\"{:.0f}\" y=\"{:.0f}\" width=\"12\" height=\"12\" fill=\"{}\"/>\n", lx,
+                       l.legend_y - 10, fill);
     const std::string name = g == "primary" ? "primary (coherent bound)" : g;
-    svg += text(lx + 16, legend_y, name, "start", 12);
+    svg += text(lx + 16, l.legend_y, name, "start", 12);
     lx += 22 + 7.0 * name.size();
   }
-  svg += text(left, legend_y + 22, "shade = encoder (left to right):", "start", 12);
-  for (size_t i = 0; i < encoders.size(); ++i) {
-    const double ex = left + 200 + (i % per_row) * 85, ey = legend_y + 22 + 18 * (i / per_row);
+  svg += text(l.left, l.legend_y + 22, "shade = encoder (left to right):", "start", 12);
+  for (size_t i = 0; i < tm.encoders.size(); ++i) {
+    const double ex = l.left + 200 + (i % l.per_row) * 85, ey = l.legend_y + 22 + 18 * (i / l.per_row);
     svg += fmt::format(
         "<rect x=\"{:.0f}\" y=\"{:.0f}\" width=\"12\" height=\"12\" fill=\"{}\" stroke=\"#333\" "
         "stroke-width=\"0.5\"/>\n",
-        ex, ey - 10, lighten("#444444", 0.75 * i / std::max<size_t>(encoders.size(), 2)));
-    svg += text(ex + 16, ey, encoders[i], "start", 12);
+        ex, ey - 10, lighten("#444444", 0.75 * i / std::max<size_t>(tm.encoders.size(), 2)));
+    svg += text(ex + 16, ey, tm.encoders[i], "start", 12);
   }
-  svg += text(left, height - 6, footer_of(e, tl), "start", 10, " fill=\"#555\"");
+  return svg;
+}
+
+}  // namespace
+
+// The Table 1 layout as bars: scenes across, in each scene the methods grouped by generator (one hue each, a gap
+// between groups), encoders as shades of the hue (none the full colour); the value is the ratio to noopt.
+std::string table_figure(const Experiment& e, const std::string& tl, bool e2e, const std::string& title) {
+  const TableMethods methods = table_methods(e, tl, e2e);
+  const std::vector<double> tk = ticks(highest_ratio(e, tl, e2e, methods.methods) * 1.05);
+  const TableLayout layout(e, methods, tk.back());
+  std::string svg = table_axes(layout, tk, e.modeled.at(tl), title);
+  svg += table_bars(e, tl, e2e, methods, layout);
+  svg += table_legend(methods, layout);
+  svg += text(layout.left, layout.height - 6, footer_of(e, tl), "start", 10, " fill=\"#555\"");
   return svg + "</svg>\n";
 }
 

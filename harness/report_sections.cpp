@@ -183,33 +183,43 @@ void add_quality_bias(Page& p, const ResultCsv& c) {
       html_escape(c.path), rows);
 }
 
-// PSNR per scene and method (the paper's Table 2), and the images side by side when `<csv dir>/quality-images/
-// <scene>-<method>.png` exist (scripts/montage.py's inputs).
-void add_quality(Page& p, const ResultCsv& c) {
+namespace {
+
+// A quality CSV's PSNR by scene and method, and the run facts its rows record.
+struct QualityTable {
   std::vector<std::string> scenes, methods;
   std::map<std::pair<std::string, std::string>, std::string> psnr;
   std::set<std::string> info;
+};
+
+QualityTable read_quality_table(const ResultCsv& c) {
+  QualityTable q;
   for (const auto& r : c.rows) {
-    add_unique(scenes, c.get(r, "scene"));
-    add_unique(methods, c.get(r, "method"));
-    psnr[{c.get(r, "scene"), c.get(r, "method")}] = fmt::format("{:.2f}", c.num(r, "psnr"));
-    info.insert(fmt::format("{}×{}, {} frames (reference {}), tracer {}, revision {}", c.get(r, "width"),
-                            c.get(r, "height"), c.get(r, "frames"), c.get(r, "ref_frames"), c.get(r, "tracer"),
-                            c.get(r, "git_revision")));
+    add_unique(q.scenes, c.get(r, "scene"));
+    add_unique(q.methods, c.get(r, "method"));
+    q.psnr[{c.get(r, "scene"), c.get(r, "method")}] = fmt::format("{:.2f}", c.num(r, "psnr"));
+    q.info.insert(fmt::format("{}×{}, {} frames (reference {}), tracer {}, revision {}", c.get(r, "width"),
+                              c.get(r, "height"), c.get(r, "frames"), c.get(r, "ref_frames"), c.get(r, "tracer"),
+                              c.get(r, "git_revision")));
   }
+  return q;
+}
+
+// The paper's Table 2: scenes down, methods across, a dash where a scene has no row of a method.
+void add_psnr_table(Page& p, const ResultCsv& c, const QualityTable& q) {
   std::string head = "| scene |", rule = "|---|";
-  for (const std::string& m : methods) head += " " + m + " |", rule += "---:|";
-  p.md += fmt::format("## Image quality (PSNR, dB): {}\n\n{}\n\n{}\n{}\n", c.path, join_set(info, "; "), head, rule);
+  for (const std::string& m : q.methods) head += " " + m + " |", rule += "---:|";
+  p.md += fmt::format("## Image quality (PSNR, dB): {}\n\n{}\n\n{}\n{}\n", c.path, join_set(q.info, "; "), head, rule);
   std::string table = "<table><tr><th>scene</th>";
-  for (const std::string& m : methods) table += "<th>" + html_escape(m) + "</th>";
+  for (const std::string& m : q.methods) table += "<th>" + html_escape(m) + "</th>";
   table += "</tr>\n";
-  for (const std::string& s : scenes) {
+  for (const std::string& s : q.scenes) {
     p.md += "| " + s + " |";
     table += "<tr><td>" + html_escape(s) + "</td>";
-    for (const std::string& m : methods) {
-      const auto it = psnr.find({s, m});
-      p.md += " " + (it == psnr.end() ? std::string("—") : it->second) + " |";
-      table += "<td>" + (it == psnr.end() ? std::string("—") : it->second) + "</td>";
+    for (const std::string& m : q.methods) {
+      const auto it = q.psnr.find({s, m});
+      p.md += " " + (it == q.psnr.end() ? std::string("—") : it->second) + " |";
+      table += "<td>" + (it == q.psnr.end() ? std::string("—") : it->second) + "</td>";
     }
     p.md += "\n";
     table += "</tr>\n";
@@ -217,57 +227,69 @@ void add_quality(Page& p, const ResultCsv& c) {
   p.md += "\n";
   p.html +=
       fmt::format("<h2>Image quality: {}</h2>\n<p>PSNR in dB (higher is closer to the reference); {}</p>\n{}</table>\n",
-                  html_escape(c.path), html_escape(join_set(info, "; ")), table);
+                  html_escape(c.path), html_escape(join_set(q.info, "; ")), table);
+}
+
+// One scene's images in `dir` (the reference, then every method), their centre crops and their error maps.
+void add_scene_images(Page& p, const std::filesystem::path& dir, const std::string& s, const QualityTable& q) {
+  std::string row, crops, errors, reference;
+  std::vector<std::string> shown = {"reference"};
+  for (const std::string& m : q.methods) shown.push_back(m);
+  for (const std::string& m : shown) {
+    const std::filesystem::path png = dir / (s + "-" + m + ".png");
+    std::ifstream in(png, std::ios::binary);
+    if (!in) continue;
+    std::stringstream bytes;
+    bytes << in.rdbuf();
+    const std::string data = bytes.str();
+    if (data.size() < 24 || data.compare(1, 3, "PNG") != 0) continue;  // not a PNG: left out
+    const auto be32 = [&](size_t at) {
+      return (uint32_t(uint8_t(data[at])) << 24) | (uint32_t(uint8_t(data[at + 1])) << 16) |
+             (uint32_t(uint8_t(data[at + 2])) << 8) | uint32_t(uint8_t(data[at + 3]));
+    };
+    const uint32_t w = be32(16), h = be32(20);  // IHDR
+    const auto it = q.psnr.find({s, m});
+    const std::string caption = html_escape(m) + (it == q.psnr.end() ? "" : ", PSNR " + it->second + " dB");
+    const std::string src = "data:image/png;base64," + base64(data);
+    row += fmt::format("<figure><img alt=\"{} {}\" src=\"{}\"><figcaption>{}</figcaption></figure>\n", html_escape(s),
+                       html_escape(m), src, caption);
+    // The centre third of the image, 3x: the same pixels of every method side by side.
+    crops += fmt::format(
+        "<figure><div class=\"crop\" style=\"aspect-ratio:{}/{}\"><img alt=\"{} {} crop\" src=\"{}\"></div>"
+        "<figcaption>{}</figcaption></figure>\n",
+        w, h, html_escape(s), html_escape(m), src, caption);
+    if (m == "reference") {
+      reference = data;
+    } else if (const std::string map = reference.empty() ? "" : error_map_png(data, reference); !map.empty()) {
+      errors += fmt::format(
+          "<figure><img alt=\"{} {} error map\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption>"
+          "</figure>\n",
+          html_escape(s), html_escape(m), base64(map), html_escape(m));
+    }
+  }
+  if (!errors.empty())
+    crops += fmt::format(
+        "</div>\n<p class=\"note\">Error maps: |image − reference| as displayed, mean of the three channels, "
+        "×{:g} (black: equal; red, yellow, white: larger; white is a difference of {:.0f}% of the display range "
+        "or more). Blocks, seams and fireflies show here before they show in a PSNR:</p>\n<div class=\"imgs\">\n{}",
+        kErrorGain, 100.f / kErrorGain, errors);
+  if (!row.empty())
+    p.html += fmt::format(
+        "<h3>{}</h3>\n<div class=\"imgs\">\n{}</div>\n<p class=\"note\">The centre third, enlarged 3x (nearest "
+        "pixel):</p>\n<div class=\"imgs\">\n{}</div>\n",
+        html_escape(s), row, crops);
+}
+
+}  // namespace
+
+// PSNR per scene and method (the paper's Table 2), and the images side by side when `<csv dir>/quality-images/
+// <scene>-<method>.png` exist (scripts/montage.py's inputs).
+void add_quality(Page& p, const ResultCsv& c) {
+  const QualityTable q = read_quality_table(c);
+  add_psnr_table(p, c, q);
   add_quality_bias(p, c);
   const std::filesystem::path dir = std::filesystem::path(c.path).parent_path() / "quality-images";
-  for (const std::string& s : scenes) {
-    std::string row, crops, errors, reference;
-    std::vector<std::string> shown = {"reference"};
-    for (const std::string& m : methods) shown.push_back(m);
-    for (const std::string& m : shown) {
-      const std::filesystem::path png = dir / (s + "-" + m + ".png");
-      std::ifstream in(png, std::ios::binary);
-      if (!in) continue;
-      std::stringstream bytes;
-      bytes << in.rdbuf();
-      const std::string data = bytes.str();
-      if (data.size() < 24 || data.compare(1, 3, "PNG") != 0) continue;  // not a PNG: left out
-      const auto be32 = [&](size_t at) {
-        return (uint32_t(uint8_t(data[at])) << 24) | (uint32_t(uint8_t(data[at + 1])) << 16) |
-               (uint32_t(uint8_t(data[at + 2])) << 8) | uint32_t(uint8_t(data[at + 3]));
-      };
-      const uint32_t w = be32(16), h = be32(20);  // IHDR
-      const auto it = psnr.find({s, m});
-      const std::string caption = html_escape(m) + (it == psnr.end() ? "" : ", PSNR " + it->second + " dB");
-      const std::string src = "data:image/png;base64," + base64(data);
-      row += fmt::format("<figure><img alt=\"{} {}\" src=\"{}\"><figcaption>{}</figcaption></figure>\n", html_escape(s),
-                         html_escape(m), src, caption);
-      // The centre third of the image, 3x: the same pixels of every method side by side.
-      crops += fmt::format(
-          "<figure><div class=\"crop\" style=\"aspect-ratio:{}/{}\"><img alt=\"{} {} crop\" src=\"{}\"></div>"
-          "<figcaption>{}</figcaption></figure>\n",
-          w, h, html_escape(s), html_escape(m), src, caption);
-      if (m == "reference") {
-        reference = data;
-      } else if (const std::string map = reference.empty() ? "" : error_map_png(data, reference); !map.empty()) {
-        errors += fmt::format(
-            "<figure><img alt=\"{} {} error map\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption>"
-            "</figure>\n",
-            html_escape(s), html_escape(m), base64(map), html_escape(m));
-      }
-    }
-    if (!errors.empty())
-      crops += fmt::format(
-          "</div>\n<p class=\"note\">Error maps: |image − reference| as displayed, mean of the three channels, "
-          "×{:g} (black: equal; red, yellow, white: larger; white is a difference of {:.0f}% of the display range "
-          "or more). Blocks, seams and fireflies show here before they show in a PSNR:</p>\n<div class=\"imgs\">\n{}",
-          kErrorGain, 100.f / kErrorGain, errors);
-    if (!row.empty())
-      p.html += fmt::format(
-          "<h3>{}</h3>\n<div class=\"imgs\">\n{}</div>\n<p class=\"note\">The centre third, enlarged 3x (nearest "
-          "pixel):</p>\n<div class=\"imgs\">\n{}</div>\n",
-          html_escape(s), row, crops);
-  }
+  for (const std::string& s : q.scenes) add_scene_images(p, dir, s, q);
 }
 
 // A number, or a dash where the CSV has none (the primary bound has no paper ratio).

@@ -108,6 +108,44 @@ std::string first_column_difference(const std::vector<std::string>& found, const
   return "same columns";
 }
 
+// Why a line of an earlier run cannot be resumed ("" when it is a row of `column_count` fields, parsed into
+// `fields`, whose values `o.check_values` accepts).
+std::string why_not_a_row(const Line& l, size_t column_count, const CsvWriter::Options& o,
+                          std::vector<std::string>& fields) {
+  if (!l.terminated) return "torn last line (a write was interrupted)";
+  if (l.text.empty()) return "empty line";
+  if (l.text.find('\0') != std::string::npos) return "NUL byte in the line";
+  if (!csv_parse_line(l.text, fields)) return "unbalanced quotes";
+  if (fields.size() != column_count) return fmt::format("{} fields for {} columns", fields.size(), column_count);
+  if (o.check_values) return o.check_values(fields);
+  return "";
+}
+
+// The lines of `source` that are not resumed, each after a comment saying why, appended to `rejected_path` and
+// synced; the first ten are named on stderr.
+void keep_aside(const std::string& source, const std::vector<std::pair<const Line*, std::string>>& rejected,
+                const std::string& rejected_path) {
+  std::string kept_aside;
+  for (size_t i = 0; i < rejected.size(); ++i) {
+    const auto& [l, why] = rejected[i];
+    kept_aside += fmt::format("# {} line {}: {}\n", source, l->number, why) + l->text + "\n";
+    if (i < 10) std::fprintf(stderr, "resume: %s line %zu skipped: %s\n", source.c_str(), l->number, why.c_str());
+  }
+  if (rejected.size() > 10) std::fprintf(stderr, "resume: ... %zu lines skipped in all\n", rejected.size());
+  std::fprintf(stderr, "resume: the skipped lines are copied to %s; their rows are measured again\n",
+               rejected_path.c_str());
+  const int fd = ::open(rejected_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) throw WriteError(fmt::format("{}: cannot create: {}", rejected_path, strerror(errno)));
+  try {
+    write_all(fd, kept_aside, rejected_path);
+    sync_file(fd, rejected_path);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  ::close(fd);
+}
+
 }  // namespace
 
 CsvWriter::CsvWriter(const std::string& path, const std::vector<std::string>& columns, const Options& o)
@@ -173,19 +211,7 @@ void CsvWriter::read_earlier_run(const Options& o) {
   bool rewrite = lines[0].had_cr || !lines[0].terminated;
   for (size_t i = 1; i < lines.size(); ++i) {
     const Line& l = lines[i];
-    std::string why;
-    if (!l.terminated)
-      why = "torn last line (a write was interrupted)";
-    else if (l.text.empty())
-      why = "empty line";
-    else if (l.text.find('\0') != std::string::npos)
-      why = "NUL byte in the line";
-    else if (!csv_parse_line(l.text, fields))
-      why = "unbalanced quotes";
-    else if (fields.size() != columns_.size())
-      why = fmt::format("{} fields for {} columns", fields.size(), columns_.size());
-    else if (o.check_values)
-      why = o.check_values(fields);
+    const std::string why = why_not_a_row(l, columns_.size(), o, fields);
     if (!why.empty()) {
       rejected.emplace_back(&l, why);
       continue;
@@ -202,25 +228,7 @@ void CsvWriter::read_earlier_run(const Options& o) {
   }
 
   if (!rejected.empty()) {
-    std::string kept_aside;
-    for (size_t i = 0; i < rejected.size(); ++i) {
-      const auto& [l, why] = rejected[i];
-      kept_aside += fmt::format("# {} line {}: {}\n", source, l->number, why) + l->text + "\n";
-      if (i < 10) std::fprintf(stderr, "resume: %s line %zu skipped: %s\n", source.c_str(), l->number, why.c_str());
-    }
-    if (rejected.size() > 10) std::fprintf(stderr, "resume: ... %zu lines skipped in all\n", rejected.size());
-    std::fprintf(stderr, "resume: the skipped lines are copied to %s; their rows are measured again\n",
-                 rejected_path().c_str());
-    const int fd = ::open(rejected_path().c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-    if (fd < 0) throw WriteError(fmt::format("{}: cannot create: {}", rejected_path(), strerror(errno)));
-    try {
-      write_all(fd, kept_aside, rejected_path());
-      sync_file(fd, rejected_path());
-    } catch (...) {
-      ::close(fd);
-      throw;
-    }
-    ::close(fd);
+    keep_aside(source, rejected, rejected_path());
     rewrite = true;
   }
   from_finished_file_ = source == path_ && !rewrite;

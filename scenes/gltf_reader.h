@@ -128,6 +128,9 @@ class GltfReader {
   // gltf_textures.cpp
   void append_texcoords(const tinygltf::Primitive& prim, const std::string& where, size_t count);
   void apply_textures();
+  // A kept triangle's per-hit material, corner texture coordinates and (normal-mapped) tangent, in
+  // Scene::textures.
+  void append_hit_uv(uint32_t hit_material, bool normal_mapped, const uint32_t* idx);
   // The unit tangent (dP/du of texture tex's coordinates) and bitangent sign of triangle idx into out[4]; left
   // as it is when the triangle has no UV frame.
   void triangle_tangent(const SurfaceTexture& tex, const uint32_t* idx, const float* corner_uv, float* out) const;

@@ -252,114 +252,303 @@ void GltfReader::append_texcoords(const tinygltf::Primitive& prim, const std::st
   }
 }
 
-void GltfReader::apply_textures() {
-  const size_t nm = model_.materials.size();
-  std::vector<MaterialTextures> tex(nm);
-  size_t textured = 0, referenced = 0, normal_mapped = 0;
-  for (size_t i = 0; i < nm; ++i) {
-    const tinygltf::Material& gm = model_.materials[i];
+namespace {
+
+// The decoded textures of every material, and how many materials have some.
+struct DecodedTextures {
+  std::vector<MaterialTextures> of;  // per material
+  size_t textured = 0;               // with a decoded texture that decides its material
+  size_t normal_mapped = 0;          // with only a decoded normal map
+  size_t referenced = 0;             // that reference a texture, decoded or not
+};
+
+DecodedTextures decode_textures(const tinygltf::Model& model, const std::vector<Material>& materials) {
+  DecodedTextures d;
+  d.of.resize(model.materials.size());
+  for (size_t i = 0; i < model.materials.size(); ++i) {
+    const tinygltf::Material& gm = model.materials[i];
     const auto& pbr = gm.pbrMetallicRoughness;
-    tex[i].base =
-        texture_ref(model_, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions);
-    tex[i].metal_rough = texture_ref(model_, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-                                     pbr.metallicRoughnessTexture.extensions);
-    tex[i].emissive =
-        texture_ref(model_, gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions);
-    tex[i].transmission = extension_texture(model_, gm.extensions, "KHR_materials_transmission", "transmissionTexture");
-    tex[i].normal = texture_ref(model_, gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.extensions);
-    tex[i].normal_scale = static_cast<float>(gm.normalTexture.scale);
-    textured += tex[i].any();
-    normal_mapped += tex[i].normal && !tex[i].any();
-    referenced += scene_.materials[i].has_texture;
+    MaterialTextures& t = d.of[i];
+    t.base =
+        texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions);
+    t.metal_rough = texture_ref(model, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                                pbr.metallicRoughnessTexture.extensions);
+    t.emissive =
+        texture_ref(model, gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions);
+    t.transmission = extension_texture(model, gm.extensions, "KHR_materials_transmission", "transmissionTexture");
+    t.normal = texture_ref(model, gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.extensions);
+    t.normal_scale = static_cast<float>(gm.normalTexture.scale);
+    d.textured += t.any();
+    d.normal_mapped += t.normal && !t.any();
+    d.referenced += materials[i].has_texture;
   }
-  auto& notes = scene_.load_notes;
-  if (referenced > textured)
+  return d;
+}
+
+// Load notes on the textures that were not decoded, and on alpha BLEND (not read).
+void note_undecoded(const tinygltf::Model& model, const DecodedTextures& d, std::vector<std::string>& notes) {
+  if (d.referenced > d.textured)
     notes.push_back(fmt::format("{} of {} textured material(s) have no decoded texture: their factors are used",
-                                referenced - textured, referenced));
+                                d.referenced - d.textured, d.referenced));
   bool normal_maps = false, blend = false;
-  for (const auto& gm : model_.materials) {
+  for (const auto& gm : model.materials) {
     normal_maps |= gm.normalTexture.index >= 0;
     blend |= gm.alphaMode == "BLEND";
   }
-  if (normal_maps && std::none_of(tex.begin(), tex.end(), [](const MaterialTextures& t) { return bool(t.normal); }))
+  if (normal_maps && std::none_of(d.of.begin(), d.of.end(), [](const MaterialTextures& t) { return bool(t.normal); }))
     notes.push_back("normal maps were not decoded: shading normals are the interpolated vertex normals");
   if (blend) notes.push_back("alpha BLEND materials are traced as opaque surfaces");
-  // MASK materials: the alpha factor, and the mask texture of those with a base-colour texture.
-  std::vector<uint32_t> mask_texture(nm, kNoAlphaMask);
-  std::vector<uint8_t> cut_whole(nm, 0);
-  AlphaMasks& masks = scene_.alpha;
-  size_t mask_materials = 0;
-  {
-    std::map<const tinygltf::Image*, uint64_t> image_offset;
-    for (size_t i = 0; i < nm; ++i) {
-      const tinygltf::Material& gm = model_.materials[i];
-      if (gm.alphaMode != "MASK") continue;
-      const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
-      const float factor = f.size() >= 4 ? static_cast<float>(f[3]) : 1.f;
-      const float cutoff = static_cast<float>(gm.alphaCutoff);
-      if (!tex[i].base) {
-        cut_whole[i] = factor < cutoff;
-        continue;
-      }
-      const TextureRef& r = tex[i].base;
-      // A texture whose every texel is opaque enough cuts nothing out: no test is needed.
-      uint8_t lowest = 255;
-      for (size_t p = 3; p < r.image->image.size(); p += 4) lowest = std::min(lowest, r.image->image[p]);
-      if (static_cast<float>(lowest) / 255.f * factor >= cutoff) continue;
-      auto [at, fresh] = image_offset.try_emplace(r.image, masks.texels.size());
-      if (fresh)
-        for (size_t p = 3; p < r.image->image.size(); p += 4) masks.texels.push_back(r.image->image[p]);
-      AlphaTexture t;
-      t.width = static_cast<uint32_t>(r.image->width);
-      t.height = static_cast<uint32_t>(r.image->height);
-      t.offset = at->second;
-      t.wrap_s = alpha_wrap_mode(r.wrap_s);
-      t.wrap_t = alpha_wrap_mode(r.wrap_t);
-      t.factor = factor;
-      t.cutoff = cutoff;
-      mask_texture[i] = static_cast<uint32_t>(masks.textures.size());
-      masks.textures.push_back(t);
-      ++mask_materials;
-    }
-  }
-  if (textured + normal_mapped == 0 && std::find(cut_whole.begin(), cut_whole.end(), 1) == cut_whole.end()) return;
+}
 
-  // The per-hit textures: every decoded image's RGBA once, a SurfaceTexture per reference, a TexturedMaterial per
-  // material with a texture.
-  SurfaceTextures& st = scene_.textures;
-  std::vector<uint32_t> hit_material(nm, kNoTexture);
-  {
-    std::map<const tinygltf::Image*, uint64_t> image_offset;
-    auto add = [&](const TextureRef& r) {
-      if (!r) return kNoTexture;
-      auto [at, fresh] = image_offset.try_emplace(r.image, st.texels.size());
-      if (fresh) st.texels.insert(st.texels.end(), r.image->image.begin(), r.image->image.end());
-      st.textures.push_back(surface_texture(r, at->second));
-      return static_cast<uint32_t>(st.textures.size() - 1);
+// MASK materials: the alpha factor, and the mask texture (in `masks`) of those with a base-colour texture.
+struct MaskPlan {
+  std::vector<uint32_t> texture;   // per material: its AlphaTexture, or kNoAlphaMask
+  std::vector<uint8_t> cut_whole;  // per material: a constant alpha below the cutoff
+  size_t materials = 0;            // materials with a mask texture
+};
+
+MaskPlan plan_masks(const tinygltf::Model& model, const std::vector<MaterialTextures>& tex, AlphaMasks& masks) {
+  const size_t nm = model.materials.size();
+  MaskPlan plan{std::vector<uint32_t>(nm, kNoAlphaMask), std::vector<uint8_t>(nm, 0), 0};
+  std::map<const tinygltf::Image*, uint64_t> image_offset;
+  for (size_t i = 0; i < nm; ++i) {
+    const tinygltf::Material& gm = model.materials[i];
+    if (gm.alphaMode != "MASK") continue;
+    const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
+    const float factor = f.size() >= 4 ? static_cast<float>(f[3]) : 1.f;
+    const float cutoff = static_cast<float>(gm.alphaCutoff);
+    if (!tex[i].base) {
+      plan.cut_whole[i] = factor < cutoff;
+      continue;
+    }
+    const TextureRef& r = tex[i].base;
+    // A texture whose every texel is opaque enough cuts nothing out: no test is needed.
+    uint8_t lowest = 255;
+    for (size_t p = 3; p < r.image->image.size(); p += 4) lowest = std::min(lowest, r.image->image[p]);
+    if (static_cast<float>(lowest) / 255.f * factor >= cutoff) continue;
+    auto [at, fresh] = image_offset.try_emplace(r.image, masks.texels.size());
+    if (fresh)
+      for (size_t p = 3; p < r.image->image.size(); p += 4) masks.texels.push_back(r.image->image[p]);
+    AlphaTexture t;
+    t.width = static_cast<uint32_t>(r.image->width);
+    t.height = static_cast<uint32_t>(r.image->height);
+    t.offset = at->second;
+    t.wrap_s = alpha_wrap_mode(r.wrap_s);
+    t.wrap_t = alpha_wrap_mode(r.wrap_t);
+    t.factor = factor;
+    t.cutoff = cutoff;
+    plan.texture[i] = static_cast<uint32_t>(masks.textures.size());
+    masks.textures.push_back(t);
+    ++plan.materials;
+  }
+  return plan;
+}
+
+// The per-hit textures: every decoded image's RGBA once, a SurfaceTexture per reference, a TexturedMaterial per
+// material with a texture (its index per material, else kNoTexture).
+std::vector<uint32_t> hit_materials(const std::vector<MaterialTextures>& tex, const std::vector<Material>& materials,
+                                    SurfaceTextures& st) {
+  std::vector<uint32_t> hit_material(tex.size(), kNoTexture);
+  std::map<const tinygltf::Image*, uint64_t> image_offset;
+  auto add = [&](const TextureRef& r) {
+    if (!r) return kNoTexture;
+    auto [at, fresh] = image_offset.try_emplace(r.image, st.texels.size());
+    if (fresh) st.texels.insert(st.texels.end(), r.image->image.begin(), r.image->image.end());
+    st.textures.push_back(surface_texture(r, at->second));
+    return static_cast<uint32_t>(st.textures.size() - 1);
+  };
+  for (size_t i = 0; i < tex.size(); ++i) {
+    if (!tex[i].at_hit()) continue;
+    Material f = materials[i];
+    sanitize_material(f);
+    TexturedMaterial m;
+    m.base = add(tex[i].base);
+    m.metal_rough = add(tex[i].metal_rough);
+    m.emissive = add(tex[i].emissive);
+    m.transmission = add(tex[i].transmission);
+    m.normal = add(tex[i].normal);
+    m.base_color = f.base_color;
+    m.roughness = f.roughness;
+    m.metallic = f.metallic;
+    m.transmission_factor = f.transmission;
+    m.emission = f.emission;
+    m.normal_scale = std::isfinite(tex[i].normal_scale) ? tex[i].normal_scale : 1.f;
+    m.ior = f.ior;
+    m.thin_walled = f.thin_walled;
+    hit_material[i] = static_cast<uint32_t>(st.materials.size());
+    st.materials.push_back(m);
+  }
+  return hit_material;
+}
+
+// A masked triangle's mask texture and its coordinates at the three corners, through its transform; the triangles
+// before it (`kept` of them) without a mask get none.
+void append_mask_uv(AlphaMasks& masks, uint32_t mask, const TextureRef& r, const std::vector<float> (&uv)[2],
+                    const uint32_t* idx, size_t kept) {
+  const int set = std::clamp(r.texcoord, 0, 1);
+  masks.tri_texture.resize(kept, kNoAlphaMask);
+  masks.tri_uv.resize(6 * kept, 0.f);
+  masks.tri_texture.push_back(mask);
+  for (int k = 0; k < 3; ++k) {
+    const double u0 = uv[set][2 * idx[k]], v0 = uv[set][2 * idx[k] + 1];
+    masks.tri_uv.push_back(static_cast<float>(r.m[0] * u0 + r.m[1] * v0 + r.m[2]));
+    masks.tri_uv.push_back(static_cast<float>(r.m[3] * u0 + r.m[4] * v0 + r.m[5]));
+  }
+  ++masks.masked_tris;
+}
+
+// A triangle's texel values summed over its sample points: [0] over all of them, [1] over the opaque ones.
+struct SampleSums {
+  float colour[2][3] = {}, metal[2] = {}, rough[2] = {}, emission[2][3] = {}, trans[2] = {};
+  int opaque = 0;
+};
+
+SampleSums sample_triangle(const MaterialTextures& mt, const tinygltf::Material& gm, const Material& base,
+                           const std::vector<float> (&uv_of)[2], const uint32_t* idx,
+                           const std::array<std::array<float, 2>, 16>& points) {
+  SampleSums s;
+  for (const auto& b : points) {
+    float uv[2][2];
+    for (int set = 0; set < 2; ++set)
+      for (int c = 0; c < 2; ++c)
+        uv[set][c] = uv_of[set][2 * idx[0] + c] * (1.f - b[0] - b[1]) + uv_of[set][2 * idx[1] + c] * b[0] +
+                     uv_of[set][2 * idx[2] + c] * b[1];
+    auto at = [&](const TextureRef& r) {
+      const int set = std::clamp(r.texcoord, 0, 1);
+      return sample(r, uv[set][0], uv[set][1]);
     };
-    for (size_t i = 0; i < nm; ++i) {
-      if (!tex[i].at_hit()) continue;
-      Material f = scene_.materials[i];
-      sanitize_material(f);
-      TexturedMaterial m;
-      m.base = add(tex[i].base);
-      m.metal_rough = add(tex[i].metal_rough);
-      m.emissive = add(tex[i].emissive);
-      m.transmission = add(tex[i].transmission);
-      m.normal = add(tex[i].normal);
-      m.base_color = f.base_color;
-      m.roughness = f.roughness;
-      m.metallic = f.metallic;
-      m.transmission_factor = f.transmission;
-      m.emission = f.emission;
-      m.normal_scale = std::isfinite(tex[i].normal_scale) ? tex[i].normal_scale : 1.f;
-      m.ior = f.ior;
-      m.thin_walled = f.thin_walled;
-      hit_material[i] = static_cast<uint32_t>(st.materials.size());
-      st.materials.push_back(m);
+    float alpha = gm.pbrMetallicRoughness.baseColorFactor.size() >= 4
+                      ? static_cast<float>(gm.pbrMetallicRoughness.baseColorFactor[3])
+                      : 1.f;
+    float c[3], m, ro, e[3], tr;
+    if (mt.base) {
+      const auto texel = at(mt.base);
+      for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear(texel[k]) * base.base_color[k];
+      alpha *= texel[3];
+    } else {
+      for (int k = 0; k < 3; ++k) c[k] = base.base_color[k];
+    }
+    if (mt.metal_rough) {
+      const auto texel = at(mt.metal_rough);  // glTF: green = roughness, blue = metalness
+      ro = texel[1] * base.roughness;
+      m = texel[2] * base.metallic;
+    } else {
+      ro = base.roughness;
+      m = base.metallic;
+    }
+    if (mt.emissive) {
+      const auto texel = at(mt.emissive);
+      for (int k = 0; k < 3; ++k) e[k] = srgb_to_linear(texel[k]) * base.emission[k];
+    } else {
+      for (int k = 0; k < 3; ++k) e[k] = base.emission[k];
+    }
+    tr = mt.transmission ? at(mt.transmission)[0] * base.transmission : base.transmission;
+    const bool is_opaque = alpha >= static_cast<float>(gm.alphaCutoff);
+    s.opaque += is_opaque;
+    for (int j = 0; j < 2; ++j) {
+      if (j == 1 && !is_opaque) continue;
+      for (int k = 0; k < 3; ++k) {
+        s.colour[j][k] += c[k];
+        s.emission[j][k] += e[k];
+      }
+      s.metal[j] += m;
+      s.rough[j] += ro;
+      s.trans[j] += tr;
     }
   }
+  return s;
+}
 
+// The quantised mean of a triangle's samples: its derived material's key (material, colour, metallic, roughness,
+// emission, transmission). A masked triangle looks like its opaque texels: the others are never hit.
+std::array<int, 11> derived_key(uint32_t mat, const SampleSums& s, bool masked, size_t samples) {
+  const int j = masked && s.opaque > 0 ? 1 : 0;
+  const float inv = 1.f / static_cast<float>(j ? s.opaque : static_cast<int>(samples));
+  return {static_cast<int>(mat),
+          q(s.colour[j][0] * inv, kColourSteps),
+          q(s.colour[j][1] * inv, kColourSteps),
+          q(s.colour[j][2] * inv, kColourSteps),
+          q(s.metal[j] * inv, kFactorSteps),
+          q(s.rough[j] * inv, kFactorSteps),
+          q(s.emission[j][0] * inv, kEmissionSteps),
+          q(s.emission[j][1] * inv, kEmissionSteps),
+          q(s.emission[j][2] * inv, kEmissionSteps),
+          q(s.trans[j] * inv, kFactorSteps),
+          0};
+}
+
+// The material a derived key stands for: `base` with the key's values, named after it with its number.
+Material derived_material(const Material& base, const std::array<int, 11>& key, size_t number) {
+  Material d = base;
+  d.name = fmt::format("{}#{}", base.name, number);
+  for (int k = 0; k < 3; ++k) {
+    d.base_color[k] = static_cast<float>(key[1 + k]) / kColourSteps;
+    d.emission[k] = static_cast<float>(key[6 + k]) / kEmissionSteps;
+  }
+  d.metallic = static_cast<float>(key[4]) / kFactorSteps;
+  d.roughness = static_cast<float>(key[5]) / kFactorSteps;
+  d.transmission = static_cast<float>(key[9]) / kFactorSteps;
+  d.cls = classify_material(d);
+  return d;
+}
+
+// Load notes on what the textures decide: the per-hit textures, the alpha masks and the triangles cut out whole.
+void note_texture_use(const SurfaceTextures& st, size_t derived, const AlphaMasks& masks, size_t mask_materials,
+                      size_t cut, std::vector<std::string>& notes) {
+  if (st.textured_tris > 0) {
+    size_t normal_tris = 0;
+    for (size_t t = 0; t < st.tri_material.size(); ++t)
+      normal_tris += st.tri_material[t] != kNoTexture && st.materials[st.tri_material[t]].normal != kNoTexture;
+    notes.push_back(fmt::format(
+        "textures: {} triangle(s) of {} material(s) read base colour, metallic-roughness, emissive and transmission "
+        "at the texel of every hit ({} with a normal map; {} MiB of texels); the material table holds each "
+        "triangle's mean of 16 texels ({} derived material(s))",
+        st.textured_tris, st.materials.size(), normal_tris, (st.texels.size() + (1 << 20) - 1) >> 20, derived));
+  }
+  if (masks.masked_tris > 0)
+    notes.push_back(fmt::format(
+        "alpha MASK: {} triangle(s) of {} material(s) cut out per texel at every hit (any-hit test in traversal, "
+        "{} KiB of alpha texels)",
+        masks.masked_tris, mask_materials, (masks.texels.size() + 1023) / 1024));
+  if (cut > 0)
+    notes.push_back(fmt::format("alpha MASK: {} triangle(s) removed whole (constant alpha below the cutoff)", cut));
+}
+
+}  // namespace
+
+void GltfReader::append_hit_uv(uint32_t hit_material, bool normal_mapped, const uint32_t* idx) {
+  SurfaceTextures& st = scene_.textures;
+  st.tri_material.push_back(hit_material);
+  float corner_uv[12] = {};
+  float tangent[4] = {0.f, 0.f, 0.f, 1.f};
+  if (hit_material != kNoTexture) {
+    for (int set = 0; set < 2; ++set)
+      for (int k = 0; k < 3; ++k) {
+        corner_uv[6 * set + 2 * k] = uv_[set][2 * idx[k]];
+        corner_uv[6 * set + 2 * k + 1] = uv_[set][2 * idx[k] + 1];
+      }
+    if (normal_mapped) triangle_tangent(st.textures[st.materials[hit_material].normal], idx, corner_uv, tangent);
+    ++st.textured_tris;
+  }
+  st.tri_uv.insert(st.tri_uv.end(), corner_uv, corner_uv + 12);
+  st.tri_tangent.insert(st.tri_tangent.end(), tangent, tangent + 4);
+}
+
+void GltfReader::apply_textures() {
+  const size_t nm = model_.materials.size();
+  const DecodedTextures decoded = decode_textures(model_, scene_.materials);
+  const std::vector<MaterialTextures>& tex = decoded.of;
+  auto& notes = scene_.load_notes;
+  note_undecoded(model_, decoded, notes);
+  AlphaMasks& masks = scene_.alpha;
+  const MaskPlan mask_plan = plan_masks(model_, tex, masks);
+  const std::vector<uint8_t>& cut_whole = mask_plan.cut_whole;
+  if (decoded.textured + decoded.normal_mapped == 0 &&
+      std::find(cut_whole.begin(), cut_whole.end(), 1) == cut_whole.end())
+    return;
+
+  SurfaceTextures& st = scene_.textures;
+  const std::vector<uint32_t> hit_material = hit_materials(tex, scene_.materials, st);
   const auto points = sample_points();
   std::map<std::array<int, 11>, uint32_t> derived;
   std::vector<uint32_t> kept_indices, kept_materials;
@@ -374,122 +563,18 @@ void GltfReader::apply_textures() {
       ++cut;
       continue;
     }
-    const uint32_t mask = mat < nm ? mask_texture[mat] : kNoAlphaMask;
-    if (mask != kNoAlphaMask) {
-      // The mask texture's coordinates at the three corners, through its transform.
-      const TextureRef& r = tex[mat].base;
-      const int set = std::clamp(r.texcoord, 0, 1);
-      masks.tri_texture.resize(kept_materials.size(), kNoAlphaMask);
-      masks.tri_uv.resize(6 * kept_materials.size(), 0.f);
-      masks.tri_texture.push_back(mask);
-      for (int k = 0; k < 3; ++k) {
-        const double u0 = uv_[set][2 * idx[k]], v0 = uv_[set][2 * idx[k] + 1];
-        masks.tri_uv.push_back(static_cast<float>(r.m[0] * u0 + r.m[1] * v0 + r.m[2]));
-        masks.tri_uv.push_back(static_cast<float>(r.m[3] * u0 + r.m[4] * v0 + r.m[5]));
-      }
-      ++masks.masked_tris;
-    }
+    const uint32_t mask = mat < nm ? mask_plan.texture[mat] : kNoAlphaMask;
+    if (mask != kNoAlphaMask) append_mask_uv(masks, mask, tex[mat].base, uv_, idx, kept_materials.size());
     if (mat < nm && tex[mat].any()) {
-      const MaterialTextures& mt = tex[mat];
-      const tinygltf::Material& gm = model_.materials[mat];
       const Material& base = scene_.materials[mat];
-      // Sums over all samples [0] and over the opaque ones [1].
-      float colour[2][3] = {}, metal[2] = {}, rough[2] = {}, emission[2][3] = {}, trans[2] = {};
-      int opaque = 0;
-      for (const auto& b : points) {
-        float uv[2][2];
-        for (int set = 0; set < 2; ++set)
-          for (int c = 0; c < 2; ++c)
-            uv[set][c] = uv_[set][2 * idx[0] + c] * (1.f - b[0] - b[1]) + uv_[set][2 * idx[1] + c] * b[0] +
-                         uv_[set][2 * idx[2] + c] * b[1];
-        auto at = [&](const TextureRef& r) {
-          const int set = std::clamp(r.texcoord, 0, 1);
-          return sample(r, uv[set][0], uv[set][1]);
-        };
-        float alpha = gm.pbrMetallicRoughness.baseColorFactor.size() >= 4
-                          ? static_cast<float>(gm.pbrMetallicRoughness.baseColorFactor[3])
-                          : 1.f;
-        float c[3], m, ro, e[3], tr;
-        if (mt.base) {
-          const auto texel = at(mt.base);
-          for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear(texel[k]) * base.base_color[k];
-          alpha *= texel[3];
-        } else {
-          for (int k = 0; k < 3; ++k) c[k] = base.base_color[k];
-        }
-        if (mt.metal_rough) {
-          const auto texel = at(mt.metal_rough);  // glTF: green = roughness, blue = metalness
-          ro = texel[1] * base.roughness;
-          m = texel[2] * base.metallic;
-        } else {
-          ro = base.roughness;
-          m = base.metallic;
-        }
-        if (mt.emissive) {
-          const auto texel = at(mt.emissive);
-          for (int k = 0; k < 3; ++k) e[k] = srgb_to_linear(texel[k]) * base.emission[k];
-        } else {
-          for (int k = 0; k < 3; ++k) e[k] = base.emission[k];
-        }
-        tr = mt.transmission ? at(mt.transmission)[0] * base.transmission : base.transmission;
-        const bool is_opaque = alpha >= static_cast<float>(gm.alphaCutoff);
-        opaque += is_opaque;
-        for (int j = 0; j < 2; ++j) {
-          if (j == 1 && !is_opaque) continue;
-          for (int k = 0; k < 3; ++k) {
-            colour[j][k] += c[k];
-            emission[j][k] += e[k];
-          }
-          metal[j] += m;
-          rough[j] += ro;
-          trans[j] += tr;
-        }
-      }
-      // A masked triangle looks like its opaque texels: the others are never hit.
-      const int j = mask != kNoAlphaMask && opaque > 0 ? 1 : 0;
-      const float inv = 1.f / static_cast<float>(j ? opaque : static_cast<int>(points.size()));
-      const std::array<int, 11> key = {static_cast<int>(mat),
-                                       q(colour[j][0] * inv, kColourSteps),
-                                       q(colour[j][1] * inv, kColourSteps),
-                                       q(colour[j][2] * inv, kColourSteps),
-                                       q(metal[j] * inv, kFactorSteps),
-                                       q(rough[j] * inv, kFactorSteps),
-                                       q(emission[j][0] * inv, kEmissionSteps),
-                                       q(emission[j][1] * inv, kEmissionSteps),
-                                       q(emission[j][2] * inv, kEmissionSteps),
-                                       q(trans[j] * inv, kFactorSteps),
-                                       0};
+      const SampleSums sums = sample_triangle(tex[mat], model_.materials[mat], base, uv_, idx, points);
+      const std::array<int, 11> key = derived_key(mat, sums, mask != kNoAlphaMask, points.size());
       auto [it, inserted] = derived.try_emplace(key, static_cast<uint32_t>(scene_.materials.size()));
-      if (inserted) {
-        Material d = base;
-        d.name = fmt::format("{}#{}", base.name, derived.size());
-        for (int k = 0; k < 3; ++k) {
-          d.base_color[k] = static_cast<float>(key[1 + k]) / kColourSteps;
-          d.emission[k] = static_cast<float>(key[6 + k]) / kEmissionSteps;
-        }
-        d.metallic = static_cast<float>(key[4]) / kFactorSteps;
-        d.roughness = static_cast<float>(key[5]) / kFactorSteps;
-        d.transmission = static_cast<float>(key[9]) / kFactorSteps;
-        d.cls = classify_material(d);
-        scene_.materials.push_back(d);
-      }
+      if (inserted) scene_.materials.push_back(derived_material(base, key, derived.size()));
       mat = it->second;
     }
     const uint32_t hm = orig < nm ? hit_material[orig] : kNoTexture;
-    st.tri_material.push_back(hm);
-    float corner_uv[12] = {};
-    float tangent[4] = {0.f, 0.f, 0.f, 1.f};
-    if (hm != kNoTexture) {
-      for (int set = 0; set < 2; ++set)
-        for (int k = 0; k < 3; ++k) {
-          corner_uv[6 * set + 2 * k] = uv_[set][2 * idx[k]];
-          corner_uv[6 * set + 2 * k + 1] = uv_[set][2 * idx[k] + 1];
-        }
-      if (tex[orig].normal) triangle_tangent(st.textures[st.materials[hm].normal], idx, corner_uv, tangent);
-      ++st.textured_tris;
-    }
-    st.tri_uv.insert(st.tri_uv.end(), corner_uv, corner_uv + 12);
-    st.tri_tangent.insert(st.tri_tangent.end(), tangent, tangent + 4);
+    append_hit_uv(hm, hm != kNoTexture && tex[orig].normal, idx);
     kept_indices.insert(kept_indices.end(), idx, idx + 3);
     kept_materials.push_back(mat);
   }
@@ -502,26 +587,11 @@ void GltfReader::apply_textures() {
   } else {
     masks = AlphaMasks{};
   }
-  if (st.textured_tris == 0) {
+  if (st.textured_tris == 0)
     st = SurfaceTextures{};
-  } else {
+  else
     emitter_means();
-    size_t normal_tris = 0;
-    for (size_t t = 0; t < st.tri_material.size(); ++t)
-      normal_tris += st.tri_material[t] != kNoTexture && st.materials[st.tri_material[t]].normal != kNoTexture;
-    notes.push_back(fmt::format(
-        "textures: {} triangle(s) of {} material(s) read base colour, metallic-roughness, emissive and transmission "
-        "at the texel of every hit ({} with a normal map; {} MiB of texels); the material table holds each "
-        "triangle's mean of 16 texels ({} derived material(s))",
-        st.textured_tris, st.materials.size(), normal_tris, (st.texels.size() + (1 << 20) - 1) >> 20, derived.size()));
-  }
-  if (masks.masked_tris > 0)
-    notes.push_back(fmt::format(
-        "alpha MASK: {} triangle(s) of {} material(s) cut out per texel at every hit (any-hit test in traversal, "
-        "{} KiB of alpha texels)",
-        masks.masked_tris, mask_materials, (masks.texels.size() + 1023) / 1024));
-  if (cut > 0)
-    notes.push_back(fmt::format("alpha MASK: {} triangle(s) removed whole (constant alpha below the cutoff)", cut));
+  note_texture_use(st, derived.size(), masks, mask_plan.materials, cut, notes);
 }
 
 }  // namespace raycoh::gltf

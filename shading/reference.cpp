@@ -439,6 +439,49 @@ FrameRange reference_shard_frames(int frames, int frame_block, int index, int co
                   index, count, frames, frame_block, list));
 }
 
+namespace {
+
+// The blocks of a stopped run of this very shard in `partial` that verify (their bytes added to `h`), and where
+// the file is cut after the last of them (0: nothing kept, the header neither).
+struct KeptBlocks {
+  int count = 0;
+  std::streamoff bytes = 0;
+};
+
+KeptBlocks kept_blocks(const std::string& partial, const nlohmann::json& head, int index, int count,
+                       const FrameRange& range, int frame_block, int blocks, Fnv1a& h) {
+  KeptBlocks k;
+  std::unique_ptr<PartReader> rd;
+  try {
+    rd = std::make_unique<PartReader>(partial);
+  } catch (const Error&) {
+    // A header cut short (stopped at once): nothing to keep.
+  }
+  if (!rd) return k;
+  const std::string diff = rd->head["key"] != head["key"] ? "key field " + key_difference(rd->head["key"], head["key"])
+                           : rd->shard != index || rd->shards != count
+                               ? fmt::format("shard {}/{} vs {}/{}", rd->shard, rd->shards, index, count)
+                               : key_difference(rd->head, head);
+  if (!diff.empty())
+    throw Error(
+        fmt::format("{} holds another reference part ({}); pass --force to replace it, or choose another "
+                    "--out",
+                    partial, diff));
+  k.bytes = rd->header_bytes;
+  while (k.count < blocks && rd->read_block(k.count, h)) {
+    ++k.count;
+    k.bytes = rd->in.tellg();
+  }
+  std::fprintf(stderr, "%s: resuming: %d of %d blocks already rendered%s\n", partial.c_str(), k.count, blocks,
+               k.count > 0 ? fmt::format(" (frames {}..{} kept)", range.first,
+                                         std::min(range.end, range.first + k.count * frame_block) - 1)
+                                 .c_str()
+                           : "");
+  return k;
+}
+
+}  // namespace
+
 double render_reference_part(const Scene& scene, const Bvh& bvh, const ReferenceRequest& r, int index, int count,
                              const std::string& path, bool replace) {
   check_request(r);
@@ -462,34 +505,9 @@ double render_reference_part(const Scene& scene, const Bvh& bvh, const Reference
   Fnv1a h;  // of every block's bytes, for the closing line
   std::error_code ec;
   if (!replace && fs::exists(partial, ec)) {
-    std::unique_ptr<PartReader> rd;
-    try {
-      rd = std::make_unique<PartReader>(partial);
-    } catch (const Error&) {
-      // A header cut short (stopped at once): nothing to keep.
-    }
-    if (rd) {
-      const std::string diff = rd->head["key"] != head["key"]
-                                   ? "key field " + key_difference(rd->head["key"], head["key"])
-                               : rd->shard != index || rd->shards != count
-                                   ? fmt::format("shard {}/{} vs {}/{}", rd->shard, rd->shards, index, count)
-                                   : key_difference(rd->head, head);
-      if (!diff.empty())
-        throw Error(
-            fmt::format("{} holds another reference part ({}); pass --force to replace it, or choose another "
-                        "--out",
-                        partial, diff));
-      keep_bytes = rd->header_bytes;
-      while (kept < blocks && rd->read_block(kept, h)) {
-        ++kept;
-        keep_bytes = rd->in.tellg();
-      }
-      std::fprintf(stderr, "%s: resuming: %d of %d blocks already rendered%s\n", partial.c_str(), kept, blocks,
-                   kept > 0 ? fmt::format(" (frames {}..{} kept)", range.first,
-                                          std::min(range.end, range.first + kept * r.frame_block) - 1)
-                                  .c_str()
-                            : "");
-    }
+    const KeptBlocks k = kept_blocks(partial, head, index, count, range, r.frame_block, blocks, h);
+    kept = k.count;
+    keep_bytes = k.bytes;
   }
   const int fd = ::open(partial.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) throw WriteError(fmt::format("{}: cannot create {}: {}", path, partial, std::strerror(errno)));

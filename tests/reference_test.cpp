@@ -97,6 +97,39 @@ TEST(ReferenceCache, SceneFileFingerprintFollowsItsContent) {
   EXPECT_NE(scene_fingerprint((dir / "a.obj").string()), f1);
 }
 
+// What does not add up is refused, naming the file: `parts` are the eight shards of `req` combined into
+// `cache_dir`, dir/two0 the first of two shards combined into `two_cache_dir`.
+void expect_bad_part_sets_refused(const Scene& s, const Bvh& bvh, const ReferenceRequest& req,
+                                  const std::vector<std::string>& parts, const fs::path& dir,
+                                  const std::string& cache_dir, const std::string& two_cache_dir) {
+  std::vector<std::string> seven(parts.begin(), parts.end() - 1);
+  EXPECT_NE(
+      test::error_of([&] { combine_reference_parts(seven, cache_dir); }).find("1 of 8 reference shard(s) missing: 0/8"),
+      std::string::npos);
+  std::vector<std::string> twice = parts;
+  twice.push_back(parts[0]);
+  EXPECT_NE(test::error_of([&] { combine_reference_parts(twice, cache_dir); }).find("are both shard 7/8"),
+            std::string::npos);
+  EXPECT_NE(test::error_of([&] {
+              combine_reference_parts({parts[0], (dir / "two0").string()}, two_cache_dir);
+            }).find("disagree on the shard count"),
+            std::string::npos);
+  ReferenceRequest other = req;
+  other.settings.seed = 8;
+  render_reference_part(s, bvh, other, 0, 8, (dir / "other").string());
+  std::vector<std::string> mixed(parts.begin(), parts.end() - 1);
+  mixed.push_back((dir / "other").string());
+  EXPECT_NE(test::error_of([&] { combine_reference_parts(mixed, cache_dir); }).find("key field seed (7 vs 8)"),
+            std::string::npos);
+  // A part cut short.
+  const std::string cut = (dir / "cut").string();
+  fs::copy_file(parts[0], cut);
+  fs::resize_file(cut, fs::file_size(cut) - 100);
+  std::vector<std::string> with_cut(parts.begin() + 1, parts.end());
+  with_cut.push_back(cut);
+  EXPECT_NE(test::error_of([&] { combine_reference_parts(with_cut, cache_dir); }).find(cut), std::string::npos);
+}
+
 // Eight frame shards of whole blocks, combined, are the single process's reference bit for bit, and the same
 // cache entry (get_reference then reads it from the cache).
 TEST(ReferenceShards, EightFrameShardsAddUpToTheSingleProcessBitForBit) {
@@ -156,34 +189,7 @@ TEST(ReferenceShards, EightFrameShardsAddUpToTheSingleProcessBitForBit) {
   const Reference pair = combine_reference_parts({(dir / "two1").string(), (dir / "two0").string()}, two.cache_dir);
   EXPECT_EQ(std::memcmp(pair.image.rgb.data(), single.image.rgb.data(), single.image.rgb.size() * sizeof(float)), 0);
 
-  // What does not add up is refused, naming the file.
-  std::vector<std::string> seven(parts.begin(), parts.end() - 1);
-  EXPECT_NE(test::error_of([&] {
-              combine_reference_parts(seven, sharded.cache_dir);
-            }).find("1 of 8 reference shard(s) missing: 0/8"),
-            std::string::npos);
-  std::vector<std::string> twice = parts;
-  twice.push_back(parts[0]);
-  EXPECT_NE(test::error_of([&] { combine_reference_parts(twice, sharded.cache_dir); }).find("are both shard 7/8"),
-            std::string::npos);
-  EXPECT_NE(test::error_of([&] {
-              combine_reference_parts({parts[0], (dir / "two0").string()}, two.cache_dir);
-            }).find("disagree on the shard count"),
-            std::string::npos);
-  ReferenceRequest other = req;
-  other.settings.seed = 8;
-  render_reference_part(s, bvh, other, 0, 8, (dir / "other").string());
-  std::vector<std::string> mixed(parts.begin(), parts.end() - 1);
-  mixed.push_back((dir / "other").string());
-  EXPECT_NE(test::error_of([&] { combine_reference_parts(mixed, sharded.cache_dir); }).find("key field seed (7 vs 8)"),
-            std::string::npos);
-  // A part cut short.
-  const std::string cut = (dir / "cut").string();
-  fs::copy_file(parts[0], cut);
-  fs::resize_file(cut, fs::file_size(cut) - 100);
-  std::vector<std::string> with_cut(parts.begin() + 1, parts.end());
-  with_cut.push_back(cut);
-  EXPECT_NE(test::error_of([&] { combine_reference_parts(with_cut, sharded.cache_dir); }).find(cut), std::string::npos);
+  expect_bad_part_sets_refused(s, bvh, req, parts, dir, sharded.cache_dir, two.cache_dir);
 }
 
 // The combined entry's sidecar (JSON beside the image).
