@@ -291,13 +291,27 @@ struct PartReader {
       stem = head.at("stem").get<std::string>();
       frames = head.at("key").at("frames").get<int>();
       block = head.at("key").at("frame_block").get<int>();
+      // The ranges a part raycoh writes keeps (frames and blocks as check_request allows, shards of whole
+      // blocks), so that no count below overflows and a damaged header never asks for a huge allocation.
+      const bool in_range = width <= (1 << 16) && height <= (1 << 16) && frames >= 1 && frames <= (1 << 20) &&
+                            block <= (1 << 20) && first >= 0 && end <= frames && shards <= frames &&
+                            width == head.at("key").at("width").get<int>() &&
+                            height == head.at("key").at("height").get<int>();
       if ((format != 1 && format != kPartFormat) || width < 1 || height < 1 || block < 1 || end <= first ||
-          shards < 1 || header_bytes <= 0)
+          shards < 1 || header_bytes <= 0 || !in_range)
         throw Error(damaged);
       blocks = (end - first + block - 1) / block;
     } catch (const nlohmann::json::exception&) {
       throw Error(damaged);
     }
+    // Every block's bytes must be there before anything of the image's size is allocated.
+    std::error_code ec;
+    const uint64_t data_bytes = fs::file_size(file, ec) - static_cast<uint64_t>(header_bytes);
+    const uint64_t block_bytes = uint64_t{32} * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
+    if (ec || data_bytes / block_bytes < static_cast<uint64_t>(blocks))
+      throw Error(fmt::format("{}: the reference part is cut short ({} bytes of pixel data, {} blocks of {} expected); "
+                              "render that shard again",
+                              file, ec ? 0 : data_bytes, blocks, block_bytes));
   }
 
   // Block b (the next one in the file), its bytes added to `total`; nothing when the file ends within it or, in
@@ -553,6 +567,9 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
     const std::string diff = key_difference(a.head["key"], rd->head["key"]);
     if (!diff.empty())
       throw Error(fmt::format("{} and {} are parts of different references: key field {}", a.file, rd->file, diff));
+    if (rd->width != a.width || rd->height != a.height)
+      throw Error(fmt::format("{} and {} are parts of different image sizes ({}x{} vs {}x{})", a.file, rd->file,
+                              a.width, a.height, rd->width, rd->height));
     if (rd->shards != count || rd->stem != a.stem)
       throw Error(fmt::format("{} and {} disagree on the shard count or scene ({} vs {} shards)", a.file, rd->file,
                               count, rd->shards));
