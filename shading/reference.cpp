@@ -309,9 +309,10 @@ struct PartReader {
     const uint64_t data_bytes = fs::file_size(file, ec) - static_cast<uint64_t>(header_bytes);
     const uint64_t block_bytes = uint64_t{32} * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
     if (ec || data_bytes / block_bytes < static_cast<uint64_t>(blocks))
-      throw Error(fmt::format("{}: the reference part is cut short ({} bytes of pixel data, {} blocks of {} expected); "
-                              "render that shard again",
-                              file, ec ? 0 : data_bytes, blocks, block_bytes));
+      throw Error(
+          fmt::format("{}: the reference part is cut short ({} bytes of pixel data, {} blocks of {} expected); "
+                      "render that shard again",
+                      file, ec ? 0 : data_bytes, blocks, block_bytes));
   }
 
   // Block b (the next one in the file), its bytes added to `total`; nothing when the file ends within it or, in

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/error.h"
 #include "tests/fuzz/fuzz_targets.h"
 
 namespace raycoh::fuzz {
@@ -64,7 +65,8 @@ void check_error_message(const std::string& message, const std::string& names) {
   if (message.empty()) throw FuzzFinding("raycoh::Error with an empty message");
   if (message.find_first_of("\n\r") != std::string::npos)
     throw FuzzFinding("raycoh::Error of more than one line: " + message);
-  if (!names.empty() && message.find(names) == std::string::npos)
+  // Error escapes control characters in what it quotes (core/error.h one_line): look for the name as printed.
+  if (!names.empty() && message.find(one_line(names)) == std::string::npos)
     throw FuzzFinding("raycoh::Error that does not name the input '" + names + "': " + message);
 }
 
