@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tests/fuzz/fuzz_targets.h"
+#include "tests/test_util.h"
 
 namespace fs = std::filesystem;
 
@@ -61,4 +62,15 @@ TEST(FuzzRegressions, EveryTargetHasSeedsAndAUniqueName) {
   }
   std::sort(names.begin(), names.end());
   EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
+}
+
+// The CLI's side of a fixed finding: exit 2 and one line naming the file, no allocation of the header's size.
+TEST(FuzzRegressions, CompareRefusesAPfmWhoseHeaderClaimsMoreThanItHolds) {
+  const fs::path dir = raycoh::test::temp_dir("fuzz_regressions_compare");
+  raycoh::test::write_file(dir / "huge.pfm", std::string("PF\n65536 65536\n-1.0\n") + std::string(12, '\0'));
+  raycoh::test::write_file(dir / "small.pfm", std::string("PF\n1 1\n-1.0\n") + std::string(12, '\0'));
+  const auto r =
+      raycoh::test::run_raycoh("compare " + (dir / "huge.pfm").string() + " " + (dir / "small.pfm").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("huge.pfm: truncated PFM"), std::string::npos) << r.output;
 }
