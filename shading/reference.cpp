@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -338,6 +339,10 @@ struct PartReader {
       double s = 0;
       if (std::sscanf(line.c_str(), "block %d %16s %lf %255s", &index, hash, &s, host) != 4 || index != b ||
           std::string(hash) != fmt::format("{:016x}", own.h))
+        return std::nullopt;
+      // A host name as host_name() writes it (printable ASCII): it goes into the sidecar's JSON, which holds UTF-8.
+      if (std::any_of(host, host + std::strlen(host), [](char c) { return c < 0x21 || c > 0x7e; }) ||
+          !std::isfinite(s) || s < 0)
         return std::nullopt;
       seconds += s;
       if (std::find(hosts.begin(), hosts.end(), host) == hosts.end()) hosts.push_back(host);
