@@ -305,20 +305,29 @@ struct PartReader {
     } catch (const nlohmann::json::exception&) {
       throw Error(damaged);
     }
-    // Every block's bytes must be there before anything of the image's size is allocated.
-    std::error_code ec;
-    const uint64_t data_bytes = fs::file_size(file, ec) - static_cast<uint64_t>(header_bytes);
-    const uint64_t block_bytes = uint64_t{32} * static_cast<uint64_t>(width) * static_cast<uint64_t>(height);
-    if (ec || data_bytes / block_bytes < static_cast<uint64_t>(blocks))
-      throw Error(
-          fmt::format("{}: the reference part is cut short ({} bytes of pixel data, {} blocks of {} expected); "
-                      "render that shard again",
-                      file, ec ? 0 : data_bytes, blocks, block_bytes));
   }
 
   // Block b (the next one in the file), its bytes added to `total`; nothing when the file ends within it or, in
   // format 2, its line is missing or does not match its bytes.
+  uint64_t block_bytes() const { return uint64_t{32} * static_cast<uint64_t>(width) * static_cast<uint64_t>(height); }
+  // The file's bytes after `from`: checked before anything of the header's image size is allocated.
+  uint64_t bytes_after(std::streamoff from) const {
+    std::error_code ec;
+    const uint64_t size = fs::file_size(file, ec);
+    return ec || from < 0 || size < static_cast<uint64_t>(from) ? 0 : size - static_cast<uint64_t>(from);
+  }
+  // Combining needs every block: a part cut short is refused before the image is allocated.
+  void check_whole() const {
+    const uint64_t have = bytes_after(header_bytes);
+    if (have / block_bytes() < static_cast<uint64_t>(blocks))
+      throw Error(
+          fmt::format("{}: the reference part is cut short ({} bytes of pixel data, {} blocks of {} expected); "
+                      "render that shard again",
+                      file, have, blocks, block_bytes()));
+  }
+
   std::optional<Accumulator> read_block(int b, Fnv1a& total) {
+    if (bytes_after(in.tellg()) < block_bytes()) return std::nullopt;  // cut short (or a damaged size)
     const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<double> sums(3 * n);
     std::vector<uint32_t> samples(n), non_finite(n);
@@ -601,6 +610,7 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
     throw Error(fmt::format("{} of {} reference shard(s) missing: {} (render them, then combine again)", n_missing,
                             count, missing));
 
+  for (const PartReader* rd : by_index) rd->check_whole();
   const std::string key = a.head["key"].dump();
   const Entry e = entry_of(safe_name(a.stem), key, cache_dir);
   Accumulator total(a.width, a.height), first_half(a.width, a.height);
