@@ -72,6 +72,16 @@ uint64_t file_hash(const fs::path& path) {
   return h.h;
 }
 
+// An int field of a file's JSON, as nlohmann's get<int> but refusing (type_error) what is not an integer in int's
+// range: get<int> casts a float such as 1e300 to int (undefined behaviour) and wraps a larger integer.
+int int_field(const nlohmann::json& j) {
+  const bool fits = j.is_number_unsigned()  ? j.get<uint64_t>() <= uint64_t{INT32_MAX}
+                    : j.is_number_integer() ? j.get<int64_t>() >= INT32_MIN && j.get<int64_t>() <= INT32_MAX
+                                            : false;
+  if (!fits) throw nlohmann::json::type_error::create(302, "not an integer in int's range", &j);
+  return static_cast<int>(j.get<int64_t>());
+}
+
 // The sidecar's checksum: FNV-1a of its canonical JSON without the checksum field itself, so that an edited field
 // (a key, the image hash, the render time) is found.
 std::string sidecar_checksum(nlohmann::json side) {
@@ -169,7 +179,7 @@ int reference_file_frames(const std::string& image_path) {
   try {
     const nlohmann::json side = nlohmann::json::parse(in);
     if (side.value("image", std::string()) != p.filename().string()) return 0;
-    const int frames = side.at("key").at("frames").get<int>();
+    const int frames = int_field(side.at("key").at("frames"));
     return frames > 0 ? frames : 0;
   } catch (const nlohmann::json::exception&) {
     return 0;  // not a sidecar of ours: the frame count stays unknown
@@ -282,22 +292,22 @@ struct PartReader {
         fmt::format("{}: not a raycoh reference part (format 1 or {}), or its header is damaged", file, kPartFormat);
     try {
       if (head.is_discarded() || !head.is_object() || !head.at("key").is_object()) throw Error(damaged);
-      format = head.at("raycoh_reference_part").get<int>();
-      width = head.at("width").get<int>();
-      height = head.at("height").get<int>();
-      shard = head.at("shard").get<int>();
-      shards = head.at("shards").get<int>();
-      first = head.at("first_frame").get<int>();
-      end = head.at("end_frame").get<int>();
+      format = int_field(head.at("raycoh_reference_part"));
+      width = int_field(head.at("width"));
+      height = int_field(head.at("height"));
+      shard = int_field(head.at("shard"));
+      shards = int_field(head.at("shards"));
+      first = int_field(head.at("first_frame"));
+      end = int_field(head.at("end_frame"));
       stem = head.at("stem").get<std::string>();
-      frames = head.at("key").at("frames").get<int>();
-      block = head.at("key").at("frame_block").get<int>();
+      frames = int_field(head.at("key").at("frames"));
+      block = int_field(head.at("key").at("frame_block"));
       // The ranges a part raycoh writes keeps (frames and blocks as check_request allows, shards of whole
       // blocks), so that no count below overflows and a damaged header never asks for a huge allocation.
       const bool in_range = width <= (1 << 16) && height <= (1 << 16) && frames >= 1 && frames <= (1 << 20) &&
                             block <= (1 << 20) && first >= 0 && end <= frames && shards <= frames &&
-                            width == head.at("key").at("width").get<int>() &&
-                            height == head.at("key").at("height").get<int>();
+                            width == int_field(head.at("key").at("width")) &&
+                            height == int_field(head.at("key").at("height"));
       if ((format != 1 && format != kPartFormat) || width < 1 || height < 1 || block < 1 || end <= first ||
           shards < 1 || header_bytes <= 0 || !in_range)
         throw Error(damaged);

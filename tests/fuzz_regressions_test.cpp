@@ -10,6 +10,7 @@
 #include <iterator>
 #include <vector>
 
+#include "shading/reference.h"
 #include "tests/fuzz/fuzz_targets.h"
 #include "tests/test_util.h"
 
@@ -73,4 +74,15 @@ TEST(FuzzRegressions, CompareRefusesAPfmWhoseHeaderClaimsMoreThanItHolds) {
       raycoh::test::run_raycoh("compare " + (dir / "huge.pfm").string() + " " + (dir / "small.pfm").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("huge.pfm: truncated PFM"), std::string::npos) << r.output;
+}
+
+// A sidecar whose frame count is a float out of int's range: get<int> was undefined behaviour (UBSan under
+// scripts/sanitize); now the frame count is unknown (0).
+TEST(FuzzRegressions, ASidecarFrameCountOutOfIntRangeIsUnknown) {
+  const fs::path dir = raycoh::test::temp_dir("fuzz_regressions_sidecar");
+  raycoh::test::write_file(dir / "ref.pfm", std::string("PF\n1 1\n-1.0\n") + std::string(12, '\0'));
+  for (const char* frames : {"1e300", "-1e300", "4294967297", "2.5"}) {
+    raycoh::test::write_file(dir / "ref.json", std::string(R"({"image":"ref.pfm","key":{"frames":)") + frames + "}}");
+    EXPECT_EQ(raycoh::reference_file_frames((dir / "ref.pfm").string()), 0) << frames;
+  }
 }
