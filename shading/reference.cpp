@@ -82,6 +82,12 @@ int int_field(const nlohmann::json& j) {
   return static_cast<int>(j.get<int64_t>());
 }
 
+// A sidecar's text field; empty when it is missing or not text (value() would throw type_error).
+std::string text_field(const nlohmann::json& side, const char* name) {
+  const auto it = side.find(name);
+  return it != side.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
 // The sidecar's checksum: FNV-1a of its canonical JSON without the checksum field itself, so that an edited field
 // (a key, the image hash, the render time) is found.
 std::string sidecar_checksum(nlohmann::json side) {
@@ -421,8 +427,8 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
     const nlohmann::json side = nlohmann::json::parse(in, nullptr, false);
     const bool ours = !side.is_discarded() && side.is_object() && side.contains("key") && side["key"].is_object() &&
                       side["key"].dump() == key;
-    const bool intact = ours && side.value("checksum", std::string()) == sidecar_checksum(side) &&
-                        side.value("image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(e.image));
+    const bool intact = ours && text_field(side, "checksum") == sidecar_checksum(side) &&
+                        text_field(side, "image_fnv1a") == fmt::format("{:016x}", file_hash(e.image));
     if (ours && !intact)
       std::fprintf(stderr,
                    "reference cache: %s or its sidecar does not match the recorded checksum (edited or damaged); "
@@ -434,10 +440,11 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
         if (img.width == r.settings.width && img.height == r.settings.height) {
           ref.image = img;
           ref.from_cache = true;
-          ref.non_finite = side.value("non_finite_samples", uint64_t{0});
+          const auto nf = side.find("non_finite_samples");
+          ref.non_finite = nf != side.end() && nf->is_number_unsigned() ? nf->get<uint64_t>() : 0;
           const fs::path half = half_reference_path(e.image.string());
           if (side.contains("half_image") && fs::is_regular_file(half, ec) &&
-              side.value("half_image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(half))) {
+              text_field(side, "half_image_fnv1a") == fmt::format("{:016x}", file_hash(half))) {
             Image h = read_image(half.string());
             if (h.width == img.width && h.height == img.height) ref.first_half = std::move(h);
           }
