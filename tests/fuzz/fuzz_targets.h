@@ -41,5 +41,6 @@ void fuzz_shard_merge(const uint8_t* data, size_t size);
 void fuzz_reference_cache(const uint8_t* data, size_t size);
 void fuzz_reference_parts(const uint8_t* data, size_t size);
 void fuzz_compare_image(const uint8_t* data, size_t size);
+void fuzz_option_values(const uint8_t* data, size_t size);
 
 }  // namespace raycoh::fuzz

@@ -92,6 +92,8 @@ const std::vector<Target>& targets() {
        fuzz_reference_parts},
       {"compare_image", "PFM and EXR images read by `compare` (shading/image*.cpp read_image, oiio/)",
        fuzz_compare_image},
+      {"option_values", "option values the commands parse: --res, --shard, --crop, --time, --scenes, --tone-map, ...",
+       fuzz_option_values},
   };
   return all;
 }
