@@ -35,11 +35,19 @@ std::string fix_part(const std::string& part) {
   if (eol == std::string::npos) return part;
   const nlohmann::json head = nlohmann::json::parse(part.substr(0, eol), nullptr, false);
   try {
-    const long w = head.at("width").get<int>(), h = head.at("height").get<int>();
-    const long first = head.at("first_frame").get<int>(), end = head.at("end_frame").get<int>();
-    const long block = head.at("key").at("frame_block").get<int>();
-    const int format = head.at("raycoh_reference_part").get<int>();
-    if (w < 1 || h < 1 || w * h > 4096 || block < 1 || end <= first || (end - first) / block > 64) return part;
+    // Integers only, read wide (get<int> of a float out of range is undefined behaviour); anything else stays.
+    const auto field = [](const nlohmann::json& j) {
+      if (!j.is_number_integer()) throw nlohmann::json::type_error::create(302, "not an integer", &j);
+      const int64_t v = j.get<int64_t>();
+      return v < -(int64_t{1} << 40) || v > (int64_t{1} << 40) ? int64_t{-1} : v;
+    };
+    const int64_t w = field(head.at("width")), h = field(head.at("height"));
+    const int64_t first = field(head.at("first_frame")), end = field(head.at("end_frame"));
+    const int64_t block = field(head.at("key").at("frame_block"));
+    const int64_t format = field(head.at("raycoh_reference_part"));
+    if (w < 1 || h < 1 || w > 4096 || h > 4096 || w * h > 4096 || block < 1 || end <= first ||
+        (end - first) / block > 64)
+      return part;
     const size_t bytes = static_cast<size_t>(w * h) * (3 * sizeof(double) + 2 * sizeof(uint32_t));
     std::string out = part.substr(0, eol + 1);
     size_t at = eol + 1;
