@@ -1,5 +1,7 @@
 // The one exception type for user mistakes (bad input files, unknown names, out-of-range parameters).
-// main() catches it, prints "raycoh: error: <message>" on one line and exits with code 2.
+// main() catches it, prints "raycoh: error: <message>" on one line and exits with code 2. The message is made one
+// line when the error is made (one_line): messages quote the user's input, and a file's line or a parameter may
+// hold line breaks or other control characters.
 #pragma once
 
 #include <stdexcept>
@@ -8,8 +10,12 @@
 namespace raycoh {
 
 struct Error : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit Error(const std::string& message);
+  explicit Error(const char* message) : Error(std::string(message)) {}
 };
+
+// text with line breaks and other control characters (tab aside) written as escapes: "\n", "\r", "\x1b".
+std::string one_line(const std::string& text);
 
 // Invariant check that stays on in Release builds; prints both sides of the failed condition.
 [[noreturn]] void invariant_failed(const char* expr, const char* file, int line, const std::string& detail);

@@ -23,11 +23,6 @@ const BindCommand kCommands[] = {
     bind_reference, bind_reference_combine, bind_quality, bind_converge, bind_compare, bind_rays,     bind_report,
     bind_stability};
 
-std::string one_line(std::string text) {
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  return text;
-}
-
 int fail(int code, const char* kind, const std::string& message) {
   std::fprintf(stderr, "raycoh: %s: %s\n", kind, one_line(message).c_str());
   return code;

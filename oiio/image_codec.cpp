@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "core/error.h"
@@ -33,6 +34,30 @@ std::string encode_oiio(const std::string& path, int width, int height, bool png
     throw Error(path + ": cannot encode the image: " + out->geterror());
   return std::string(encoded.begin(), encoded.end());
 }
+
+// An input opened with the reader of `format` only. OIIO's ImageInput::open hands a file its extension's reader
+// cannot open to every other reader it has in turn (dozens, from DPX to RAW): a damaged or mislabelled file would
+// be decoded as whatever format accepts it, slowly, by readers raycoh never means to use. Empty when the reader
+// refuses the file; `why` then says why.
+std::unique_ptr<OIIO::ImageInput> open_as(const char* format, const std::string& name, OIIO::Filesystem::IOProxy* proxy,
+                                          std::string& why) {
+  auto in = OIIO::ImageInput::create(format);
+  if (!in) {
+    why = OIIO::geterror();
+    return nullptr;
+  }
+  if (proxy && !in->set_ioproxy(proxy)) {
+    why = std::string("the ") + format + " reader cannot read from memory";
+    return nullptr;
+  }
+  OIIO::ImageSpec spec;
+  if (!in->open(name, spec)) {
+    why = in->geterror();
+    if (why.empty()) why = std::string("not a valid ") + format + " file";
+    return nullptr;
+  }
+  return in;
+}
 #else
 [[noreturn]] void no_image_io(const std::string& path) {
   throw Error(path + ": EXR and PNG need a build with -DRAYCOH_IMAGE_IO=ON (OpenImageIO)");
@@ -47,20 +72,17 @@ bool decode_rgba8([[maybe_unused]] const unsigned char* bytes, [[maybe_unused]] 
                   [[maybe_unused]] Rgba8Image& out, std::string& why) {
 #if RAYCOH_IMAGE_IO
   // The format comes from the magic bytes: embedded images have no file name, and URIs may lie.
-  const char* name = nullptr;
-  if (size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0) name = "texture.png";
-  if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) name = "texture.jpg";
-  if (size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0) name = "texture.webp";
-  if (!name) {
+  const char* format = nullptr;
+  if (size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0) format = "png";
+  if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) format = "jpeg";
+  if (size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0) format = "webp";
+  if (!format) {
     why = "not a PNG, JPEG or WebP image";
     return false;
   }
   OIIO::Filesystem::IOMemReader memory(bytes, size);
-  auto in = OIIO::ImageInput::open(name, nullptr, &memory);
-  if (!in) {
-    why = OIIO::geterror();
-    return false;
-  }
+  auto in = open_as(format, std::string("texture.") + format, &memory, why);
+  if (!in) return false;
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1 ||
       static_cast<double>(spec.width) * spec.height > 1 << 28) {
@@ -113,12 +135,16 @@ std::string encode_png(const std::string& path, [[maybe_unused]] int width, [[ma
 
 RgbFloatImage read_rgb_float(const std::string& path) {
 #if RAYCOH_IMAGE_IO
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw Error(path + ": cannot read: " + OIIO::geterror());
+  std::string why;
+  auto in = open_as("openexr", path, nullptr, why);
+  if (!in) throw Error(path + ": cannot read it as an OpenEXR image: " + why);
   const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1)
+  // At most 2^26 pixels (8192 x 8192): a damaged header can claim any size, and a compressed file's size does not
+  // bound its pixels.
+  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1 ||
+      static_cast<double>(spec.width) * spec.height > (1 << 26))
     throw Error(path + ": unsupported image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ", " +
-                std::to_string(spec.nchannels) + " channels)");
+                std::to_string(spec.nchannels) + " channels; valid: 1 to 67108864 pixels, 1 or more channels)");
   const int channels = std::min(spec.nchannels, 3);
   std::vector<float> data(static_cast<size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))

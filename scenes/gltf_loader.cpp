@@ -85,7 +85,7 @@ bool decode_image(tinygltf::Image* image, const int index, std::string*, std::st
 }
 
 // tinygltf messages span lines; an Error is one line.
-std::string one_line(const std::string& text) {
+std::string tinygltf_message(const std::string& text) {
   std::string out;
   for (char ch : text) {
     if (ch == '\n' || ch == '\r') {
@@ -212,7 +212,7 @@ tinygltf::Model parse_model(const std::string& path, const std::vector<unsigned 
                 : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
                                            static_cast<unsigned>(bytes.size()), base_dir);
   } catch (const std::exception& e) {
-    fail(path, fmt::format("not a valid glTF file: {}", one_line(e.what())));
+    fail(path, fmt::format("not a valid glTF file: {}", tinygltf_message(e.what())));
   }
   // tinygltf also writes non-fatal notes (e.g. chunk padding) into err, so only the return value decides.
   if (!ok) {
@@ -228,7 +228,7 @@ tinygltf::Model parse_model(const std::string& path, const std::vector<unsigned 
       fail(path, fmt::format("buffer file '{}' not found next to the scene",
                              err.substr(from, end == std::string::npos ? std::string::npos : end - from)));
     }
-    fail(path, fmt::format("not a valid glTF {} file: {}", binary ? "binary" : "JSON", one_line(err)));
+    fail(path, fmt::format("not a valid glTF {} file: {}", binary ? "binary" : "JSON", tinygltf_message(err)));
   }
   note_warnings(warn, notes);
   return model;

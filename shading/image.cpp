@@ -194,6 +194,16 @@ Image read_pfm(const std::string& path) {
     throw Error(fmt::format("{}: bad PFM header (size {}x{}, scale {})", path, w, h, scale));
   in.get();  // the single whitespace character that ends the header
   const int channels = magic == "PF" ? 3 : 1;
+  // The pixel data must be in the file before a buffer of the header's size is allocated: a damaged header may
+  // claim 65536 x 65536 pixels (48 GiB) in a file of a few bytes.
+  const std::streamoff header = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff file_bytes = in.tellg();
+  in.seekg(header);
+  const uint64_t need = static_cast<uint64_t>(w * h * channels) * sizeof(float);
+  if (header < 0 || file_bytes < header || static_cast<uint64_t>(file_bytes - header) < need)
+    throw Error(fmt::format("{}: truncated PFM ({} of {} bytes of pixel data)", path,
+                            header < 0 || file_bytes < header ? 0 : file_bytes - header, need));
   std::vector<float> data(static_cast<size_t>(w * h * channels));
   in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(data.size() * sizeof(float)));
   if (in.gcount() != static_cast<std::streamsize>(data.size() * sizeof(float)))

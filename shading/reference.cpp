@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -69,6 +70,22 @@ uint64_t file_hash(const fs::path& path) {
   Fnv1a h;
   hash_file_bytes(h, path);
   return h.h;
+}
+
+// An int field of a file's JSON, as nlohmann's get<int> but refusing (type_error) what is not an integer in int's
+// range: get<int> casts a float such as 1e300 to int (undefined behaviour) and wraps a larger integer.
+int int_field(const nlohmann::json& j) {
+  const bool fits = j.is_number_unsigned()  ? j.get<uint64_t>() <= uint64_t{INT32_MAX}
+                    : j.is_number_integer() ? j.get<int64_t>() >= INT32_MIN && j.get<int64_t>() <= INT32_MAX
+                                            : false;
+  if (!fits) throw nlohmann::json::type_error::create(302, "not an integer in int's range", &j);
+  return static_cast<int>(j.get<int64_t>());
+}
+
+// A sidecar's text field; empty when it is missing or not text (value() would throw type_error).
+std::string text_field(const nlohmann::json& side, const char* name) {
+  const auto it = side.find(name);
+  return it != side.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
 // The sidecar's checksum: FNV-1a of its canonical JSON without the checksum field itself, so that an edited field
@@ -168,7 +185,7 @@ int reference_file_frames(const std::string& image_path) {
   try {
     const nlohmann::json side = nlohmann::json::parse(in);
     if (side.value("image", std::string()) != p.filename().string()) return 0;
-    const int frames = side.at("key").at("frames").get<int>();
+    const int frames = int_field(side.at("key").at("frames"));
     return frames > 0 ? frames : 0;
   } catch (const nlohmann::json::exception&) {
     return 0;  // not a sidecar of ours: the frame count stays unknown
@@ -281,18 +298,24 @@ struct PartReader {
         fmt::format("{}: not a raycoh reference part (format 1 or {}), or its header is damaged", file, kPartFormat);
     try {
       if (head.is_discarded() || !head.is_object() || !head.at("key").is_object()) throw Error(damaged);
-      format = head.at("raycoh_reference_part").get<int>();
-      width = head.at("width").get<int>();
-      height = head.at("height").get<int>();
-      shard = head.at("shard").get<int>();
-      shards = head.at("shards").get<int>();
-      first = head.at("first_frame").get<int>();
-      end = head.at("end_frame").get<int>();
+      format = int_field(head.at("raycoh_reference_part"));
+      width = int_field(head.at("width"));
+      height = int_field(head.at("height"));
+      shard = int_field(head.at("shard"));
+      shards = int_field(head.at("shards"));
+      first = int_field(head.at("first_frame"));
+      end = int_field(head.at("end_frame"));
       stem = head.at("stem").get<std::string>();
-      frames = head.at("key").at("frames").get<int>();
-      block = head.at("key").at("frame_block").get<int>();
+      frames = int_field(head.at("key").at("frames"));
+      block = int_field(head.at("key").at("frame_block"));
+      // The ranges a part raycoh writes keeps (frames and blocks as check_request allows, shards of whole
+      // blocks), so that no count below overflows and a damaged header never asks for a huge allocation.
+      const bool in_range = width <= (1 << 16) && height <= (1 << 16) && frames >= 1 && frames <= (1 << 20) &&
+                            block <= (1 << 20) && first >= 0 && end <= frames && shards <= frames &&
+                            width == int_field(head.at("key").at("width")) &&
+                            height == int_field(head.at("key").at("height"));
       if ((format != 1 && format != kPartFormat) || width < 1 || height < 1 || block < 1 || end <= first ||
-          shards < 1 || header_bytes <= 0)
+          shards < 1 || header_bytes <= 0 || !in_range)
         throw Error(damaged);
       blocks = (end - first + block - 1) / block;
     } catch (const nlohmann::json::exception&) {
@@ -302,7 +325,25 @@ struct PartReader {
 
   // Block b (the next one in the file), its bytes added to `total`; nothing when the file ends within it or, in
   // format 2, its line is missing or does not match its bytes.
+  uint64_t block_bytes() const { return uint64_t{32} * static_cast<uint64_t>(width) * static_cast<uint64_t>(height); }
+  // The file's bytes after `from`: checked before anything of the header's image size is allocated.
+  uint64_t bytes_after(std::streamoff from) const {
+    std::error_code ec;
+    const uint64_t size = fs::file_size(file, ec);
+    return ec || from < 0 || size < static_cast<uint64_t>(from) ? 0 : size - static_cast<uint64_t>(from);
+  }
+  // Combining needs every block: a part cut short is refused before the image is allocated.
+  void check_whole() const {
+    const uint64_t have = bytes_after(header_bytes);
+    if (have / block_bytes() < static_cast<uint64_t>(blocks))
+      throw Error(
+          fmt::format("{}: the reference part is cut short ({} bytes of pixel data, {} blocks of {} expected); "
+                      "render that shard again",
+                      file, have, blocks, block_bytes()));
+  }
+
   std::optional<Accumulator> read_block(int b, Fnv1a& total) {
+    if (bytes_after(in.tellg()) < block_bytes()) return std::nullopt;  // cut short (or a damaged size)
     const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<double> sums(3 * n);
     std::vector<uint32_t> samples(n), non_finite(n);
@@ -323,6 +364,10 @@ struct PartReader {
       double s = 0;
       if (std::sscanf(line.c_str(), "block %d %16s %lf %255s", &index, hash, &s, host) != 4 || index != b ||
           std::string(hash) != fmt::format("{:016x}", own.h))
+        return std::nullopt;
+      // A host name as host_name() writes it (printable ASCII): it goes into the sidecar's JSON, which holds UTF-8.
+      if (std::any_of(host, host + std::strlen(host), [](char c) { return c < 0x21 || c > 0x7e; }) ||
+          !std::isfinite(s) || s < 0)
         return std::nullopt;
       seconds += s;
       if (std::find(hosts.begin(), hosts.end(), host) == hosts.end()) hosts.push_back(host);
@@ -382,8 +427,8 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
     const nlohmann::json side = nlohmann::json::parse(in, nullptr, false);
     const bool ours = !side.is_discarded() && side.is_object() && side.contains("key") && side["key"].is_object() &&
                       side["key"].dump() == key;
-    const bool intact = ours && side.value("checksum", std::string()) == sidecar_checksum(side) &&
-                        side.value("image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(e.image));
+    const bool intact = ours && text_field(side, "checksum") == sidecar_checksum(side) &&
+                        text_field(side, "image_fnv1a") == fmt::format("{:016x}", file_hash(e.image));
     if (ours && !intact)
       std::fprintf(stderr,
                    "reference cache: %s or its sidecar does not match the recorded checksum (edited or damaged); "
@@ -395,10 +440,11 @@ Reference get_reference(const Scene& scene, const Bvh& bvh, const ReferenceReque
         if (img.width == r.settings.width && img.height == r.settings.height) {
           ref.image = img;
           ref.from_cache = true;
-          ref.non_finite = side.value("non_finite_samples", uint64_t{0});
+          const auto nf = side.find("non_finite_samples");
+          ref.non_finite = nf != side.end() && nf->is_number_unsigned() ? nf->get<uint64_t>() : 0;
           const fs::path half = half_reference_path(e.image.string());
           if (side.contains("half_image") && fs::is_regular_file(half, ec) &&
-              side.value("half_image_fnv1a", std::string()) == fmt::format("{:016x}", file_hash(half))) {
+              text_field(side, "half_image_fnv1a") == fmt::format("{:016x}", file_hash(half))) {
             Image h = read_image(half.string());
             if (h.width == img.width && h.height == img.height) ref.first_half = std::move(h);
           }
@@ -571,6 +617,9 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
     const std::string diff = key_difference(a.head["key"], rd->head["key"]);
     if (!diff.empty())
       throw Error(fmt::format("{} and {} are parts of different references: key field {}", a.file, rd->file, diff));
+    if (rd->width != a.width || rd->height != a.height)
+      throw Error(fmt::format("{} and {} are parts of different image sizes ({}x{} vs {}x{})", a.file, rd->file,
+                              a.width, a.height, rd->width, rd->height));
     if (rd->shards != count || rd->stem != a.stem)
       throw Error(fmt::format("{} and {} disagree on the shard count or scene ({} vs {} shards)", a.file, rd->file,
                               count, rd->shards));
@@ -589,13 +638,14 @@ Reference combine_reference_parts(const std::vector<std::string>& parts, const s
   int n_missing = 0;
   for (int i = 0; i < count; ++i)
     if (!by_index[i]) {
-      missing += (missing.empty() ? "" : ", ") + fmt::format("{}/{}", i, count);
-      ++n_missing;
+      // The first ten by name: a damaged "shards" field may claim a million.
+      if (++n_missing <= 10) missing += (missing.empty() ? "" : ", ") + fmt::format("{}/{}", i, count);
     }
   if (n_missing > 0)
-    throw Error(fmt::format("{} of {} reference shard(s) missing: {} (render them, then combine again)", n_missing,
-                            count, missing));
+    throw Error(fmt::format("{} of {} reference shard(s) missing: {}{} (render them, then combine again)", n_missing,
+                            count, missing, n_missing > 10 ? ", ..." : ""));
 
+  for (const PartReader* rd : by_index) rd->check_whole();
   const std::string key = a.head["key"].dump();
   const Entry e = entry_of(safe_name(a.stem), key, cache_dir);
   Accumulator total(a.width, a.height), first_half(a.width, a.height);
