@@ -1,13 +1,12 @@
 // `raycoh merge`: its options, and what the merge (records/merge.h) needs of the commands whose files it joins —
 // their defaults for options a recorded command line does not give.
-#include "records/merge.h"
-
 #include <CLI/CLI.hpp>
 #include <memory>
 
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/experiment.h"
+#include "harness/merge_defaults.h"
 #include "harness/quality.h"
 
 namespace raycoh {
@@ -33,9 +32,11 @@ RunUnits command_units(bool quality, const std::vector<std::string>& words) {
 
 }  // namespace
 
+MergeCommands merge_command_defaults() { return {ExperimentOptions{}.frames, command_units}; }
+
 BoundCommand bind_merge(CLI::App& parent) {
   auto o = std::make_shared<MergeOptions>();
-  o->commands = {ExperimentOptions{}.frames, command_units};
+  o->commands = merge_command_defaults();
   CLI::App* cmd = parent.add_subcommand(
       "merge",
       "join the CSV files of a sharded table, sweep, quality or converge (--shard I/N) into what one process writes");

@@ -1,12 +1,13 @@
 // Fuzz targets of the CSV readers: an earlier run's rows read back for resume (harness/csv.cpp through
-// record_csv.h, the table/sweep schema), and the shard files `raycoh merge` joins (harness/merge.cpp).
+// record_csv.h, the table/sweep schema), and the shard files `raycoh merge` joins (records/merge.h).
 #include <string>
 #include <vector>
 
-#include "harness/experiment_row.h"
-#include "harness/merge.h"
-#include "harness/provenance.h"
-#include "harness/record_csv.h"
+#include "harness/merge_defaults.h"
+#include "records/experiment_row.h"
+#include "records/merge.h"
+#include "records/provenance.h"
+#include "records/record_csv.h"
 #include "tests/fuzz/fuzz_targets.h"
 #include "tests/fuzz/fuzz_util.h"
 
@@ -41,6 +42,7 @@ void fuzz_shard_merge(const uint8_t* data, size_t size) {
   }
   o.out = scratch_dir() + "/merged.csv";
   o.force = true;
+  o.commands = merge_command_defaults();
   expect_clean("", [&] { run_merge(o, provenance); });
 }
 

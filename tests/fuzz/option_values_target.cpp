@@ -6,7 +6,7 @@
 #include "encoders/permute.h"
 #include "harness/cli.h"
 #include "harness/quality.h"
-#include "harness/shard.h"
+#include "records/shard.h"
 #include "shading/image.h"
 #include "shading/metrics.h"
 #include "tests/fuzz/fuzz_targets.h"
