@@ -40,6 +40,11 @@ const std::string& scratch_dir() {
   return scratch.dir;
 }
 
+const SmallScene& small_scene() {
+  static const SmallScene s;
+  return s;
+}
+
 void clear_scratch() {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(scratch_dir(), ec)) fs::remove_all(e.path(), ec);

@@ -7,12 +7,22 @@
 #include <string>
 #include <vector>
 
+#include "bvh/bvh_build.h"
+#include "scenes/scene.h"
+
 namespace raycoh::fuzz {
 
 // This process's scratch folder (created once, emptied on request, removed at exit).
 const std::string& scratch_dir();
 // Removes everything inside the scratch folder (each run starts from an empty folder).
 void clear_scratch();
+
+// The built-in cornell scene and its BVH, made once (the targets that need a scene to make plugins or references).
+struct SmallScene {
+  Scene scene = load_scene("cornell");
+  Bvh bvh = build_bvh(scene);
+};
+const SmallScene& small_scene();
 // Writes bytes to scratch_dir()/name and returns the path.
 std::string write_scratch(const std::string& name, const std::string& bytes);
 

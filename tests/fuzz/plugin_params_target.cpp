@@ -17,16 +17,6 @@ namespace raycoh::fuzz {
 namespace {
 
 // The scene tracers and encoders are made for (32 triangles, built once).
-struct SmallScene {
-  Scene scene = load_scene("cornell");
-  Bvh bvh = build_bvh(scene);
-};
-
-const SmallScene& small_scene() {
-  static const SmallScene s;
-  return s;
-}
-
 }  // namespace
 
 // First byte: which list (generators, encoders, tracers); the rest: the list as typed after the option.

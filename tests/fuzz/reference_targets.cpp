@@ -29,16 +29,6 @@ ReferenceRequest small_request() {
   return r;
 }
 
-struct SmallScene {
-  Scene scene = load_scene("cornell");
-  Bvh bvh = build_bvh(scene);
-};
-
-const SmallScene& small_scene() {
-  static const SmallScene s;
-  return s;
-}
-
 }  // namespace
 
 // First byte: bit 0 rewrites the sidecar's checksums to match (checksum_fixup.h), bit 1 also puts this request's
