@@ -257,6 +257,7 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
     for (int r = 0; r < o_.bias_renders; ++r) tests.push_back(sink.hdr_path(r));
     const HdrFlip f = run_hdr_flip(flip_, ref_exr, tests, sink.hdr_dir);
     row.flip_hdr = f.mean;
+    row.flip_hdr_renders = f.per_test;
     row.flip_hdr_exposure = f.exposure;
     std::error_code ec;
     fs::remove_all(sink.hdr_dir, ec);
@@ -282,7 +283,10 @@ void QualityRun::run_scene(size_t si) {
     std::fprintf(stderr, "[%zu/%zu] %s: finished in the interrupted run, skipped\n", si + 1, o_.scenes.size(),
                  spec.c_str());
     for (size_t gi = 0; gi < o_.generators.size(); ++gi)
-      if (owns(si, gi)) rows_.push_back(*finished(spec, gi));
+      if (owns(si, gi)) {
+        rows_.push_back(*finished(spec, gi));
+        if (o_.after_row && o_.after_row(rows_.back())) break;
+      }
     return;
   }
   std::fprintf(stderr, "[%zu/%zu] ", si + 1, o_.scenes.size());
@@ -299,6 +303,7 @@ void QualityRun::run_scene(size_t si) {
       rows_.push_back(*row);
     else
       run_generator(*ls, ref, noise ? &*noise : nullptr, tm, si, gi);
+    if (o_.after_row && o_.after_row(rows_.back())) break;
   }
 }
 
@@ -326,6 +331,7 @@ int QualityRun::run() {
         o_.shard.text().c_str(), o_.out.c_str(), rows_.size(), provenance_.git_revision.c_str());
     return 0;
   }
+  if (!o_.console) return 0;
   print_quality(o_, rows_);
   std::printf("\nWrote %s and images in %s/ in %.1f s (%s, %d threads)\n", o_.out.c_str(), image_dir_.c_str(),
               std::chrono::duration<double>(Clock::now() - t_start).count(), provenance_.git_revision.c_str(),

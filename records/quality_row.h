@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "records/provenance.h"
 #include "records/recorded_columns.h"
@@ -51,7 +52,11 @@ struct QualityRow {
   // generators without groups.
   double hybrid_diffuse_share = 0;
   Provenance provenance;
-  RecordedColumns recorded;  // tile_w .. mode, the last columns (records/recorded_columns.h)
+  RecordedColumns recorded;  // tile_w .. mode (records/recorded_columns.h)
+  // Per render (seeds seed .. seed + R - 1, in order), after the typed columns: relMSE, relMSE of the 8x8
+  // box-downsampled render and HDR-FLIP (empty when flip is not available), so that two generators' renders of the
+  // same seed can be compared pairwise (`raycoh tune`).
+  std::vector<double> rel_mse_renders, rel_mse_ds8_renders, flip_hdr_renders;
 };
 
 const Schema<QualityRow>& quality_schema();

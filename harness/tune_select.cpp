@@ -1,0 +1,126 @@
+#include "harness/tune_select.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace raycoh {
+
+namespace {
+
+struct Bound {
+  const char* name;
+  double limit;
+  const RatioStat* stat;
+};
+
+std::vector<Bound> bounds_of(const TuneCandidate& c, const TuneBudget& b) {
+  std::vector<Bound> out;
+  if (b.ds8 > 0) out.push_back({"ds8", b.ds8, &c.ds8});
+  if (b.rel > 0) out.push_back({"rel", b.rel, &c.rel});
+  if (b.flip > 0) out.push_back({"flip", b.flip, &c.flip});
+  return out;
+}
+
+}  // namespace
+
+double t95(int dof) {
+  // Two-sided 95% quantiles of Student's t (e.g. Abramowitz & Stegun, table 26.10).
+  static const double table[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                 2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+                                 2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  if (dof < 1) return INFINITY;
+  if (dof <= 30) return table[dof - 1];
+  if (dof <= 60) return 2.042 - (2.042 - 2.000) * (dof - 30) / 30.0;
+  if (dof < 1000) return 2.000 - (2.000 - 1.962) * (dof - 60) / 940.0;
+  return 1.96;
+}
+
+RatioStat paired_ratio(const std::vector<double>& x, const std::vector<double>& base) {
+  std::vector<double> logs;
+  for (size_t i = 0; i < std::min(x.size(), base.size()); ++i)
+    if (std::isfinite(x[i]) && std::isfinite(base[i]) && x[i] > 0 && base[i] > 0)
+      logs.push_back(std::log(x[i] / base[i]));
+  RatioStat s;
+  s.n = static_cast<int>(logs.size());
+  if (logs.empty()) return s;
+  double sum = 0;
+  for (double v : logs) sum += v;
+  const double mean = sum / s.n;
+  s.mean = std::exp(mean);
+  if (s.n == 1) {
+    s.lo = s.hi = s.mean;
+    return s;
+  }
+  double ss = 0;
+  for (double v : logs) ss += (v - mean) * (v - mean);
+  const double half = t95(s.n - 1) * std::sqrt(ss / (s.n - 1) / s.n);
+  s.lo = std::exp(mean - half);
+  s.hi = std::exp(mean + half);
+  return s;
+}
+
+TuneVerdict judge(const TuneCandidate& c, const TuneBudget& b) {
+  TuneVerdict v;
+  if (!c.error_measured) {
+    v.reason = "error not measured";
+    return v;
+  }
+  std::vector<std::string> why;
+  v.excess = 0;
+  for (const Bound& bound : bounds_of(c, b)) {
+    const RatioStat& s = *bound.stat;
+    if (s.n == 0) {
+      v.excess = INFINITY;
+      why.push_back(fmt::format("{} not measured", bound.name));
+      continue;
+    }
+    v.excess = std::max(v.excess, s.hi / bound.limit);
+    if (s.hi > bound.limit)
+      why.push_back(fmt::format("{} {:.3f} [{:.3f}, {:.3f}] > {}", bound.name, s.mean, s.lo, s.hi, bound.limit));
+  }
+  if (b.no_bias && c.bias_verdict != "consistent") {
+    v.bias_rejected = true;
+    why.push_back(c.bias_verdict.empty() ? "bias not tested" : "bias test rejects (" + c.bias_verdict + ")");
+  }
+  v.pass = why.empty();
+  for (size_t i = 0; i < why.size(); ++i) v.reason += (i ? "; " : "") + why[i];
+  return v;
+}
+
+double axis_value(const TuneCandidate& c, const std::string& axis) {
+  return axis == "ds8" ? c.ds8.mean : axis == "rel" ? c.rel.mean : c.flip.mean;
+}
+
+TuneChoice choose(const std::vector<TuneCandidate>& cs, const TuneBudget& b) {
+  TuneChoice out;
+  out.error_axis = b.ds8 > 0 ? "ds8" : b.rel > 0 ? "rel" : "flip";
+  for (const TuneCandidate& c : cs) out.verdicts.push_back(judge(c, b));
+  out.front.assign(cs.size(), false);
+  for (size_t i = 0; i < cs.size(); ++i) {
+    const double ei = axis_value(cs[i], out.error_axis);
+    if (!cs[i].error_measured || !std::isfinite(ei)) continue;
+    bool dominated = false;
+    for (size_t j = 0; j < cs.size() && !dominated; ++j) {
+      const double ej = axis_value(cs[j], out.error_axis);
+      if (j == i || !cs[j].error_measured || !std::isfinite(ej)) continue;
+      dominated = cs[j].speed >= cs[i].speed && ej <= ei && (cs[j].speed > cs[i].speed || ej < ei);
+    }
+    out.front[i] = !dominated;
+  }
+  for (size_t i = 0; i < cs.size(); ++i)
+    if (out.verdicts[i].pass && (out.recommended < 0 || cs[i].speed > cs[static_cast<size_t>(out.recommended)].speed))
+      out.recommended = static_cast<int>(i);
+  if (out.recommended >= 0) return out;
+  bool any_accepted = false;
+  for (size_t i = 0; i < cs.size(); ++i) any_accepted |= cs[i].error_measured && !out.verdicts[i].bias_rejected;
+  for (size_t i = 0; i < cs.size(); ++i) {
+    if (!cs[i].error_measured || (any_accepted && out.verdicts[i].bias_rejected)) continue;
+    const int m = out.closest_miss;
+    if (m < 0 || out.verdicts[i].excess < out.verdicts[static_cast<size_t>(m)].excess)
+      out.closest_miss = static_cast<int>(i);
+  }
+  return out;
+}
+
+}  // namespace raycoh

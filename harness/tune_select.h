@@ -1,0 +1,63 @@
+// `raycoh tune`'s decision, apart from any measurement (so that tests give it known answers):
+//
+// Error ratios: for each budget metric, the renders of a setting and of NoOpt with the same seed are paired,
+// r_i = x_i / x_noopt,i, and the ratio is their geometric mean with a two-sided 95% Student-t interval over the
+// seeds, both on log r_i (seeds are independent; pairing takes out the share of the error both generators draw from
+// the same random numbers; logs keep one seed's firefly in either render from swinging the mean, and the interval
+// positive). A setting meets the budget when, for every metric of the budget, the interval's upper end is at most the
+// bound (so it meets it at the seeds' confidence, not by luck of the seeds), and, with bias=none, the bias test
+// does not reject it.
+//
+// The recommendation: the fastest setting that meets the budget (speed: the ranked figure, end to end or trace).
+// Without one, the closest miss: the setting whose worst upper end / bound is smallest among those the bias test
+// accepts (among all when it accepts none), with the reason. The front: the settings no other measured setting beats
+// in both speed and the error axis (ds8 when the budget has it, else rel, else flip; mean ratio).
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "harness/tune_space.h"
+
+namespace raycoh {
+
+struct RatioStat {
+  double mean = std::nan(""), lo = std::nan(""), hi = std::nan("");
+  int n = 0;  // pairs with both values finite
+};
+// Pairs x[i] with base[i]; pairs where either is not finite and positive are left out. Fewer than 2 pairs: the
+// mean alone (lo = hi = mean when n = 1, all NaN when n = 0).
+RatioStat paired_ratio(const std::vector<double>& x, const std::vector<double>& base);
+// The two-sided 95% Student-t quantile for `dof` degrees of freedom (1.96 from 1000 on).
+double t95(int dof);
+
+struct TuneCandidate {
+  TuneSetting setting;
+  double speed = 0, trace_speed = 0;  // MRay/s: the ranked figure (end to end or trace) and the trace's
+  bool error_measured = false;        // false: left out by --search fastest (a faster setting met the budget)
+  RatioStat ds8, rel, flip;
+  std::string bias_verdict;  // "consistent" | "biased" | "" (not measured)
+};
+
+struct TuneVerdict {
+  bool pass = false;
+  double excess = INFINITY;  // worst upper end / bound over the budget's metrics (<= 1 when they pass)
+  bool bias_rejected = false;
+  std::string reason;  // "" when pass; else e.g. "ds8 1.12 [1.08, 1.16] > 1.05; bias test rejects"
+};
+TuneVerdict judge(const TuneCandidate& c, const TuneBudget& budget);
+
+struct TuneChoice {
+  std::vector<TuneVerdict> verdicts;  // per candidate
+  std::vector<bool> front;            // per candidate
+  int recommended = -1;               // index of the fastest passing candidate, -1 when none passes
+  int closest_miss = -1;              // when none passes: the nearest miss (-1 when nothing was measured)
+  std::string error_axis;             // "ds8", "rel" or "flip"
+};
+TuneChoice choose(const std::vector<TuneCandidate>& candidates, const TuneBudget& budget);
+
+// The error axis's mean ratio of a candidate (the front's and the plot's y).
+double axis_value(const TuneCandidate& c, const std::string& axis);
+
+}  // namespace raycoh
