@@ -96,6 +96,15 @@ void fill_error(TuneCandidate& c, const QualityRow& row, const QualityRow& base)
   c.rel = paired_ratio(row.rel_mse_renders, base.rel_mse_renders);
   c.flip = paired_ratio(row.flip_hdr_renders, base.flip_hdr_renders);
   c.bias_verdict = row.bias_verdict;
+  c.bias_share = row.bias_excluded;
+  c.noopt_bias_share = base.bias_excluded;
+  const double pixels = static_cast<double>(row.width) * row.height;
+  // Two pixels of a tile of A pixels share a group in a frame with probability ~K / A (ours: groups shuffled every
+  // frame), always for contiguous: their shares are correlated by at most that much.
+  const double k = std::max(1, c.setting.k), area = static_cast<double>(c.setting.tile_w) * c.setting.tile_h;
+  const double rho = c.setting.generator == "contiguous" ? 1.0 : std::min(1.0, k / area);
+  c.share_units = pixels / (1 + (k - 1) * rho);
+  c.noopt_units = pixels;
 }
 
 }  // namespace

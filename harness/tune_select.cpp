@@ -8,6 +8,8 @@ namespace raycoh {
 
 namespace {
 
+constexpr double kBiasShareZ = 3.09;  // one-sided 0.1%
+
 struct Bound {
   const char* name;
   double limit;
@@ -79,13 +81,25 @@ TuneVerdict judge(const TuneCandidate& c, const TuneBudget& b) {
     if (s.hi > bound.limit)
       why.push_back(fmt::format("{} {:.3f} [{:.3f}, {:.3f}] > {}", bound.name, s.mean, s.lo, s.hi, bound.limit));
   }
-  if (b.no_bias && c.bias_verdict != "consistent") {
-    v.bias_rejected = true;
-    why.push_back(c.bias_verdict.empty() ? "bias not tested" : "bias test rejects (" + c.bias_verdict + ")");
+  if (b.no_bias) {
+    const double z = bias_share_z(c);
+    if (c.bias_verdict != "consistent")
+      why.push_back(c.bias_verdict.empty() ? "bias not tested" : "bias: the whole image's mean is " + c.bias_verdict);
+    else if (z > kBiasShareZ)
+      why.push_back(fmt::format("bias: {:.1f}% of pixels exclude zero, noopt {:.1f}% (z {:.1f})", 100 * c.bias_share,
+                                100 * c.noopt_bias_share, z));
+    v.bias_rejected = c.bias_verdict != "consistent" || z > kBiasShareZ;
   }
   v.pass = why.empty();
   for (size_t i = 0; i < why.size(); ++i) v.reason += (i ? "; " : "") + why[i];
   return v;
+}
+
+double bias_share_z(const TuneCandidate& c) {
+  const double p1 = c.bias_share, p0 = c.noopt_bias_share;
+  if (!std::isfinite(p1) || !std::isfinite(p0) || c.share_units <= 0 || c.noopt_units <= 0) return std::nan("");
+  const double se = std::sqrt(p1 * (1 - p1) / c.share_units + p0 * (1 - p0) / c.noopt_units);
+  return se > 0 ? (p1 - p0) / se : std::nan("");
 }
 
 double axis_value(const TuneCandidate& c, const std::string& axis) {

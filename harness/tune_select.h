@@ -6,7 +6,10 @@
 // the same random numbers; logs keep one seed's firefly in either render from swinging the mean, and the interval
 // positive). A setting meets the budget when, for every metric of the budget, the interval's upper end is at most the
 // bound (so it meets it at the seeds' confidence, not by luck of the seeds), and, with bias=none, the bias test
-// does not reject it.
+// does not reject it: neither the whole image's mean bias (verdict "biased") nor the share of pixels whose band
+// excludes zero, when that share exceeds NoOpt's by more than z = 3.09 (one-sided 0.1%) standard errors of the
+// difference of two proportions, the setting's in units its groups' correlation allows (the paper rule's bias sits on
+// the hybrid groups' diffuse members: a part of the image the whole-image mean can average away).
 //
 // The recommendation: the fastest setting that meets the budget (speed: the ranked figure, end to end or trace).
 // Without one, the closest miss: the setting whose worst upper end / bound is smallest among those the bias test
@@ -38,6 +41,11 @@ struct TuneCandidate {
   bool error_measured = false;        // false: left out by --search fastest (a faster setting met the budget)
   RatioStat ds8, rel, flip;
   std::string bias_verdict;  // "consistent" | "biased" | "" (not measured)
+  // The per-pixel bias test's share of pixels whose 95% band excludes zero, the setting's and NoOpt's (which is not
+  // 5%: reference noise, skewed samples; harness/quality.cpp), and the independent units of each share: NoOpt's
+  // pixels, the setting's pixels / (1 + (K - 1) rho), rho = K / (tile pixels) for ours (the chance that two pixels
+  // of a tile share a group in a frame), 1 for contiguous (fixed groups).
+  double bias_share = std::nan(""), noopt_bias_share = std::nan(""), share_units = 0, noopt_units = 0;
 };
 
 struct TuneVerdict {
@@ -56,6 +64,9 @@ struct TuneChoice {
   std::string error_axis;             // "ds8", "rel" or "flip"
 };
 TuneChoice choose(const std::vector<TuneCandidate>& candidates, const TuneBudget& budget);
+
+// z of the setting's excluded share over NoOpt's (NaN without both).
+double bias_share_z(const TuneCandidate& c);
 
 // The error axis's mean ratio of a candidate (the front's and the plot's y).
 double axis_value(const TuneCandidate& c, const std::string& axis);
