@@ -170,7 +170,10 @@ int run_tune(const TuneOptions& o, const Provenance& provenance) {
         provenance.git_revision.c_str());
     return 0;
   }
-  const TuneChoice choice = choose(m->candidates, budget);
+  const auto paper = std::find_if(m->candidates.begin(), m->candidates.end(),
+                                  [&](const TuneCandidate& c) { return c.setting == paper_setting(o.generator); });
+  const TuneBudget resolved = resolve_paper(budget, paper == m->candidates.end() ? nullptr : &*paper);
+  const TuneChoice choice = choose(m->candidates, resolved);
   std::vector<TuneRow> rows;
   for (size_t i = 0; i < m->candidates.size(); ++i) rows.push_back(row_of(o, budget, *m, choice, i, provenance));
   refuse_foreign_out(o);

@@ -146,9 +146,13 @@ std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget&
     m.rows[row.method] = row;
     unmeasured.erase(row.method);
     if (o.search != "fastest" || row.method == "noopt" || !m.rows.count("noopt")) return false;
-    TuneCandidate probe = cs.front();
+    TuneCandidate probe = cs.front(), paper = paper_setting(o.generator) == cs.front().setting ? cs.front() : cs.back();
     fill_error(probe, row, m.rows.at("noopt"));
-    if (judge(probe, budget).pass) passing = std::max(passing, best.at(row.method));
+    const std::string paper_image = paper_setting(o.generator).image_spec();
+    if (m.rows.count(paper_image)) fill_error(paper, m.rows.at(paper_image), m.rows.at("noopt"));
+    paper.setting = paper_setting(o.generator);
+    const TuneBudget resolved = resolve_paper(budget, m.rows.count(paper_image) ? &paper : nullptr);
+    if (judge(probe, resolved).pass) passing = std::max(passing, best.at(row.method));
     double rest = -1;
     for (const std::string& u : unmeasured) rest = std::max(rest, best.at(u));
     return passing >= 0 && passing >= rest;

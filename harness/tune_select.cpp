@@ -18,9 +18,10 @@ struct Bound {
 
 std::vector<Bound> bounds_of(const TuneCandidate& c, const TuneBudget& b) {
   std::vector<Bound> out;
-  if (b.ds8 > 0) out.push_back({"ds8", b.ds8, &c.ds8});
-  if (b.rel > 0) out.push_back({"rel", b.rel, &c.rel});
-  if (b.flip > 0) out.push_back({"flip", b.flip, &c.flip});
+  // A `paper` bound that could not be resolved is NaN: it stays in, and no setting meets it.
+  if (b.ds8 > 0 || std::isnan(b.ds8)) out.push_back({"ds8", b.ds8, &c.ds8});
+  if (b.rel > 0 || std::isnan(b.rel)) out.push_back({"rel", b.rel, &c.rel});
+  if (b.flip > 0 || std::isnan(b.flip)) out.push_back({"flip", b.flip, &c.flip});
   return out;
 }
 
@@ -72,14 +73,14 @@ TuneVerdict judge(const TuneCandidate& c, const TuneBudget& b) {
   v.excess = 0;
   for (const Bound& bound : bounds_of(c, b)) {
     const RatioStat& s = *bound.stat;
-    if (s.n == 0) {
+    if (s.n == 0 || std::isnan(bound.limit)) {
       v.excess = INFINITY;
-      why.push_back(fmt::format("{} not measured", bound.name));
+      why.push_back(std::string(bound.name) + (s.n == 0 ? " not measured" : ": the paper's default not measured"));
       continue;
     }
     v.excess = std::max(v.excess, s.hi / bound.limit);
     if (s.hi > bound.limit)
-      why.push_back(fmt::format("{} {:.3f} [{:.3f}, {:.3f}] > {}", bound.name, s.mean, s.lo, s.hi, bound.limit));
+      why.push_back(fmt::format("{} {:.3f} [{:.3f}, {:.3f}] > {:.4g}", bound.name, s.mean, s.lo, s.hi, bound.limit));
   }
   if (b.no_bias) {
     const double z = bias_share_z(c);
@@ -95,6 +96,18 @@ TuneVerdict judge(const TuneCandidate& c, const TuneBudget& b) {
   return v;
 }
 
+TuneBudget resolve_paper(const TuneBudget& b, const TuneCandidate* paper) {
+  TuneBudget r = b;
+  const bool measured = paper && paper->error_measured;
+  auto bound = [&](bool is_paper, double value, const RatioStat& s) {
+    return !is_paper ? value : measured && std::isfinite(s.hi) ? std::max(1.0, s.hi) : NAN;
+  };
+  r.ds8 = bound(b.ds8_paper, b.ds8, measured ? paper->ds8 : RatioStat{});
+  r.rel = bound(b.rel_paper, b.rel, measured ? paper->rel : RatioStat{});
+  r.flip = bound(b.flip_paper, b.flip, measured ? paper->flip : RatioStat{});
+  return r;
+}
+
 double bias_share_z(const TuneCandidate& c) {
   const double p1 = c.bias_share, p0 = c.noopt_bias_share;
   if (!std::isfinite(p1) || !std::isfinite(p0) || c.share_units <= 0 || c.noopt_units <= 0) return std::nan("");
@@ -108,7 +121,7 @@ double axis_value(const TuneCandidate& c, const std::string& axis) {
 
 TuneChoice choose(const std::vector<TuneCandidate>& cs, const TuneBudget& b) {
   TuneChoice out;
-  out.error_axis = b.ds8 > 0 ? "ds8" : b.rel > 0 ? "rel" : "flip";
+  out.error_axis = b.ds8 > 0 || std::isnan(b.ds8) ? "ds8" : b.rel > 0 || std::isnan(b.rel) ? "rel" : "flip";
   for (const TuneCandidate& c : cs) out.verdicts.push_back(judge(c, b));
   out.front.assign(cs.size(), false);
   for (size_t i = 0; i < cs.size(); ++i) {

@@ -56,6 +56,10 @@ struct TuneVerdict {
 };
 TuneVerdict judge(const TuneCandidate& c, const TuneBudget& budget);
 
+// The budget with its `paper` bounds replaced by the paper's default's upper ends (`paper`: its candidate; null or
+// unmeasured: those bounds stay unresolvable and every setting misses them, "paper's default not measured").
+TuneBudget resolve_paper(const TuneBudget& budget, const TuneCandidate* paper);
+
 struct TuneChoice {
   std::vector<TuneVerdict> verdicts;  // per candidate
   std::vector<bool> front;            // per candidate
@@ -63,6 +67,7 @@ struct TuneChoice {
   int closest_miss = -1;              // when none passes: the nearest miss (-1 when nothing was measured)
   std::string error_axis;             // "ds8", "rel" or "flip"
 };
+// `budget` resolved already (resolve_paper).
 TuneChoice choose(const std::vector<TuneCandidate>& candidates, const TuneBudget& budget);
 
 // z of the setting's excluded share over NoOpt's (NaN without both).

@@ -118,11 +118,14 @@ TuneBudget parse_tune_budget(const std::string& text) {
     const size_t eq = item.find('=');
     const std::string metric = item.substr(0, eq), value = eq == std::string::npos ? "" : item.substr(eq + 1);
     if (metric == "ds8" && eq != std::string::npos) {
-      b.ds8 = parse_ratio(metric, value);
+      b.ds8_paper = value == "paper";
+      b.ds8 = b.ds8_paper ? 1 : parse_ratio(metric, value);
     } else if (metric == "rel" && eq != std::string::npos) {
-      b.rel = parse_ratio(metric, value);
+      b.rel_paper = value == "paper";
+      b.rel = b.rel_paper ? 1 : parse_ratio(metric, value);
     } else if (metric == "flip" && eq != std::string::npos) {
-      b.flip = parse_ratio(metric, value);
+      b.flip_paper = value == "paper";
+      b.flip = b.flip_paper ? 1 : parse_ratio(metric, value);
     } else if (metric == "bias" && (value == "none" || value == "any")) {
       b.no_bias = value == "none";
     } else {
@@ -137,9 +140,10 @@ TuneBudget parse_tune_budget(const std::string& text) {
 
 std::string describe(const TuneBudget& b) {
   std::vector<std::string> parts;
-  if (b.ds8 > 0) parts.push_back(fmt::format("ds8={}", b.ds8));
-  if (b.rel > 0) parts.push_back(fmt::format("rel={}", b.rel));
-  if (b.flip > 0) parts.push_back(fmt::format("flip={}", b.flip));
+  auto bound = [](double v, bool paper) { return paper ? std::string("paper") : fmt::format("{}", v); };
+  if (b.ds8 > 0) parts.push_back("ds8=" + bound(b.ds8, b.ds8_paper));
+  if (b.rel > 0) parts.push_back("rel=" + bound(b.rel, b.rel_paper));
+  if (b.flip > 0) parts.push_back("flip=" + bound(b.flip, b.flip_paper));
   parts.push_back(b.no_bias ? "bias=none" : "bias=any");
   return join(parts, ",");
 }

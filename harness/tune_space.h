@@ -12,6 +12,10 @@
 //   rel   relMSE at full resolution
 //   flip  HDR-FLIP of the linear render (what a viewer sees; needs the flip program, harness/quality.cpp)
 //   bias  none: the bias test must not reject (verdict consistent); any: not checked.
+// A ratio metric may be bounded by `paper` instead of a number (ds8=paper): the bound is then the paper's default
+// setting's own upper end for that metric (8x8, K = 8; always measured), so that the search asks for the fastest
+// setting no worse than the paper's generator at the seeds' confidence (the paper's default meets it by definition,
+// and so does every setting with the same image).
 #pragma once
 
 #include <string>
@@ -53,6 +57,8 @@ std::vector<TuneSetting> expand(const TuneSpace& space, const std::string& gener
 struct TuneBudget {
   double ds8 = 1.05, rel = 0, flip = 1.05;
   bool no_bias = true;  // bias=none
+  // ds8=paper, rel=paper, flip=paper: bounded by the paper's default (resolved by tune_select.h's resolve_paper).
+  bool ds8_paper = false, rel_paper = false, flip_paper = false;
 };
 TuneBudget parse_tune_budget(const std::string& text);
 std::string describe(const TuneBudget& budget);
