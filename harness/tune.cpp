@@ -64,7 +64,8 @@ TuneRow row_of(const TuneOptions& o, const TuneBudget& b, const TuneMeasured& m,
   r.generator = s.generator;
   r.tile_w = s.tile_w, r.tile_h = s.tile_h, r.k = s.k;
   r.order = s.order, r.hybrid = s.hybrid, r.frame = s.frame;
-  r.tracer_spec = o.tracer.text();
+  r.tracer_spec = m.tracer_label;
+  r.speed_csv = m.speed_source;
   r.speed_kind = m.modeled ? "modeled" : "measured";
   r.rank = o.rank;
   r.mray_s = c.speed;
@@ -156,8 +157,8 @@ void print_tune(const TuneOptions& o, const TuneMeasured& m, std::vector<TuneRow
 
 int run_tune(const TuneOptions& o, const Provenance& provenance) {
   const TuneBudget budget = parse_tune_budget(o.budget);
-  check_tune(o, budget);
   std::vector<TuneSetting> settings = expand(parse_tune_space(o.space), o.generator);
+  check_tune(o, budget);
   // The paper's default is always measured: the recommendation's gain is stated against it.
   if (std::find(settings.begin(), settings.end(), paper_setting(o.generator)) == settings.end())
     settings.push_back(paper_setting(o.generator));
@@ -217,6 +218,9 @@ BoundCommand bind_tune(CLI::App& parent) {
   cmd->add_option("--seed", o.seed, "random seed")->capture_default_str();
   cmd->add_option("--max-depth", o.max_depth, "scattering events per path")->capture_default_str();
   cmd->add_option("--rr-depth", o.rr_depth, "Russian roulette from this bounce on")->capture_default_str();
+  cmd->add_option("--speed-csv", o.speed_csv,
+                  "take the speeds from this table/sweep CSV (e.g. a tune's <stem>-speed.csv from a GPU machine)");
+  cmd->add_option("--quality-csv", o.quality_csv, "the error stage's CSV (default <out stem>-quality.csv; shareable)");
   cmd->add_option("--out", o.out, "CSV of the decision (stages: <stem>-speed.csv, <stem>-quality.csv)")
       ->capture_default_str();
   cmd->add_option("--cache", o.cache_dir, "reference cache folder (default $RAYCOH_CACHE or results/cache)");

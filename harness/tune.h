@@ -43,6 +43,12 @@ struct TuneOptions {
   std::string space = "tile=8x8,16x8,16x16,32x8 k=8,16,32,64 order=tile,group hybrid=paper,donor frame=duff,rotate";
   std::string search = "fastest";  // fastest | grid
   std::string rank = "e2e";        // e2e | trace
+  // --speed-csv: take the speed stage from this table/sweep CSV (one scene, one tracer; e.g. <stem>-speed.csv of a
+  // tune run on a GPU machine) instead of measuring it here; it must hold noopt and every setting at --res.
+  std::string speed_csv;
+  // --quality-csv: the error stage's file (default <out stem>-quality.csv). The error does not depend on the speed
+  // tracer, so tunes of one scene ranked by different speeds can share it: each measures only the images missing.
+  std::string quality_csv;
   std::string out = "raycoh-tune.csv";
   std::string cache_dir, image_dir;  // "" = $RAYCOH_CACHE or results/cache; <out stem>-images
   bool force = false;

@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <set>
 
+#include "core/error.h"
 #include "harness/experiment.h"
 #include "harness/quality.h"
 #include "harness/render_common.h"
+#include "records/experiment_sums.h"
+#include "records/result_csv.h"
 
 namespace raycoh {
 
@@ -107,18 +110,52 @@ void fill_error(TuneCandidate& c, const QualityRow& row, const QualityRow& base)
   c.noopt_units = pixels;
 }
 
-}  // namespace
+// --speed-csv: noopt's and every setting's speed from an experiment CSV measured elsewhere.
+void speeds_from_file(const TuneOptions& o, const std::vector<TuneSetting>& settings, TuneMeasured& m) {
+  const ResultCsv c = read_result_csv(o.speed_csv);
+  const ResultKind kind = result_kind(c);
+  if (kind != ResultKind::Table && kind != ResultKind::Sweep)
+    throw Error(
+        fmt::format("--speed-csv {}: not a table or sweep CSV (a tune's <stem>-speed.csv is one)", o.speed_csv));
+  const Experiment e = read_experiment(c);
+  const std::string res = fmt::format("{}×{}", o.width, o.height);
+  if (e.scenes.size() != 1 || e.tracers.size() != 1 || e.resolutions != std::set<std::string>{res})
+    throw Error(
+        fmt::format("--speed-csv {}: needs one scene, one tracer and --res {}x{}; it holds {} scene(s), {} "
+                    "tracer(s), resolution(s) {}",
+                    o.speed_csv, o.width, o.height, e.scenes.size(), e.tracers.size(), join_set(e.resolutions)));
+  m.scene = e.scenes.front();
+  m.tracer_label = e.tracers.front();
+  m.modeled = e.modeled.at(m.tracer_label);
+  m.speed_source = o.speed_csv;
+  const auto& sums = e.sums.at(m.scene).at(m.tracer_label);
+  auto speed = [&](const std::string& method) {
+    const auto it = sums.find(method);
+    if (it == sums.end())
+      throw Error(fmt::format("--speed-csv {}: no rows of {}; measure the same space there (raycoh tune --tracer ...)",
+                              o.speed_csv, method));
+    const Sums& s = it->second;
+    const double trace = s.speed(m.modeled, false);
+    const double e2e = m.modeled          ? s.speed(true, true)
+                       : s.gpu_e2e_ms > 0 ? s.rays / s.gpu_e2e_ms * 1e-3
+                                          : s.speed(false, true);
+    return Speed{o.rank == "trace" ? trace : e2e, trace};
+  };
+  m.noopt_speed = speed("noopt").ranked;
+  for (const TuneSetting& s : settings) {
+    const Speed sp = speed(s.spec());
+    m.candidates.push_back({s, sp.ranked, sp.trace, false, {}, {}, {}, ""});
+  }
+}
 
-std::string tune_speed_path(const TuneOptions& o) { return stem_path(o.out) + "-speed.csv"; }
-std::string tune_quality_path(const TuneOptions& o) { return stem_path(o.out) + "-quality.csv"; }
-
-std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget& budget,
-                                         const std::vector<TuneSetting>& settings, const Provenance& provenance) {
+// This run's speed stage (resumed from <stem>-speed.csv where it holds rows).
+void measure_speeds(const TuneOptions& o, const std::vector<TuneSetting>& settings, const Provenance& provenance,
+                    TuneMeasured& m) {
   const ExperimentOptions e = speed_options(o, settings);
   std::fprintf(stderr, "tune: speed of %zu settings and noopt (%s) -> %s\n", settings.size(), o.tracer.text().c_str(),
                e.out.c_str());
   const std::vector<SceneResult> results = run_experiment(e, provenance);
-  TuneMeasured m;
+  m.speed_source = e.out;
   std::vector<TuneCandidate>& cs = m.candidates;
   if (!results.empty() && o.shard.whole()) {
     const SceneResult& r = results.front();
@@ -134,6 +171,23 @@ std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget&
   } else {
     for (const TuneSetting& s : settings) cs.push_back({s, 0, 0, false, {}, {}, {}, ""});
   }
+}
+
+}  // namespace
+
+std::string tune_speed_path(const TuneOptions& o) { return stem_path(o.out) + "-speed.csv"; }
+std::string tune_quality_path(const TuneOptions& o) {
+  return o.quality_csv.empty() ? stem_path(o.out) + "-quality.csv" : o.quality_csv;
+}
+
+std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget& budget,
+                                         const std::vector<TuneSetting>& settings, const Provenance& provenance) {
+  TuneMeasured m;
+  if (o.speed_csv.empty())
+    measure_speeds(o, settings, provenance, m);
+  else
+    speeds_from_file(o, settings, m);
+  std::vector<TuneCandidate>& cs = m.candidates;
   QualityOptions q = error_options(o, image_order(o, cs));
   std::fprintf(stderr, "tune: error of up to %zu images and noopt (%d seeds x %d frames, %s search) -> %s\n",
                q.generators.size() - 1, o.seeds, o.frames, o.search.c_str(), q.out.c_str());

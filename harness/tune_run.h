@@ -16,6 +16,7 @@ namespace raycoh {
 struct TuneMeasured {
   std::string scene;                       // the scene's name
   std::string tracer_label;                // the speed tracer as tables name it
+  std::string speed_source;                // the --speed-csv file, or the <stem>-speed.csv this run measured
   bool modeled = false;                    // the speeds are a timing model's
   double noopt_speed = 0;                  // noopt's ranked speed
   std::vector<TuneCandidate> candidates;   // one per setting, in the order of `expand`

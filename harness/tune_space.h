@@ -11,7 +11,7 @@
 //   ds8   relMSE of the 8x8 box-downsampled render (structure: blocks and correlated groups survive it)
 //   rel   relMSE at full resolution
 //   flip  HDR-FLIP of the linear render (what a viewer sees; needs the flip program, harness/quality.cpp)
-//   bias  none: the bias test must not reject (verdict consistent); any: not checked.
+//   bias  none: the bias test must not reject (tune_select.h); any (or left out of --budget): not checked.
 // A ratio metric may be bounded by `paper` instead of a number (ds8=paper): the bound is then the paper's default
 // setting's own upper end for that metric (8x8, K = 8; always measured), so that the search asks for the fastest
 // setting no worse than the paper's generator at the seeds' confidence (the paper's default meets it by definition,

@@ -32,6 +32,7 @@ const Schema<TuneRow>& tune_schema() {
         column("hybrid", &R::hybrid, Text{}),
         column("frame", &R::frame, Text{}),
         column("tracer_spec", &R::tracer_spec, Text{}),
+        column("speed_csv", &R::speed_csv, Text{}),
         column("speed_kind", &R::speed_kind, Text{}),
         column("rank", &R::rank, Text{}),
         column("mray_s", &R::mray_s, G{}),

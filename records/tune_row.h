@@ -18,7 +18,8 @@ struct TuneRow {
   std::string generator;
   int tile_w = 0, tile_h = 0, k = 0;
   std::string order, hybrid, frame;
-  std::string tracer_spec;                  // the speed tracer
+  std::string tracer_spec;                  // the speed tracer, as tables name it
+  std::string speed_csv;                    // where the speeds come from: this run's <stem>-speed.csv or --speed-csv
   std::string speed_kind;                   // modeled (a timing model's figure) | measured
   std::string rank;                         // e2e | trace: which speed ranks the settings
   double mray_s = 0, speedup = 0;           // the ranked speed and its ratio to noopt's

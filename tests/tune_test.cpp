@@ -14,12 +14,12 @@ namespace {
 TEST(TuneSpace, ParsesAxesAndLeavesOutGroupsLargerThanTheirTile) {
   const TuneSpace s = parse_tune_space("tile=4x2,8x8 k=8,16 order=tile hybrid=donor frame=duff,rotate");
   const std::vector<TuneSetting> settings = expand(s, "ours");
-  ASSERT_EQ(settings.size(), 4u);  // 4x2 holds 8 pixels: K = 16 is not a grouping of it
+  ASSERT_EQ(settings.size(), 6u);  // 4x2 holds 8 pixels: K = 16 is not a grouping of it
   EXPECT_EQ(settings[0].spec(), "ours:tile=4x2,k=8,order=tile,hybrid=donor,frame=duff");
   EXPECT_EQ(settings[0].image_spec(), "ours:tile=4x2,k=8,hybrid=donor,frame=duff");
-  EXPECT_EQ(settings[3].spec(), "ours:tile=8x8,k=16,order=tile,hybrid=donor,frame=rotate");
+  EXPECT_EQ(settings[5].spec(), "ours:tile=8x8,k=16,order=tile,hybrid=donor,frame=rotate");
   EXPECT_EQ(paper_setting("ours").spec(), "ours:tile=8x8,k=8,order=tile,hybrid=paper,frame=duff");
-  EXPECT_EQ(expand(parse_tune_space(describe(s)), "ours").size(), 4u);
+  EXPECT_EQ(expand(parse_tune_space(describe(s)), "ours").size(), 6u);
   EXPECT_THROW(parse_tune_space("tile=8x8 shape=round"), Error);
   EXPECT_THROW(parse_tune_space("hybrid=mean"), Error);
   EXPECT_THROW(parse_tune_space("k=0"), Error);
@@ -36,6 +36,9 @@ TEST(TuneSpace, ParsesTheBudget) {
   EXPECT_THROW(parse_tune_budget("ds8=0.9"), Error);
   EXPECT_THROW(parse_tune_budget("psnr=30"), Error);
   EXPECT_THROW(parse_tune_budget("bias=some"), Error);
+  const TuneBudget paper = parse_tune_budget("ds8=paper,flip=1.1");
+  EXPECT_TRUE(paper.ds8_paper);
+  EXPECT_EQ(describe(paper), "ds8=paper,flip=1.1,bias=any");
 }
 
 TEST(TuneSelect, PairedRatioIsTheGeometricMeanWithAStudentInterval) {
@@ -99,12 +102,12 @@ TEST(TuneSelect, AFasterBiasedSettingLosesToAnUnbiasedOneAndUnmeasuredOnesNeverW
 }
 
 TEST(CliTune, ChecksItsInputs) {
-  expect_error("tune --scene cornell --space \"tile=8x8 shape=round\"", "--space");
+  expect_error("tune --scene cornell --budget ds8=2 --space \"tile=8x8 shape=round\"", "--space");
   expect_error("tune --scene cornell --budget ds8=0.5", "--budget ds8=0.5");
-  expect_error("tune --scene cornell --seeds 1", "--seeds 1");
-  expect_error("tune --scene cornell --search random", "--search random");
-  expect_error("tune --scene cornell --generator noopt", "--generator noopt");
-  expect_error("tune --scene cornell --shard 0/2", "--search grid");
+  expect_error("tune --scene cornell --budget ds8=2 --seeds 1", "--seeds 1");
+  expect_error("tune --scene cornell --budget ds8=2 --search random", "--search random");
+  expect_error("tune --scene cornell --budget ds8=2 --generator noopt", "--generator noopt");
+  expect_error("tune --scene cornell --budget ds8=2 --shard 0/2", "--search grid");
   const auto dir = temp_dir("cli_tune_out");
   write_file((dir / "keep.csv").string(), "a,b\n1,2\n");
   expect_error("tune --scene cornell --budget ds8=2 --res 16x12 --out " + (dir / "keep.csv").string(), "keep.csv");
@@ -134,6 +137,18 @@ TEST(CliTune, PrefersAnUnbiasedHybridRuleWhereHybridGroupsBiasTheImage) {
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("resuming"), std::string::npos) << again.output;
   EXPECT_EQ(again.output.find("progress"), std::string::npos);
+  // Speeds measured elsewhere (here: the grid run's) and a shared error stage: nothing is measured again.
+  const std::string shared = common + " --search grid --speed-csv " + (dir / "grid-speed.csv").string() +
+                             " --quality-csv " + (dir / "grid-quality.csv").string();
+  const CommandResult reuse = run_raycoh(shared + " --out " + (dir / "reuse.csv").string());
+  ASSERT_EQ(reuse.exit_code, 0) << reuse.output;
+  EXPECT_NE(reuse.output.find("Recommended: ours:tile=8x8,k=16,order=tile,hybrid=donor,frame=duff"), std::string::npos);
+  EXPECT_EQ(reuse.output.find("progress"), std::string::npos) << reuse.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "reuse-speed.csv"));
+  expect_error(common + " --speed-csv " + (dir / "grid-quality.csv").string() + " --out " + (dir / "x.csv").string(),
+               "not a table or sweep CSV");
+  expect_error("tune --scene cornell --res 32x24 --budget ds8=2 --speed-csv " + (dir / "grid-speed.csv").string(),
+               "--res 32x24");
 }
 
 }  // namespace
