@@ -197,6 +197,9 @@ std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget&
   for (size_t i = 1; i < q.generators.size(); ++i) unmeasured.insert(q.generators[i].text());
   double passing = -1;
   q.after_row = [&](const QualityRow& row) {
+    if (!o.speed_csv.empty() && row.scene != m.scene)
+      throw Error(fmt::format("--speed-csv {}: its speeds are of scene {}, --scene {} is {}", o.speed_csv, m.scene,
+                              o.scene, row.scene));
     m.rows[row.method] = row;
     unmeasured.erase(row.method);
     if (o.search != "fastest" || row.method == "noopt" || !m.rows.count("noopt")) return false;
