@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "shading/metrics.h"
+
 namespace raycoh {
 
 namespace {
@@ -27,18 +29,6 @@ std::vector<Bound> bounds_of(const TuneCandidate& c, const TuneBudget& b) {
 
 }  // namespace
 
-double t95(int dof) {
-  // Two-sided 95% quantiles of Student's t (e.g. Abramowitz & Stegun, table 26.10).
-  static const double table[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-                                 2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
-                                 2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
-  if (dof < 1) return INFINITY;
-  if (dof <= 30) return table[dof - 1];
-  if (dof <= 60) return 2.042 - (2.042 - 2.000) * (dof - 30) / 30.0;
-  if (dof < 1000) return 2.000 - (2.000 - 1.962) * (dof - 60) / 940.0;
-  return 1.96;
-}
-
 RatioStat paired_ratio(const std::vector<double>& x, const std::vector<double>& base) {
   std::vector<double> logs;
   for (size_t i = 0; i < std::min(x.size(), base.size()); ++i)
@@ -57,7 +47,7 @@ RatioStat paired_ratio(const std::vector<double>& x, const std::vector<double>& 
   }
   double ss = 0;
   for (double v : logs) ss += (v - mean) * (v - mean);
-  const double half = t95(s.n - 1) * std::sqrt(ss / (s.n - 1) / s.n);
+  const double half = t_quantile_975(s.n - 1) * std::sqrt(ss / (s.n - 1) / s.n);
   s.lo = std::exp(mean - half);
   s.hi = std::exp(mean + half);
   return s;

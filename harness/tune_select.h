@@ -32,8 +32,6 @@ struct RatioStat {
 // Pairs x[i] with base[i]; pairs where either is not finite and positive are left out. Fewer than 2 pairs: the
 // mean alone (lo = hi = mean when n = 1, all NaN when n = 0).
 RatioStat paired_ratio(const std::vector<double>& x, const std::vector<double>& base);
-// The two-sided 95% Student-t quantile for `dof` degrees of freedom (1.96 from 1000 on).
-double t95(int dof);
 
 struct TuneCandidate {
   TuneSetting setting;
