@@ -182,8 +182,8 @@ int run_tune(const TuneOptions& o, const Provenance& provenance) {
   for (const TuneRow& r : rows) csv.write(r);
   csv.finish();
   print_tune(o, *m, rows);
-  std::printf("\nWrote %s (from %s and %s; %s)\n", o.out.c_str(), tune_speed_path(o).c_str(),
-              tune_quality_path(o).c_str(), provenance.git_revision.c_str());
+  std::printf("\nWrote %s (from %s and %s; %s)\n", o.out.c_str(), m->speed_source.c_str(), tune_quality_path(o).c_str(),
+              provenance.git_revision.c_str());
   return 0;
 }
 
