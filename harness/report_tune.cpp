@@ -112,7 +112,8 @@ void add_tune(Page& page, const ResultCsv& c) {
     for (const auto& r : rows) {
       const std::string setting = c.get(r, "setting");
       if (c.get(r, "recommended") == "1")
-        rec = fmt::format("{} at {:.2f}x noopt's speed", setting, c.num(r, "speedup"));
+        rec = fmt::format("{} at {:.2f}x noopt's speed{}", setting, c.num(r, "speedup"),
+                          c.num(r, "speedup") < 1 ? " (slower than noopt: no setting within the budget pays)" : "");
       if (c.get(r, "closest_miss") == "1") miss = fmt::format("{} ({})", setting, c.get(r, "reason"));
       if (c.get(r, "paper_default") == "1")
         paper = fmt::format("{:.2f}x noopt, {}", c.num(r, "speedup"),

@@ -143,6 +143,9 @@ void print_tune(const TuneOptions& o, const TuneMeasured& m, std::vector<TuneRow
       std::printf(", %.2fx the paper's default (8x8, K = 8), which %s", rec->mray_s / paper->mray_s,
                   paper->meets_budget ? "meets the budget too" : ("misses it: " + paper->reason).c_str());
     std::printf(".\n");
+    if (rec->speedup < 1)
+      std::printf("It is slower than noopt (%.2fx): no setting within the budget pays here; keep noopt.\n",
+                  rec->speedup);
   } else {
     const auto miss = std::find_if(rows.begin(), rows.end(), [](const TuneRow& r) { return r.closest_miss; });
     std::printf("\nNo setting meets the budget; keep noopt.%s\n",
