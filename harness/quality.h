@@ -16,6 +16,7 @@
 #include "records/curves.h"
 #include "records/provenance.h"
 #include "records/shard.h"
+#include "shading/denoise.h"
 #include "shading/image.h"
 #include "shading/metrics.h"
 
@@ -79,6 +80,7 @@ struct QualityOptions {
   std::string image_dir;  // --images: where renders and crops go ("" = <out stem>-images)
   std::vector<Crop> crops;
   Shard shard;  // --shard I/N: only this shard's scene x generator units (records/shard.h); join with raycoh merge
+  Denoiser denoise = Denoiser::None;  // --denoise none|oidn: every figure on the denoised renders too
 };
 int run_quality(const QualityOptions& options, const Provenance& provenance);
 
@@ -100,6 +102,7 @@ struct ConvergeOptions {
   // The modeled GPU clock (harness/gpu_clock.h): a `simt` tracer spec, or "none" for no modeled time.
   std::string gpu_model = "simt";
   int model_every = 1;  // --model-every [1, kMaxFrames]: model frames 0, N, 2N, ...; the others hold the last
+  Denoiser denoise = Denoiser::None;  // --denoise none|oidn: the error after denoising at frames 1, 2, 4, 8, ...
 };
 int run_converge(const ConvergeOptions& options, const Provenance& provenance);
 

@@ -1,6 +1,7 @@
 // The record of one `raycoh quality` row (one scene x generator) and its CSV column table (results/README.md).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -51,7 +52,14 @@ struct QualityRow {
   // generators without groups.
   double hybrid_diffuse_share = 0;
   Provenance provenance;
-  RecordedColumns recorded;  // tile_w .. mode, the last columns (records/recorded_columns.h)
+  RecordedColumns recorded;  // tile_w .. mode (records/recorded_columns.h)
+  // --denoise (after the recorded columns): the denoiser asked for ("none" | "oidn", part of the row's key) and the
+  // figures on the denoised renders (harness/denoise_eval.h), NaN (written empty) without one or when it is missing.
+  std::string denoise = "none";
+  double denoised_psnr = std::nan(""), denoised_psnr_std = std::nan(""), denoised_ssim = std::nan(""),
+         denoised_rmse = std::nan(""), denoised_rel_mse = std::nan(""), denoised_mse = std::nan(""),
+         denoised_rel_mse_ds8 = std::nan(""), denoised_mse_corr = std::nan(""), denoised_rel_mse_corr = std::nan(""),
+         denoised_psnr_corr = std::nan(""), denoise_s = std::nan("");
 };
 
 const Schema<QualityRow>& quality_schema();
