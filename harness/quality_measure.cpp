@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "harness/progress.h"
 #include "shading/reference.h"
@@ -66,10 +67,11 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
   for (int r = 0; r < R; ++r) {
     PathTracer pt(ls.scene, *ls.tracer, generator, settings_of(o.common, o.common.seed + r));
     Accumulator acc(o.common.width, o.common.height);
-    AuxAccumulators aux(denoiser.active() ? o.common.width : 0, denoiser.active() ? o.common.height : 0);
+    std::optional<AuxAccumulators> aux;  // the first hits' albedo and normal, for the denoiser
+    if (denoiser.active()) aux.emplace(o.common.width, o.common.height);
     for (int f = 0; f < o.frames; ++f) {
       Accumulator frame(o.common.width, o.common.height);  // this frame alone, for the bias test's spread
-      out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame, denoiser.active() ? &aux : nullptr));
+      out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame, aux ? &*aux : nullptr));
       acc.merge(frame);
       const std::vector<double> luma = frame_luma(frame);
       samples.add_luma(luma);
@@ -89,7 +91,7 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
     for (size_t p = 0; p < img.pixels(); ++p) mean_acc.add(p, img.at(p));
     if (r == 0) sink.write(img, tm);
     if (!sink.hdr_dir.empty()) write_image(img, sink.hdr_path(r));
-    if (denoiser.active()) add_denoised(out, denoiser, img, aux, r, ref, tm, o.common.metrics, sink);
+    if (aux) add_denoised(out, denoiser, img, *aux, r, ref, tm, o.common.metrics, sink);
   }
   bar.clear();
   const Image mean_image = mean_acc.mean();

@@ -24,15 +24,15 @@ Denoiser parse_denoiser(const std::string& option, const std::string& text) {
 
 const char* denoiser_name(Denoiser d) { return d == Denoiser::Oidn ? "oidn" : "none"; }
 
-std::string oidn_program() {
+std::string oidn_program(const std::string& base) {
   const char* env = std::getenv("RAYCOH_OIDN");
   if (env && *env) return env;
   std::error_code ec;
-  const fs::path linked = fs::path(".venv") / "bin" / "oidnDenoise";
+  const fs::path linked = fs::path(base) / ".venv" / "bin" / "oidnDenoise";
   if (fs::is_regular_file(linked, ec)) return fs::absolute(linked).string();
   // pyoidn keeps the program inside its package: .venv/lib/python3.X/site-packages/pyoidn/oidn/bin.
   std::vector<fs::path> found;
-  for (const auto& lib : fs::directory_iterator(fs::path(".venv") / "lib", ec)) {
+  for (const auto& lib : fs::directory_iterator(fs::path(base) / ".venv" / "lib", ec)) {
     const fs::path p = lib.path() / "site-packages" / "pyoidn" / "oidn" / "bin" / "oidnDenoise";
     if (fs::is_regular_file(p, ec)) found.push_back(p);
   }

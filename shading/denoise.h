@@ -24,9 +24,9 @@ enum class Denoiser { None, Oidn };
 Denoiser parse_denoiser(const std::string& option, const std::string& text);
 const char* denoiser_name(Denoiser d);
 
-// $RAYCOH_OIDN, else .venv/bin/oidnDenoise in the working folder, else the program inside .venv's pyoidn package
-// (.venv/lib/python3*/site-packages/pyoidn/oidn/bin/oidnDenoise); "" when none exists.
-std::string oidn_program();
+// $RAYCOH_OIDN, else .venv/bin/oidnDenoise in `base` (the working folder), else the program inside .venv's pyoidn
+// package (.venv/lib/python3*/site-packages/pyoidn/oidn/bin/oidnDenoise); "" when none exists.
+std::string oidn_program(const std::string& base = ".");
 
 // The denoised colour: colour, albedo and normal written as PFM files into `dir` (which must exist) under `stem`,
 // oidnDenoise run on them, its output read back. Throws raycoh::Error naming the program and the exit status when it
