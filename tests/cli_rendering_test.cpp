@@ -225,7 +225,8 @@ TEST(CliRendering, DenoiseFillsTheDenoisedColumnsThroughTheProgram) {
   const std::string quality = "RAYCOH_OIDN=" + fake.string() +
                               " $R quality --scenes cornell --generators noopt,ours --frames 2 --ref-frames 2 "
                               "--bias-renders 2 --res 32x24 --cache " +
-                              (dir / "cache").string() + " --out " + out.string();
+                              (dir / "cache").string() + " --images " + (dir / "quality-images").string() + " --out " +
+                              out.string();
   CommandResult r = run_shell(quality + " --denoise oidn");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("| cornell | ours |"), std::string::npos) << r.output;
@@ -236,7 +237,14 @@ TEST(CliRendering, DenoiseFillsTheDenoisedColumnsThroughTheProgram) {
     EXPECT_GE(num(row, "denoise_s"), 0.0);
   }
   for (const char* f : {"cornell-ours-denoised.png", "cornell-ours-albedo.exr", "cornell-ours-normal.exr"})
-    EXPECT_TRUE(std::filesystem::exists(dir / "q-images" / f)) << f;
+    EXPECT_TRUE(std::filesystem::exists(dir / "quality-images" / f)) << f;
+  // raycoh report puts the denoised images, crops and error maps beside the raw ones.
+  const CommandResult rep = run_raycoh("report " + out.string() + " --out " + (dir / "report.html").string());
+  ASSERT_EQ(rep.exit_code, 0) << rep.output;
+  std::ifstream html(dir / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  for (const char* alt : {"cornell ours error map", "cornell ours-denoised error map", "cornell ours-denoised crop"})
+    EXPECT_NE(page.find(alt), std::string::npos) << alt;
   r = run_shell(quality + " --denoise none");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("denoise"), std::string::npos) << r.output;
