@@ -15,6 +15,9 @@
 // The third clock, modeled_gpu, is each frame's modeled time on the `simt` tracer's GPU (--gpu-model,
 // harness/gpu_clock.h: what it includes and what not), computed on the same rays after the timed frame: its own
 // columns and its own summary rows, never added to a measured time.
+// --denoise oidn: at 1, 2, 4, 8, ... frames the running mean is also denoised (OIDN with the first hits' albedo and
+// normal over the same frames, harness/denoise_eval.h) and its error written in the row's denoised_* columns,
+// outside the frame's timing (denoise_ms); the summary's ratios stay on the raw curves.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>

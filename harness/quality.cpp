@@ -22,6 +22,8 @@
 //     reference; bright where the band excludes zero, dim where not) and -bias.exr ((d, sigma, z) per pixel).
 //   flip: mean ꟻLIP (LDR, NVIDIA's flip-evaluator) of render 0's display PNG against the reference's, when the
 //     flip program is found ($RAYCOH_FLIP, else .venv/bin/flip, which scripts/setup makes); empty otherwise.
+//   denoised_*: with --denoise oidn, the same figures (psnr .. mse, rel_mse_ds8, *_corr) of every render after OIDN
+//     with its first hits' albedo and normal (harness/denoise_eval.h); empty, after one line, without oidnDenoise.
 // --protocol ci|paper sets resolution, frames, reference frames and the metric space at once (harness/quality.h);
 // --metrics linear computes PSNR/SSIM on linear radiance (the paper's protocol) instead of the tone-mapped image.
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
