@@ -4,7 +4,9 @@
 Per scene, method and frame count: the ratio of the method's relMSE to noopt's (same scene, seed and frame count),
 raw and denoised, as the geometric mean over seeds with the smallest and largest seed's ratio; the change
 denoised / raw (> 1: denoising moves the method's error further above noopt's, i.e. widens its gap or erases its
-lead; < 1: closes the gap); and the denoiser check (noopt's denoised relMSE below its raw one).
+lead; < 1: closes the gap); the excess over noopt's relMSE (method - noopt, mean over seeds), raw and denoised: an
+excess that stays while noopt's error falls is error the denoiser keeps (bias, or structure it takes for signal);
+and the denoiser check (noopt's denoised relMSE below its raw one).
 By default the ratios are taken on the reference-noise-corrected columns (rel_mse_corr, denoised_rel_mse_corr: the
 reference's own noise is one constant in every error, and a large share of a denoised error at 128 frames);
 --uncorrected takes rel_mse and denoised_rel_mse.
@@ -71,15 +73,17 @@ def main():
     for scene, ms in methods.items():
         ss = sorted(seeds[scene])
         print(f"### {scene} (seeds {', '.join(map(str, ss))})\n")
-        print("| method | frames | raw ratio | denoised ratio | denoised / raw | verdict |")
-        print("|---|---:|---:|---:|---:|---|")
+        print("| method | frames | raw ratio | denoised ratio | denoised / raw | verdict | excess raw / denoised |")
+        print("|---|---:|---:|---:|---:|---|---:|")
         for f in frames:
             base = {s: data.get((scene, "noopt", s, f)) for s in ss}
             if any(v is None for v in base.values()):
                 continue
             check = [base[s][1] / base[s][0] for s in ss]
+            noopt = sum(base[s][0] for s in ss) / len(ss), sum(base[s][1] for s in ss) / len(ss)
             print(f"| noopt denoised / raw | {f} | | | {cell(check)} | "
-                  f"{'denoiser lowers the error' if max(check) < 1 else 'NOT below raw for every seed'} |")
+                  f"{'denoiser lowers the error' if max(check) < 1 else 'NOT below raw for every seed'} | "
+                  f"noopt {noopt[0]:.3g} / {noopt[1]:.3g} |")
             for m in ms:
                 if m == "noopt":
                     continue
@@ -96,7 +100,10 @@ def main():
                     verdict = f"closes ({every})"
                 else:
                     verdict = "widens (mean)" if gmean(change) > 1 else "closes (mean)"
-                print(f"| {m} | {f} | {cell(raw)} | {cell(dn)} | {cell(change)} | {verdict} |")
+                ex = [sum(v[i] - b[i] for v, b in pairs) / len(pairs) for i in (0, 1)]
+                ex = [0.0 if abs(x) < 1e-12 else x for x in ex]  # float sums of equal errors
+                print(f"| {m} | {f} | {cell(raw)} | {cell(dn)} | {cell(change)} | {verdict} | "
+                      f"{ex[0]:+.3g} / {ex[1]:+.3g} |")
         print()
 
 
