@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/render_common.h"
 #include "harness/report_parts.h"
 #include "shading/image.h"
 
@@ -242,7 +243,7 @@ void add_scene_images(Page& p, const std::filesystem::path& dir, const std::stri
   std::vector<std::string> shown = {"reference"};
   for (const std::string& m : q.methods) shown.push_back(m);
   for (const std::string& m : shown) {
-    const std::filesystem::path png = dir / (s + "-" + m + ".png");
+    const std::filesystem::path png = dir / (safe_name(s) + "-" + safe_name(m) + ".png");  // as `quality` names it
     std::ifstream in(png, std::ios::binary);
     if (!in) continue;
     std::stringstream bytes;

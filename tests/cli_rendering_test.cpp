@@ -223,27 +223,29 @@ TEST(CliRendering, DenoiseFillsTheDenoisedColumnsThroughTheProgram) {
   std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
   const auto out = dir / "q.csv";
   const std::string quality = "RAYCOH_OIDN=" + fake.string() +
-                              " $R quality --scenes cornell --generators noopt,ours --frames 2 --ref-frames 2 "
+                              " $R quality --scenes cornell --generators noopt,ours:k=4 --frames 2 --ref-frames 2 "
                               "--bias-renders 2 --res 32x24 --cache " +
                               (dir / "cache").string() + " --images " + (dir / "quality-images").string() + " --out " +
                               out.string();
   CommandResult r = run_shell(quality + " --denoise oidn");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("| cornell | ours |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| cornell | ours:k=4 |"), std::string::npos) << r.output;
   for (const auto& row : csv_rows(out)) {
     EXPECT_EQ(row.at("denoise"), "oidn");
     for (const char* c : {"psnr", "psnr_std", "ssim", "rmse", "rel_mse", "mse", "rel_mse_ds8"})
       EXPECT_EQ(row.at(std::string("denoised_") + c), row.at(c)) << c;
     EXPECT_GE(num(row, "denoise_s"), 0.0);
   }
-  for (const char* f : {"cornell-ours-denoised.png", "cornell-ours-albedo.exr", "cornell-ours-normal.exr"})
+  for (const char* f : {"cornell-ours_k_4-denoised.png", "cornell-ours_k_4-albedo.exr", "cornell-ours_k_4-normal.exr"})
     EXPECT_TRUE(std::filesystem::exists(dir / "quality-images" / f)) << f;
-  // raycoh report puts the denoised images, crops and error maps beside the raw ones.
+  // raycoh report puts the denoised images, crops and error maps beside the raw ones (files named as quality names
+  // them: ours_k_4 for ours:k=4).
   const CommandResult rep = run_raycoh("report " + out.string() + " --out " + (dir / "report.html").string());
   ASSERT_EQ(rep.exit_code, 0) << rep.output;
   std::ifstream html(dir / "report.html");
   const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
-  for (const char* alt : {"cornell ours error map", "cornell ours-denoised error map", "cornell ours-denoised crop"})
+  for (const char* alt :
+       {"cornell ours:k=4 error map", "cornell ours:k=4-denoised error map", "cornell ours:k=4-denoised crop"})
     EXPECT_NE(page.find(alt), std::string::npos) << alt;
   r = run_shell(quality + " --denoise none");
   EXPECT_EQ(r.exit_code, 2) << r.output;
