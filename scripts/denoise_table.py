@@ -58,6 +58,17 @@ def cell(xs):
     return f"{gmean(xs):.2f} ({min(xs):.2f}–{max(xs):.2f})" if len(xs) > 1 else f"{xs[0]:.2f}"
 
 
+def verdict_of(change):
+    """widens / closes when the geometric mean moves more than 5%, with whether every seed agrees; else about the
+    same."""
+    g = gmean(change)
+    if 1 / 1.05 <= g <= 1.05:
+        return "about the same"
+    word = "widens" if g > 1 else "closes"
+    agree = min(change) > 1 if g > 1 else max(change) < 1
+    return f"{word} ({'one seed' if len(change) == 1 else 'every seed' if agree else 'not every seed'})"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("csv", nargs="+")
@@ -93,13 +104,7 @@ def main():
                 raw = [v[0] / b[0] for v, b in pairs]
                 dn = [v[1] / b[1] for v, b in pairs]
                 change = [d / r for d, r in zip(dn, raw)]
-                every = "every seed" if len(change) > 1 else "one seed"
-                if min(change) > 1:
-                    verdict = f"widens ({every})"
-                elif max(change) < 1:
-                    verdict = f"closes ({every})"
-                else:
-                    verdict = "widens (mean)" if gmean(change) > 1 else "closes (mean)"
+                verdict = verdict_of(change)
                 ex = [sum(v[i] - b[i] for v, b in pairs) / len(pairs) for i in (0, 1)]
                 ex = [0.0 if abs(x) < 1e-12 else x for x in ex]  # float sums of equal errors
                 print(f"| {m} | {f} | {cell(raw)} | {cell(dn)} | {cell(change)} | {verdict} | "
