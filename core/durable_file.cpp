@@ -47,7 +47,12 @@ void put_stderr(const char* s) {
   }
 }
 
+std::atomic<bool> g_terminating{false};
+
 extern "C" void on_terminating_signal(int sig) {
+  // `timeout` signals the process and then its process group: a second thread may take the second signal while the
+  // first cleans up. Only the first says so and removes the files; it then re-raises, which ends the process.
+  if (g_terminating.exchange(true)) return;
   put_stderr(sig == SIGINT ? "\nraycoh: interrupted" : "\nraycoh: terminated");
   if (g_hint[0] != '\0') {
     put_stderr(": ");

@@ -36,5 +36,6 @@ BoundCommand bind_stability(CLI::App& parent);
 BoundCommand bind_report(CLI::App& parent);
 BoundCommand bind_reference(CLI::App& parent);
 BoundCommand bind_reference_combine(CLI::App& parent);
+BoundCommand bind_tune(CLI::App& parent);
 
 }  // namespace raycoh

@@ -22,8 +22,7 @@
 //     reference; bright where the band excludes zero, dim where not) and -bias.exr ((d, sigma, z) per pixel).
 //   flip: mean ꟻLIP (LDR, NVIDIA's flip-evaluator) of render 0's display PNG against the reference's, when the
 //     flip program is found ($RAYCOH_FLIP, else .venv/bin/flip, which scripts/setup makes); empty otherwise.
-//   denoised_*: with --denoise oidn, the same figures (psnr .. mse, rel_mse_ds8, *_corr) of every render after OIDN
-//     with its first hits' albedo and normal (harness/denoise_eval.h); empty, after one line, without oidnDenoise.
+//   denoised_*: --denoise oidn: those figures of each render after OIDN (harness/denoise_eval.h); empty without it.
 // --protocol ci|paper sets resolution, frames, reference frames and the metric space at once (harness/quality.h);
 // --metrics linear computes PSNR/SSIM on linear radiance (the paper's protocol) instead of the tone-mapped image.
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
@@ -265,6 +264,7 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
     for (int r = 0; r < o_.bias_renders; ++r) tests.push_back(sink.hdr_path(r));
     const HdrFlip f = run_hdr_flip(flip_, ref_exr, tests, sink.hdr_dir);
     row.flip_hdr = f.mean;
+    row.flip_hdr_renders = f.per_test;
     row.flip_hdr_exposure = f.exposure;
     std::error_code ec;
     fs::remove_all(sink.hdr_dir, ec);
@@ -290,7 +290,10 @@ void QualityRun::run_scene(size_t si) {
     std::fprintf(stderr, "[%zu/%zu] %s: finished in the interrupted run, skipped\n", si + 1, o_.scenes.size(),
                  spec.c_str());
     for (size_t gi = 0; gi < o_.generators.size(); ++gi)
-      if (owns(si, gi)) rows_.push_back(*finished(spec, gi));
+      if (owns(si, gi)) {
+        rows_.push_back(*finished(spec, gi));
+        if (o_.after_row && o_.after_row(rows_.back())) break;
+      }
     return;
   }
   std::fprintf(stderr, "[%zu/%zu] ", si + 1, o_.scenes.size());
@@ -307,6 +310,7 @@ void QualityRun::run_scene(size_t si) {
       rows_.push_back(*row);
     else
       run_generator(*ls, ref, noise ? &*noise : nullptr, tm, si, gi);
+    if (o_.after_row && o_.after_row(rows_.back())) break;
   }
 }
 
@@ -335,6 +339,7 @@ int QualityRun::run() {
         o_.shard.text().c_str(), o_.out.c_str(), rows_.size(), provenance_.git_revision.c_str());
     return 0;
   }
+  if (!o_.console) return 0;
   print_quality(o_, rows_);
   if (o_.denoise != Denoiser::None) print_denoised_quality(rows_);
   std::printf("\nWrote %s and images in %s/ in %.1f s (%s, %d threads)\n", o_.out.c_str(), image_dir_.c_str(),

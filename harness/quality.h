@@ -15,6 +15,7 @@
 #include "core/params.h"
 #include "records/curves.h"
 #include "records/provenance.h"
+#include "records/quality_row.h"
 #include "records/shard.h"
 #include "shading/denoise.h"
 #include "shading/image.h"
@@ -81,6 +82,11 @@ struct QualityOptions {
   std::vector<Crop> crops;
   Shard shard;  // --shard I/N: only this shard's scene x generator units (records/shard.h); join with raycoh merge
   Denoiser denoise = Denoiser::None;  // --denoise none|oidn: every figure on the denoised renders too
+  // For commands built on quality (`raycoh tune`), not options: called with every row of a scene in generator
+  // order, measured or resumed; returning true leaves the scene's later generators unmeasured. The console tables
+  // are printed only when `console` (they need every row).
+  std::function<bool(const QualityRow&)> after_row;
+  bool console = true;
 };
 int run_quality(const QualityOptions& options, const Provenance& provenance);
 

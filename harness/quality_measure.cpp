@@ -141,6 +141,8 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.rel_mse_ds2 = mean_of(m.ds[0]);
   row.rel_mse_ds4 = mean_of(m.ds[1]);
   row.rel_mse_ds8 = mean_of(m.ds[2]);
+  row.rel_mse_renders = m.rel_mse;
+  row.rel_mse_ds8_renders = m.ds[2];
   // The variance part alone (as `variance` above, on relMSE): bias, which survives downsampling too, left out.
   row.rel_var = R > 1 ? (row.rel_mse - m.rel_mse_of_mean) * R / (R - 1) : nan;
   row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.ds8_of_mean) * R / (R - 1) : nan;

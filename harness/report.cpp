@@ -57,10 +57,10 @@ int run_report(const std::vector<std::string>& inputs, const std::string& out, c
       "# raycoh report\n\nSpeeds are ratios to noopt (higher is faster). `simt` figures are MODELED on the GPU "
       "model (docs/simt-model.md), never measured; every other tracer's are measured on the CPU named below.\n\n";
   static const char* names[] = {"table",   "sweep",    "converge curve", "converge summary",
-                                "quality", "validate", "stability"};
+                                "quality", "validate", "stability",      "tune"};
   // Tables first, then sweeps, quality, convergence and the model's validation, whatever the argument order.
   for (ResultKind k : {ResultKind::Table, ResultKind::Sweep, ResultKind::Quality, ResultKind::Converge,
-                       ResultKind::ConvergeSummary, ResultKind::Validate, ResultKind::Stability})
+                       ResultKind::ConvergeSummary, ResultKind::Validate, ResultKind::Stability, ResultKind::Tune})
     for (const auto& [c, kind] : csvs) {
       if (kind != k) continue;
       if (k == ResultKind::Table) add_table(p, c);
@@ -70,6 +70,7 @@ int run_report(const std::vector<std::string>& inputs, const std::string& out, c
       if (k == ResultKind::ConvergeSummary) add_converge_summary(p, c);
       if (k == ResultKind::Validate) add_validate(p, c);
       if (k == ResultKind::Stability) add_stability(p, c);
+      if (k == ResultKind::Tune) add_tune(p, c);
       p.provenance.push_back(provenance_of(c, names[static_cast<int>(k)]));
     }
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>raycoh report</title>\n";
@@ -104,7 +105,8 @@ BoundCommand bind_report(CLI::App& parent) {
   auto s = std::make_shared<State>();
   CLI::App* cmd = parent.add_subcommand(
       "report", "one self-contained HTML page (inline SVG figures) and a Markdown summary from result CSVs");
-  cmd->add_option("csv", s->inputs, "result CSVs of table, sweep, converge, quality, validate")->required();
+  cmd->add_option("csv", s->inputs, "result CSVs of table, sweep, converge, quality, validate, stability, tune")
+      ->required();
   cmd->add_option("--out", s->out, "the HTML page")->capture_default_str();
   cmd->add_option("--md", s->md, "the Markdown summary (default: --out with .md)");
   return {cmd, [s](const Provenance& provenance) {

@@ -21,6 +21,7 @@ Experiment read_experiment(const ResultCsv& c) {
     s.rays += c.num(r, "rays");
     s.trace_ms += c.num(r, "trace_ms");
     s.e2e_ms += c.num(r, "e2e_ms");
+    if (!std::isnan(c.num(r, "gpu_e2e_ms"))) s.gpu_e2e_ms += c.num(r, "gpu_e2e_ms");
     if (modeled) {
       s.modeled_ms += c.num(r, "modeled_ms");
       s.modeled_e2e_ms += c.num(r, "modeled_e2e_ms");

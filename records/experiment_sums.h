@@ -13,6 +13,7 @@ namespace raycoh {
 
 struct Sums {
   double rays = 0, trace_ms = 0, e2e_ms = 0, modeled_ms = 0, modeled_e2e_ms = 0;
+  double gpu_e2e_ms = 0;  // device pipelines (cuda): the pass's measured span on the device, 0 elsewhere
   std::string generator, encoder;
   RecordedColumns recorded;  // of the method's rows (the same in each)
   double speed(bool modeled, bool e2e) const {

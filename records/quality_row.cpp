@@ -118,6 +118,9 @@ const Schema<QualityRow>& quality_schema() {
     s.insert(s.end(), measures.begin(), measures.end());
     append_columns(s, provenance_schema(), &R::provenance);
     append_columns(s, recorded_schema(), &R::recorded);
+    s.push_back(column("rel_mse_renders", &R::rel_mse_renders, csv_format::Numbers{}));
+    s.push_back(column("rel_mse_ds8_renders", &R::rel_mse_ds8_renders, csv_format::Numbers{}));
+    s.push_back(column("flip_hdr_renders", &R::flip_hdr_renders, csv_format::Numbers{}));
     const Schema<R> denoised = quality_denoised_columns();
     s.insert(s.end(), denoised.begin(), denoised.end());
     return s;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "records/provenance.h"
 #include "records/recorded_columns.h"
@@ -53,7 +54,11 @@ struct QualityRow {
   double hybrid_diffuse_share = 0;
   Provenance provenance;
   RecordedColumns recorded;  // tile_w .. mode (records/recorded_columns.h)
-  // --denoise (after the recorded columns): the denoiser asked for ("none" | "oidn", part of the row's key) and the
+  // Per render (seeds seed .. seed + R - 1, in order), after the typed columns: relMSE, relMSE of the 8x8
+  // box-downsampled render and HDR-FLIP (empty when flip is not available), so that two generators' renders of the
+  // same seed can be compared pairwise (`raycoh tune`).
+  std::vector<double> rel_mse_renders, rel_mse_ds8_renders, flip_hdr_renders;
+  // --denoise (after the per-render columns): the denoiser asked for ("none" | "oidn", part of the row's key) and the
   // figures on the denoised renders (harness/denoise_eval.h), NaN (written empty) without one or when it is missing.
   std::string denoise = "none";
   double denoised_psnr = std::nan(""), denoised_psnr_std = std::nan(""), denoised_ssim = std::nan(""),

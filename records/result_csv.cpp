@@ -52,9 +52,10 @@ ResultKind result_kind(const ResultCsv& c) {
   if (c.has("psnr") && c.has("reference_kind")) return ResultKind::Quality;
   if (c.has("paper_ratio") && c.has("modeled_ratio")) return ResultKind::Validate;
   if (c.has("case") && c.has("rate") && c.has("threshold") && c.has("status")) return ResultKind::Stability;
+  if (c.has("meets_budget") && c.has("setting")) return ResultKind::Tune;
   throw Error(fmt::format(
       "report: {}: not a raycoh result CSV; valid: the CSVs of table, sweep, converge (curve or -summary), quality, "
-      "validate and stability (results/README.md)",
+      "validate, stability and tune (results/README.md)",
       c.path));
 }
 

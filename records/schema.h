@@ -81,6 +81,25 @@ struct GeneralOrEmpty {
   static double read(const std::string& s) { return s.empty() ? std::nan("") : read_double(s); }
 };
 
+// Numbers separated by ';' ("{:.6g}" each, NaN as an empty item): one value per render, in render order.
+struct Numbers {
+  static std::string write(const std::vector<double>& v) {
+    std::string out;
+    for (size_t i = 0; i < v.size(); ++i) out += (i ? ";" : "") + GeneralOrEmpty::write(v[i]);
+    return out;
+  }
+  static std::vector<double> read(const std::string& s) {
+    std::vector<double> out;
+    if (s.empty()) return out;
+    for (size_t at = 0;;) {
+      const size_t end = s.find(';', at);
+      out.push_back(GeneralOrEmpty::read(s.substr(at, end == std::string::npos ? std::string::npos : end - at)));
+      if (end == std::string::npos) return out;
+      at = end + 1;
+    }
+  }
+};
+
 // An optional value: empty when absent (e.g. generation counts of the primary pass).
 template <class F>
 struct Optional {

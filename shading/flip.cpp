@@ -69,9 +69,10 @@ HdrFlip run_hdr_flip(const std::string& program, const std::string& ref, const s
     if (where == std::string::npos) break;
     sum += v;
     ++found;
+    out.per_test.push_back(v);
     at = where + 5;
   }
-  if (found != tests.size()) return out;
+  if (found != tests.size()) return HdrFlip{};
   out.mean = sum / static_cast<double>(found);
   out.exposure =
       fmt::format("{:.4g}..{:.4g}/{:.0f}", flip_value(*text, "Start exposure:").first,

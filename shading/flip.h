@@ -21,7 +21,8 @@ double run_flip(const std::string& program, const std::string& ref, const std::s
 // program with its defaults: ACES tone mapper, 67 pixels per degree, and the exposure range (start, stop, count)
 // that flip derives from the reference's luminance, which `exposure` reports as "start..stop/count".
 struct HdrFlip {
-  double mean = std::nan("");  // mean over the test images of each image's mean HDR-FLIP
+  double mean = std::nan("");    // mean over the test images of each image's mean HDR-FLIP
+  std::vector<double> per_test;  // each test image's mean HDR-FLIP, in the order given (empty when flip failed)
   std::string exposure;
 };
 HdrFlip run_hdr_flip(const std::string& program, const std::string& ref, const std::vector<std::string>& tests,

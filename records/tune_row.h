@@ -1,0 +1,45 @@
+// The record of one `raycoh tune` row (one setting of the search space on one scene) and its CSV column table
+// (results/README.md). The row joins the setting's speed (from <out stem>-speed.csv, a sweep-layout experiment
+// CSV) and its error ratios to NoOpt (from <out stem>-quality.csv, a quality CSV) with the decision of
+// harness/tune_select.h.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "records/provenance.h"
+#include "records/schema.h"
+
+namespace raycoh {
+
+struct TuneRow {
+  std::string scene_spec, scene;
+  std::string setting;  // the generator spec ("ours:tile=16x8,k=32,order=group,hybrid=donor,frame=rotate")
+  std::string generator;
+  int tile_w = 0, tile_h = 0, k = 0;
+  std::string order, hybrid, frame;
+  std::string tracer_spec;                  // the speed tracer, as tables name it
+  std::string speed_csv;                    // where the speeds come from: this run's <stem>-speed.csv or --speed-csv
+  std::string speed_kind;                   // modeled (a timing model's figure) | measured
+  std::string rank;                         // e2e | trace: which speed ranks the settings
+  double mray_s = 0, speedup = 0;           // the ranked speed and its ratio to noopt's
+  double trace_mray_s = 0, e2e_mray_s = 0;  // both speeds (MRay/s)
+  double noopt_mray_s = 0;                  // noopt's ranked speed
+  std::string render_tracer;                // the tracer of the quality renders
+  int width = 0, height = 0, frames = 0, ref_frames = 0, seeds = 0;
+  uint32_t seed = 0;
+  bool error_measured = false;
+  double ds8 = 0, ds8_lo = 0, ds8_hi = 0;  // error ratios to noopt (mean, 95% interval; NaN: not measured)
+  double rel = 0, rel_lo = 0, rel_hi = 0;
+  double flip = 0, flip_lo = 0, flip_hi = 0;
+  std::string bias_verdict;  // consistent | biased | "" (not measured)
+  std::string budget;        // "ds8=1.05,flip=1.05,bias=none"
+  bool meets_budget = false, front = false, recommended = false, closest_miss = false, paper_default = false;
+  std::string reason;  // why it misses the budget ("" when it meets it)
+  std::string search;  // grid | fastest
+  Provenance provenance;
+};
+
+const Schema<TuneRow>& tune_schema();
+
+}  // namespace raycoh
