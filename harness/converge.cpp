@@ -15,6 +15,9 @@
 // The third clock, modeled_gpu, is each frame's modeled time on the `simt` tracer's GPU (--gpu-model,
 // harness/gpu_clock.h: what it includes and what not), computed on the same rays after the timed frame: its own
 // columns and its own summary rows, never added to a measured time.
+// --denoise oidn: at 1, 2, 4, 8, ... frames the running mean is also denoised (OIDN with the first hits' albedo and
+// normal over the same frames, harness/denoise_eval.h) and its error written in the row's denoised_* columns,
+// outside the frame's timing (denoise_ms); the summary's ratios stay on the raw curves.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -70,7 +73,8 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
     : o_(o),
       provenance_(p),
       csv_(o.out, converge_schema(), CsvWriter::Options::once(o.common.force, same_command(p))),
-      summary_(summary_path_of(o), summary_schema(), CsvWriter::Options::once(o.common.force, same_command(p))) {
+      summary_(summary_path_of(o), summary_schema(), CsvWriter::Options::once(o.common.force, same_command(p))),
+      denoise_(o.denoise) {
   if (csv_.already_complete() != summary_.already_complete())
     throw Error(fmt::format("--out {}: {} is finished but {} is not; pass --force to measure again", o.out,
                             csv_.already_complete() ? o.out : summary_path_of(o),
@@ -96,6 +100,7 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
       run.pt = std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi],
                                             settings_of(o.common, o.common.seed));
       run.acc = Accumulator(o.common.width, o.common.height);
+      if (denoise_.active()) run.aux = AuxAccumulators(o.common.width, o.common.height);
       if (gpu_model_)
         run.model =
             std::make_unique<FrameModel>(ls_->scene, *ls_->tracer, *gpu_model_, make_generator(o.generators[gi]),
@@ -160,7 +165,27 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
     r.modeled_gpu_s = run.modeled_s;
   }
   r.provenance = provenance_;
+  r.denoise = denoiser_name(o_.denoise);
   return r;
+}
+
+void ConvergeRun::add_denoised(const Run& run, const Image& mean, ConvergeRow& r) const {
+  if (!denoise_.active() || (run.frames & (run.frames - 1)) != 0) return;
+  double seconds = 0;
+  const ErrorMetrics m = compare_images(denoise_.denoise(mean, run.aux, &seconds), ref_.image, tm_, o_.common.metrics);
+  r.denoised_rel_mse = m.rel_mse;
+  r.denoised_mse = m.mse;
+  r.denoised_rmse = m.rmse;
+  r.denoised_psnr = m.psnr;
+  r.denoised_ssim = m.ssim;
+  r.denoise_ms = seconds * 1e3;
+  if (noise_) {
+    const NoiseCorrected c =
+        correct_for_noise(*noise_, m.mse, m.rel_mse, std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+    r.denoised_mse_corr = c.mse;
+    r.denoised_rel_mse_corr = c.rel_mse;
+    r.denoised_psnr_corr = c.psnr;
+  }
 }
 
 // One frame of every generator still short of its time; false when none is left.
@@ -169,20 +194,26 @@ bool ConvergeRun::render_round() {
   for (size_t gi = 0; gi < runs_.size(); ++gi) {
     Run& run = runs_[gi];
     if (!run.active) continue;
-    const FrameStats f = run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc);
+    const FrameStats f =
+        run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc, denoise_.active() ? &run.aux : nullptr);
     run.total.add(f);
     // The modeled GPU clock, after the timed frame: its own sum, never added to a measured time.
     const bool modeled = run.model && (run.frames % o_.model_every == 0);
     if (modeled) run.modeled = run.model->model(static_cast<uint32_t>(run.frames), f);
     ++run.frames;
-    const ErrorMetrics m = compare_images(run.acc.mean(), ref_.image, tm_, o_.common.metrics);
+    const Image mean = run.acc.mean();
+    const ErrorMetrics m = compare_images(mean, ref_.image, tm_, o_.common.metrics);
     run.by_wall.push_back({run.total.wall_s, m.rel_mse});
     run.by_trace.push_back({run.total.trace_s, m.rel_mse});
     if (run.model) {
       run.modeled_s += run.modeled.ms() * 1e-3;
       run.by_gpu.push_back({run.modeled_s, m.rel_mse});
     }
-    if (owns(gi)) csv_.write(row_of(gi, f, m, modeled));
+    if (owns(gi)) {
+      ConvergeRow row = row_of(gi, f, m, modeled);
+      add_denoised(run, mean, row);
+      csv_.write(row);
+    }
     run.active = run.total.wall_s < o_.time_s && run.frames < o_.max_frames;
     any = any || run.active;
   }
@@ -190,6 +221,7 @@ bool ConvergeRun::render_round() {
 }
 
 void ConvergeRun::render() {
+  denoise_.notice_if_missing();
   Progress bar;
   double budget = 0;
   for (const Run& r : runs_) budget += r.active ? o_.time_s : 0;
@@ -237,7 +269,7 @@ BoundCommand bind_converge(CLI::App& parent) {
     ConvergeOptions o;
     RenderText text;
     ProtocolText protocol;
-    std::string generators, time, shard = "0/1";  // defaults from ConvergeOptions
+    std::string generators, time, shard = "0/1", denoise = "none";  // defaults from ConvergeOptions
   };
   auto s = std::make_shared<State>();
   s->generators = join_specs(s->o.generators);
@@ -261,6 +293,8 @@ BoundCommand bind_converge(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--model-every", s->o.model_every, "model every Nth frame on the GPU, hold the others")
       ->capture_default_str();
+  cmd->add_option("--denoise", s->denoise, "none|oidn: also the error after denoising, at frames 1, 2, 4, 8, ...")
+      ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
   bind_protocol(cmd, s->protocol, true);
   return {cmd, [s, cmd](const Provenance& provenance) {
@@ -272,6 +306,7 @@ BoundCommand bind_converge(CLI::App& parent) {
             s->o.ref_frames_known = adopt_reference_frames(cmd, s->o.reference, &s->o.ref_frames);
             s->o.generators = split_nonempty("--generators", s->generators);
             s->o.time_s = parse_duration("--time", s->time);
+            s->o.denoise = parse_denoiser("--denoise", s->denoise);
             return run_converge(s->o, provenance);
           }};
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "generators/generator.h"
+#include "harness/denoise_eval.h"
 #include "harness/gpu_clock.h"
 #include "harness/quality.h"
 #include "harness/render_common.h"
@@ -36,6 +37,7 @@ struct Run {
   ModeledFrame modeled;  // the last modeled frame
   double modeled_s = 0;
   std::vector<CurvePoint> by_gpu;
+  AuxAccumulators aux;  // --denoise: the first hits' albedo and normal over the same frames
 };
 
 class ConvergeRun {
@@ -49,6 +51,8 @@ class ConvergeRun {
  private:
   bool render_round();
   ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m, bool modeled) const;
+  // The denoised figures of the running mean into the row, at power-of-two frame counts (--denoise).
+  void add_denoised(const Run& run, const Image& mean, ConvergeRow& row) const;
   // --shard: the generators whose rows this shard writes; it renders the baseline (0) too, for its ratios.
   bool owns(size_t gi) const { return owned_[gi]; }
   bool renders(size_t gi) const { return gi == 0 || owns(gi); }
@@ -67,6 +71,7 @@ class ConvergeRun {
   ToneMap tm_;                           // resolved on the reference, the same for every generator
   std::optional<ReferenceNoise> noise_;  // the reference's own noise, from its half image
   std::unique_ptr<Tracer> gpu_model_;    // the `simt` tracer of --gpu-model, null for none
+  DenoiseEval denoise_;
   std::vector<Run> runs_;
   std::vector<bool> owned_;
   std::string fingerprint_;

@@ -18,10 +18,12 @@ namespace {
 using namespace raycoh;
 
 // In the order `raycoh --help` lists them.
-const BindCommand kCommands[] = {
-    bind_list,      bind_scenes_info,       bind_table,   bind_sweep,    bind_merge,   bind_validate, bind_render,
-    bind_reference, bind_reference_combine, bind_quality, bind_converge, bind_compare, bind_rays,     bind_report,
-    bind_stability, bind_tune};
+const BindCommand kCommands[] = {bind_list,    bind_scenes_info, bind_table,
+                                 bind_sweep,   bind_merge,       bind_validate,
+                                 bind_render,  bind_reference,   bind_reference_combine,
+                                 bind_quality, bind_converge,    bind_compare,
+                                 bind_rays,    bind_report,      bind_stability,
+                                 bind_tune};
 
 int fail(int code, const char* kind, const std::string& message) {
   std::fprintf(stderr, "raycoh: %s: %s\n", kind, one_line(message).c_str());

@@ -22,6 +22,7 @@
 //     reference; bright where the band excludes zero, dim where not) and -bias.exr ((d, sigma, z) per pixel).
 //   flip: mean ꟻLIP (LDR, NVIDIA's flip-evaluator) of render 0's display PNG against the reference's, when the
 //     flip program is found ($RAYCOH_FLIP, else .venv/bin/flip, which scripts/setup makes); empty otherwise.
+//   denoised_*: --denoise oidn: those figures of each render after OIDN (harness/denoise_eval.h); empty without it.
 // --protocol ci|paper sets resolution, frames, reference frames and the metric space at once (harness/quality.h);
 // --metrics linear computes PSNR/SSIM on linear radiance (the paper's protocol) instead of the tone-mapped image.
 // The console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table.
@@ -46,6 +47,7 @@
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
+#include "harness/denoise_eval.h"
 #include "harness/progress.h"
 #include "harness/quality_measure.h"
 #include "harness/render_common.h"
@@ -101,7 +103,8 @@ ResumeRule quality_rule(const QualityOptions& o, const Provenance& p) {
       .require("tone_map", {describe(o.common.tone_map)})
       .require("protocol", {o.common.protocol})
       .require("metrics", {metric_space_name(o.common.metrics)})
-      .require("reference_kind", {o.reference.empty() ? "cache" : "file"});
+      .require("reference_kind", {o.reference.empty() ? "cache" : "file"})
+      .require("denoise", {denoiser_name(o.denoise)});
   if (!o.reference.empty()) rule.require("reference", {o.reference});
   return require_provenance(rule, p);
 }
@@ -162,6 +165,7 @@ class QualityRun {
         ref_kind_(o.reference.empty() ? "cache" : "file"),
         image_dir_(o.image_dir.empty() ? stem_path(o.out) + "-images" : o.image_dir),
         flip_(image_io_available() ? flip_program() : ""),
+        denoise_(o.denoise),
         csv_(o.out, quality_schema(), CsvWriter::Options::resumable(o.common.force, quality_rule(o, p))) {
     std::vector<std::string> units;
     for (const std::string& spec : o.scenes)
@@ -182,6 +186,7 @@ class QualityRun {
   const Provenance& provenance_;
   std::vector<std::unique_ptr<Generator>> generators_;
   std::string ref_kind_, image_dir_, flip_;
+  DenoiseEval denoise_;
   RecordCsv<QualityRow> csv_;
   std::vector<QualityRow> rows_;  // scene x generator order, for the console
   std::vector<bool> owned_;       // --shard: the scene x generator units this shard renders
@@ -206,6 +211,7 @@ QualityRow QualityRun::head(const std::string& spec, size_t gi) const {
   r.reference_kind = ref_kind_;
   r.protocol = o_.common.protocol;
   r.metrics = metric_space_name(o_.common.metrics);
+  r.denoise = denoiser_name(o_.denoise);
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.common.tracer);
   return r;
@@ -230,7 +236,7 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
     fs::create_directories(sink.hdr_dir);
   }
   const Renders m = render_generator(o_, ls, *generators_[gi], label, ref, tm, sink, si * o_.generators.size() + gi,
-                                     o_.scenes.size() * o_.generators.size());
+                                     o_.scenes.size() * o_.generators.size(), denoise_);
   QualityRow row = head(o_.scenes[si], gi);
   row.scene = ls.scene.name;
   row.scene_triangles = ls.scene.triangle_count();
@@ -245,6 +251,7 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
   row.reference = ref.path;
   row.ref_non_finite_samples = ref.non_finite;
   fill_measurements(row, m, o_.bias_renders, o_.frames, noise);
+  fill_denoised(row, m, noise);
   row.flip = flip_.empty()
                  ? std::nan("")
                  : run_flip(flip_, ImageSink{image_dir_, safe_name(ls.scene.name) + "-reference", {}}.main_path(),
@@ -315,6 +322,7 @@ int QualityRun::run() {
     std::fprintf(stderr,
                  "FLIP: not available (no $RAYCOH_FLIP or .venv/bin/flip; scripts/setup installs flip-evaluator), "
                  "the flip column stays empty\n");
+  denoise_.notice_if_missing();
   if (reusable > 0)
     std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", reusable, csv_.partial_path().c_str());
   const auto t_start = Clock::now();
@@ -333,6 +341,7 @@ int QualityRun::run() {
   }
   if (!o_.console) return 0;
   print_quality(o_, rows_);
+  if (o_.denoise != Denoiser::None) print_denoised_quality(rows_);
   std::printf("\nWrote %s and images in %s/ in %.1f s (%s, %d threads)\n", o_.out.c_str(), image_dir_.c_str(),
               std::chrono::duration<double>(Clock::now() - t_start).count(), provenance_.git_revision.c_str(),
               provenance_.threads);
@@ -351,7 +360,7 @@ BoundCommand bind_quality(CLI::App& parent) {
     QualityOptions o;
     RenderText text;
     ProtocolText protocol;
-    std::string scenes, generators, shard = "0/1";
+    std::string scenes, generators, shard = "0/1", denoise = "none";
   };
   auto s = std::make_shared<State>();
   s->scenes = join(s->o.scenes, ",");
@@ -370,11 +379,14 @@ BoundCommand bind_quality(CLI::App& parent) {
   cmd->add_option("--shard", s->shard,
                   "I/N: render only shard I (0-based) of N of the scene x generator units; join with raycoh merge")
       ->capture_default_str();
+  cmd->add_option("--denoise", s->denoise, "none|oidn: every figure on the denoised renders too")
+      ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
   bind_protocol(cmd, s->protocol, true);
   return {cmd, [s, cmd](const Provenance& provenance) {
             resolve_render_common(s->o.common, s->text);
             s->o.shard = parse_shard("--shard", s->shard);
+            s->o.denoise = parse_denoiser("--denoise", s->denoise);
             resolve_protocol(cmd, s->protocol, s->o.common, &s->o.frames, "--frames", &s->o.ref_frames, "--ref-frames");
             adopt_reference_frames(cmd, s->o.reference, &s->o.ref_frames);
             s->o.scenes = split_scenes("--scenes", s->scenes);

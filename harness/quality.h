@@ -17,6 +17,7 @@
 #include "records/provenance.h"
 #include "records/quality_row.h"
 #include "records/shard.h"
+#include "shading/denoise.h"
 #include "shading/image.h"
 #include "shading/metrics.h"
 
@@ -80,6 +81,7 @@ struct QualityOptions {
   std::string image_dir;  // --images: where renders and crops go ("" = <out stem>-images)
   std::vector<Crop> crops;
   Shard shard;  // --shard I/N: only this shard's scene x generator units (records/shard.h); join with raycoh merge
+  Denoiser denoise = Denoiser::None;  // --denoise none|oidn: every figure on the denoised renders too
   // For commands built on quality (`raycoh tune`), not options: called with every row of a scene in generator
   // order, measured or resumed; returning true leaves the scene's later generators unmeasured. The console tables
   // are printed only when `console` (they need every row).
@@ -106,6 +108,7 @@ struct ConvergeOptions {
   // The modeled GPU clock (harness/gpu_clock.h): a `simt` tracer spec, or "none" for no modeled time.
   std::string gpu_model = "simt";
   int model_every = 1;  // --model-every [1, kMaxFrames]: model frames 0, N, 2N, ...; the others hold the last
+  Denoiser denoise = Denoiser::None;  // --denoise none|oidn: the error after denoising at frames 1, 2, 4, 8, ...
 };
 int run_converge(const ConvergeOptions& options, const Provenance& provenance);
 

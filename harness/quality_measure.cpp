@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "harness/progress.h"
 #include "shading/reference.h"
@@ -28,11 +29,32 @@ double downsampled_rel_mse(const Image& img, const Image& ref, int factor) {
   return rel_mse(box_downsample(img, factor), box_downsample(ref, factor));
 }
 
+// Render r's denoised image into m (its figures) and, for render 0, the sink's folder (with the auxiliary images).
+void add_denoised(Renders& m, const DenoiseEval& dn, const Image& img, const AuxAccumulators& aux, int r,
+                  const ReferenceImage& ref, const ToneMap& tm, MetricSpace space, const ImageSink& sink) {
+  double seconds = 0;
+  const Image d = dn.denoise(img, aux, &seconds);
+  m.denoise_s += seconds;
+  const ErrorMetrics e = compare_images(d, ref.image, tm, space);
+  m.dn_psnr.push_back(e.psnr);
+  m.dn_ssim.push_back(e.ssim);
+  m.dn_rmse.push_back(e.rmse);
+  m.dn_rel_mse.push_back(e.rel_mse);
+  m.dn_mse.push_back(e.mse);
+  m.dn_metric_mse.push_back(std::pow(10.0, -e.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+  m.dn_ds8.push_back(downsampled_rel_mse(d, ref.image, 8));
+  if (r != 0) return;
+  ImageSink{sink.dir, sink.base + "-denoised", sink.crops}.write(d, tm);
+  const std::string stem = (fs::path(sink.dir) / sink.base).string();
+  write_image(aux.albedo.mean(), stem + "-albedo" + float_image_extension());
+  write_image(aux.normal.mean(), stem + "-normal" + float_image_extension());
+}
+
 }  // namespace
 
 Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generator& generator, const std::string& label,
-                         const ReferenceImage& ref, const ToneMap& tm, const ImageSink& sink, size_t item,
-                         size_t items) {
+                         const ReferenceImage& ref, const ToneMap& tm, const ImageSink& sink, size_t item, size_t items,
+                         const DenoiseEval& denoiser) {
   Renders out;
   Accumulator mean_acc(o.common.width, o.common.height);
   BiasSamples samples(o.common.width, o.common.height);
@@ -45,9 +67,11 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
   for (int r = 0; r < R; ++r) {
     PathTracer pt(ls.scene, *ls.tracer, generator, settings_of(o.common, o.common.seed + r));
     Accumulator acc(o.common.width, o.common.height);
+    std::optional<AuxAccumulators> aux;  // the first hits' albedo and normal, for the denoiser
+    if (denoiser.active()) aux.emplace(o.common.width, o.common.height);
     for (int f = 0; f < o.frames; ++f) {
       Accumulator frame(o.common.width, o.common.height);  // this frame alone, for the bias test's spread
-      out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame));
+      out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame, aux ? &*aux : nullptr));
       acc.merge(frame);
       const std::vector<double> luma = frame_luma(frame);
       samples.add_luma(luma);
@@ -67,6 +91,7 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
     for (size_t p = 0; p < img.pixels(); ++p) mean_acc.add(p, img.at(p));
     if (r == 0) sink.write(img, tm);
     if (!sink.hdr_dir.empty()) write_image(img, sink.hdr_path(r));
+    if (aux) add_denoised(out, denoiser, img, *aux, r, ref, tm, o.common.metrics, sink);
   }
   bar.clear();
   const Image mean_image = mean_acc.mean();
@@ -143,6 +168,30 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.hybrid_diffuse_share = m.total.generation.rays > 0 ? static_cast<double>(m.total.hybrid_diffuse) /
                                                                static_cast<double>(m.total.generation.rays)
                                                          : nan;
+}
+
+void fill_denoised(QualityRow& row, const Renders& m, const ReferenceNoise* noise) {
+  if (m.dn_psnr.empty()) return;
+  const size_t R = m.dn_psnr.size();
+  row.denoised_psnr = mean_of(m.dn_psnr);
+  if (R > 1) {
+    double s2 = 0;
+    for (double x : m.dn_psnr) s2 += (x - row.denoised_psnr) * (x - row.denoised_psnr);
+    row.denoised_psnr_std = std::sqrt(s2 / static_cast<double>(R - 1));
+  }
+  row.denoised_ssim = mean_of(m.dn_ssim);
+  row.denoised_rmse = mean_of(m.dn_rmse);
+  row.denoised_rel_mse = mean_of(m.dn_rel_mse);
+  row.denoised_mse = mean_of(m.dn_mse);
+  row.denoised_rel_mse_ds8 = mean_of(m.dn_ds8);
+  row.denoise_s = m.denoise_s;
+  if (noise) {
+    const NoiseCorrected c =
+        correct_for_noise(*noise, row.denoised_mse, row.denoised_rel_mse, mean_of(m.dn_metric_mse));
+    row.denoised_mse_corr = c.mse;
+    row.denoised_rel_mse_corr = c.rel_mse;
+    row.denoised_psnr_corr = c.psnr;
+  }
 }
 
 }  // namespace raycoh

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "generators/generator.h"
+#include "harness/denoise_eval.h"
 #include "harness/quality.h"
 #include "harness/render_common.h"
 #include "records/quality_row.h"
@@ -29,6 +30,9 @@ struct Renders {
   bool has_bias = false;
   FrameStats total;
   uint64_t non_finite_pixels = 0;
+  // --denoise: per render, the figures of its denoised image (empty without a denoiser), the denoiser's seconds.
+  std::vector<double> dn_psnr, dn_ssim, dn_rmse, dn_rel_mse, dn_mse, dn_metric_mse, dn_ds8;
+  double denoise_s = 0;
 };
 
 // Where a generator's renders are written: render 0 and its crops, tone-mapped for display.
@@ -54,10 +58,15 @@ struct ImageSink {
   }
 };
 
+// With an active denoiser, each render is also denoised (with its first hits' albedo and normal, which go to the
+// sink's folder as <base>-albedo and <base>-normal float images for render 0) and render 0's denoised image and
+// crops are written as <base>-denoised.
 Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generator& generator, const std::string& label,
-                         const ReferenceImage& ref, const ToneMap& tm, const ImageSink& sink, size_t item,
-                         size_t items);
+                         const ReferenceImage& ref, const ToneMap& tm, const ImageSink& sink, size_t item, size_t items,
+                         const DenoiseEval& denoiser);
 // The figures of the renders (R of them, each of `frames` frames) into the row; noise: the reference's own.
 void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, const ReferenceNoise* noise);
+// The denoised figures (means over the renders, as the raw ones); nothing when the renders were not denoised.
+void fill_denoised(QualityRow& row, const Renders& m, const ReferenceNoise* noise);
 
 }  // namespace raycoh

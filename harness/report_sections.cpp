@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/render_common.h"
 #include "harness/report_parts.h"
 #include "shading/image.h"
 
@@ -187,6 +188,8 @@ namespace {
 
 // A quality CSV's PSNR by scene and method, and the run facts its rows record.
 struct QualityTable {
+  // methods: each method, followed by "<method>-denoised" when the CSV has its denoised figures (--denoise); the
+  // images are <scene>-<method>.png and <scene>-<method>-denoised.png.
   std::vector<std::string> scenes, methods;
   std::map<std::pair<std::string, std::string>, std::string> psnr;
   std::set<std::string> info;
@@ -198,6 +201,10 @@ QualityTable read_quality_table(const ResultCsv& c) {
     add_unique(q.scenes, c.get(r, "scene"));
     add_unique(q.methods, c.get(r, "method"));
     q.psnr[{c.get(r, "scene"), c.get(r, "method")}] = fmt::format("{:.2f}", c.num(r, "psnr"));
+    if (c.has("denoised_psnr") && !c.get(r, "denoised_psnr").empty()) {
+      add_unique(q.methods, c.get(r, "method") + "-denoised");
+      q.psnr[{c.get(r, "scene"), c.get(r, "method") + "-denoised"}] = fmt::format("{:.2f}", c.num(r, "denoised_psnr"));
+    }
     q.info.insert(fmt::format("{}×{}, {} frames (reference {}), tracer {}, revision {}", c.get(r, "width"),
                               c.get(r, "height"), c.get(r, "frames"), c.get(r, "ref_frames"), c.get(r, "tracer"),
                               c.get(r, "git_revision")));
@@ -236,7 +243,7 @@ void add_scene_images(Page& p, const std::filesystem::path& dir, const std::stri
   std::vector<std::string> shown = {"reference"};
   for (const std::string& m : q.methods) shown.push_back(m);
   for (const std::string& m : shown) {
-    const std::filesystem::path png = dir / (s + "-" + m + ".png");
+    const std::filesystem::path png = dir / (safe_name(s) + "-" + safe_name(m) + ".png");  // as `quality` names it
     std::ifstream in(png, std::ios::binary);
     if (!in) continue;
     std::stringstream bytes;
@@ -271,7 +278,8 @@ void add_scene_images(Page& p, const std::filesystem::path& dir, const std::stri
     crops += fmt::format(
         "</div>\n<p class=\"note\">Error maps: |image − reference| as displayed, mean of the three channels, "
         "×{:g} (black: equal; red, yellow, white: larger; white is a difference of {:.0f}% of the display range "
-        "or more). Blocks, seams and fireflies show here before they show in a PSNR:</p>\n<div class=\"imgs\">\n{}",
+        "or more; <code>-denoised</code>: the same render after the denoiser). Blocks, seams and fireflies show "
+        "here before they show in a PSNR:</p>\n<div class=\"imgs\">\n{}",
         kErrorGain, 100.f / kErrorGain, errors);
   if (!row.empty())
     p.html += fmt::format(

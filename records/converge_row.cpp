@@ -57,6 +57,16 @@ const Schema<ConvergeRow>& converge_schema() {
     append_columns(s, provenance_schema(), &R::provenance);
     append_columns(s, recorded_schema(), &R::recorded);
     s.push_back(column("gpu_preset", &R::gpu_preset, Text{}));
+    s.push_back(column("denoise", &R::denoise, Text{}));
+    s.push_back(column("denoised_rel_mse", &R::denoised_rel_mse, G{}));
+    s.push_back(column("denoised_mse", &R::denoised_mse, G{}));
+    s.push_back(column("denoised_rmse", &R::denoised_rmse, G{}));
+    s.push_back(column("denoised_psnr", &R::denoised_psnr, G{}));
+    s.push_back(column("denoised_ssim", &R::denoised_ssim, G{}));
+    s.push_back(column("denoised_mse_corr", &R::denoised_mse_corr, G{}));
+    s.push_back(column("denoised_rel_mse_corr", &R::denoised_rel_mse_corr, G{}));
+    s.push_back(column("denoised_psnr_corr", &R::denoised_psnr_corr, G{}));
+    s.push_back(column("denoise_ms", &R::denoise_ms, G{}));
     return s;
   }();
   return schema;

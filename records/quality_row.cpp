@@ -91,6 +91,24 @@ Schema<R> quality_measure_columns() {
   };
 }
 
+// --denoise: the denoiser (a key) and the figures on the denoised renders, after every earlier column.
+Schema<R> quality_denoised_columns() {
+  return {
+      column("denoise", &R::denoise, Text{}, Key::Yes),
+      column("denoised_psnr", &R::denoised_psnr, G{}),
+      column("denoised_psnr_std", &R::denoised_psnr_std, G{}),
+      column("denoised_ssim", &R::denoised_ssim, G{}),
+      column("denoised_rmse", &R::denoised_rmse, G{}),
+      column("denoised_rel_mse", &R::denoised_rel_mse, G{}),
+      column("denoised_mse", &R::denoised_mse, G{}),
+      column("denoised_rel_mse_ds8", &R::denoised_rel_mse_ds8, G{}),
+      column("denoised_mse_corr", &R::denoised_mse_corr, G{}),
+      column("denoised_rel_mse_corr", &R::denoised_rel_mse_corr, G{}),
+      column("denoised_psnr_corr", &R::denoised_psnr_corr, G{}),
+      column("denoise_s", &R::denoise_s, G{}),
+  };
+}
+
 }  // namespace
 
 const Schema<QualityRow>& quality_schema() {
@@ -103,6 +121,8 @@ const Schema<QualityRow>& quality_schema() {
     s.push_back(column("rel_mse_renders", &R::rel_mse_renders, csv_format::Numbers{}));
     s.push_back(column("rel_mse_ds8_renders", &R::rel_mse_ds8_renders, csv_format::Numbers{}));
     s.push_back(column("flip_hdr_renders", &R::flip_hdr_renders, csv_format::Numbers{}));
+    const Schema<R> denoised = quality_denoised_columns();
+    s.insert(s.end(), denoised.begin(), denoised.end());
     return s;
   }();
   return schema;

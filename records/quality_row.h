@@ -1,6 +1,7 @@
 // The record of one `raycoh quality` row (one scene x generator) and its CSV column table (results/README.md).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -57,6 +58,13 @@ struct QualityRow {
   // box-downsampled render and HDR-FLIP (empty when flip is not available), so that two generators' renders of the
   // same seed can be compared pairwise (`raycoh tune`).
   std::vector<double> rel_mse_renders, rel_mse_ds8_renders, flip_hdr_renders;
+  // --denoise (after the per-render columns): the denoiser asked for ("none" | "oidn", part of the row's key) and the
+  // figures on the denoised renders (harness/denoise_eval.h), NaN (written empty) without one or when it is missing.
+  std::string denoise = "none";
+  double denoised_psnr = std::nan(""), denoised_psnr_std = std::nan(""), denoised_ssim = std::nan(""),
+         denoised_rmse = std::nan(""), denoised_rel_mse = std::nan(""), denoised_mse = std::nan(""),
+         denoised_rel_mse_ds8 = std::nan(""), denoised_mse_corr = std::nan(""), denoised_rel_mse_corr = std::nan(""),
+         denoised_psnr_corr = std::nan(""), denoise_s = std::nan("");
 };
 
 const Schema<QualityRow>& quality_schema();

@@ -14,13 +14,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Single-quoted for the shell.
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 // Standard output of a flip command (stderr dropped), or nothing when it cannot start or exits non-zero.
 std::optional<std::string> flip_output(const std::string& cmd) {
   FILE* pipe = ::popen((cmd + " 2>/dev/null").c_str(), "r");
@@ -41,6 +34,12 @@ std::pair<double, size_t> flip_value(const std::string& text, const std::string&
 
 }  // namespace
 
+std::string shell_quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 std::string flip_program() {
   const char* env = std::getenv("RAYCOH_FLIP");
   if (env && *env) return env;
@@ -50,14 +49,16 @@ std::string flip_program() {
 }
 
 double run_flip(const std::string& program, const std::string& ref, const std::string& test) {
-  const auto text = flip_output(fmt::format("{} -r {} -t {} -v 1 -nerm", quoted(program), quoted(ref), quoted(test)));
+  const auto text = flip_output(
+      fmt::format("{} -r {} -t {} -v 1 -nerm", shell_quoted(program), shell_quoted(ref), shell_quoted(test)));
   return text ? flip_value(*text, "Mean:").first : std::nan("");
 }
 
 HdrFlip run_hdr_flip(const std::string& program, const std::string& ref, const std::vector<std::string>& tests,
                      const std::string& dir) {
-  std::string cmd = fmt::format("{} -r {} -v 2 -nerm -nexm -d {} -t", quoted(program), quoted(ref), quoted(dir));
-  for (const std::string& t : tests) cmd += " " + quoted(t);
+  std::string cmd =
+      fmt::format("{} -r {} -v 2 -nerm -nexm -d {} -t", shell_quoted(program), shell_quoted(ref), shell_quoted(dir));
+  for (const std::string& t : tests) cmd += " " + shell_quoted(t);
   HdrFlip out;
   const auto text = flip_output(cmd);
   if (!text) return out;

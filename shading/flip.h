@@ -8,6 +8,9 @@
 
 namespace raycoh {
 
+// s single-quoted for the shell (the commands of flip.cpp and denoise.cpp go through popen).
+std::string shell_quoted(const std::string& s);
+
 // $RAYCOH_FLIP, else .venv/bin/flip in the working folder; "" when neither exists.
 std::string flip_program();
 

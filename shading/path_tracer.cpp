@@ -68,7 +68,14 @@ FrameStats PathTracer::render_frames(uint32_t first, int count, Accumulator& acc
   return total;
 }
 
-FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
+AuxSample aux_of(const HitMaterials& materials, const ShadingPoint& sp) {
+  if (!sp.valid()) return {};
+  const BsdfParams& m = materials.bsdf[sp.material];
+  const Vec3 albedo = m.cls == MaterialClass::Transmissive ? Vec3(1.f) : vmin(vmax(m.base_color, Vec3(0.f)), Vec3(1.f));
+  return {albedo, normalize(sp.ns)};
+}
+
+FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc, AuxAccumulators* aux) {
   using namespace path_tracing;
   RAYCOH_CHECK(acc.width() == settings_.width && acc.height() == settings_.height,
                fmt::format("accumulator {}x{} for a {}x{} render", acc.width(), acc.height(), settings_.width,
@@ -93,6 +100,15 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc) {
     for (size_t p = r.begin(); p < r.end(); ++p) acc.add(p, ctx.radiance[p]);
   });
   ctx.stats.non_finite = acc.non_finite_samples() - before;
+  if (aux) {
+    RAYCOH_CHECK(gbuffer.materials != nullptr, "camera pass G-buffer without its material table");
+    const HitMaterials& table = *gbuffer.materials;
+    parallel_for_index(gbuffer.points.size(), [&](size_t p) {
+      const AuxSample s = aux_of(table, gbuffer.points[p]);
+      aux->albedo.add(p, s.albedo);
+      aux->normal.add(p, s.normal);
+    });
+  }
   ctx.stats.wall_s = seconds_since(t_frame);
   return ctx.stats;
 }

@@ -47,13 +47,28 @@ struct FrameStats {
 
 struct EmitterDistribution;
 
+// The first-hit features a denoiser takes as auxiliary images (shading/denoise.h), per pixel and frame: the albedo
+// (the hit material's base colour clamped to [0, 1]; 1 on transmissive surfaces, which OIDN asks for dielectrics)
+// and the unit shading normal in world space. A pixel whose camera ray missed gets 0 for both.
+struct AuxSample {
+  Vec3 albedo{0.f}, normal{0.f};
+};
+AuxSample aux_of(const HitMaterials& materials, const ShadingPoint& sp);
+// The auxiliary images summed over frames like the colour (their mean is what the denoiser reads).
+struct AuxAccumulators {
+  Accumulator albedo, normal;
+  AuxAccumulators() = default;
+  AuxAccumulators(int width, int height) : albedo(width, height), normal(width, height) {}
+};
+
 class PathTracer {
  public:
   // scene, tracer and generator must outlive the path tracer; the tracer must have been made for this scene.
   PathTracer(const Scene& scene, Tracer& tracer, Generator& generator, const RenderSettings& settings);
   ~PathTracer();
-  // Renders frame `frame` (one path per pixel) and adds it to acc, which must have the settings' size.
-  FrameStats render_frame(uint32_t frame, Accumulator& acc);
+  // Renders frame `frame` (one path per pixel) and adds it to acc, which must have the settings' size; with aux,
+  // also the frame's first-hit albedo and normal (aux_of) from the G-buffer of its camera pass.
+  FrameStats render_frame(uint32_t frame, Accumulator& acc, AuxAccumulators* aux = nullptr);
   // Frames first .. first + count - 1.
   FrameStats render_frames(uint32_t first, int count, Accumulator& acc);
   const RenderSettings& settings() const { return settings_; }

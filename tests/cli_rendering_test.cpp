@@ -208,5 +208,93 @@ TEST(CliRendering, QualityReportsHybridShareAndHdrFlip) {
   EXPECT_NE(text.find("| 0.2500 | 0.2000 |"), std::string::npos) << text;
 }
 
+// Issue 32, --denoise oidn through a stand-in oidnDenoise ($RAYCOH_OIDN) that checks its auxiliary inputs and
+// returns the colour unchanged: every denoised figure then equals the raw one, quality writes the denoised image,
+// the albedo and the normal of render 0, converge fills its denoised columns at frames 1, 2, 4, ... only, and a
+// quality run of another --denoise is refused on resume naming the column.
+TEST(CliRendering, DenoiseFillsTheDenoisedColumnsThroughTheProgram) {
+  const auto dir = temp_dir("cli_denoise");
+  const auto fake = dir / "oidnDenoise";
+  write_file(fake,
+             "#!/bin/sh\n"
+             "while [ $# -gt 0 ]; do case \"$1\" in --hdr) c=$2;; --alb) a=$2;; --nrm) n=$2;; -o) o=$2;; esac; "
+             "shift 2; done\n"
+             "test -s \"$a\" && test -s \"$n\" && cp \"$c\" \"$o\"\n");
+  std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
+  const auto out = dir / "q.csv";
+  const std::string quality = "RAYCOH_OIDN=" + fake.string() +
+                              " $R quality --scenes cornell --generators noopt,ours:k=4 --frames 2 --ref-frames 2 "
+                              "--bias-renders 2 --res 32x24 --cache " +
+                              (dir / "cache").string() + " --images " + (dir / "quality-images").string() + " --out " +
+                              out.string();
+  CommandResult r = run_shell(quality + " --denoise oidn");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("| cornell | ours:k=4 |"), std::string::npos) << r.output;
+  for (const auto& row : csv_rows(out)) {
+    EXPECT_EQ(row.at("denoise"), "oidn");
+    for (const char* c : {"psnr", "psnr_std", "ssim", "rmse", "rel_mse", "mse", "rel_mse_ds8"})
+      EXPECT_EQ(row.at(std::string("denoised_") + c), row.at(c)) << c;
+    EXPECT_GE(num(row, "denoise_s"), 0.0);
+  }
+  for (const char* f : {"cornell-ours_k_4-denoised.png", "cornell-ours_k_4-albedo.exr", "cornell-ours_k_4-normal.exr"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "quality-images" / f)) << f;
+  // raycoh report puts the denoised images, crops and error maps beside the raw ones (files named as quality names
+  // them: ours_k_4 for ours:k=4).
+  const CommandResult rep = run_raycoh("report " + out.string() + " --out " + (dir / "report.html").string());
+  ASSERT_EQ(rep.exit_code, 0) << rep.output;
+  std::ifstream html(dir / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  for (const char* alt :
+       {"cornell ours:k=4 error map", "cornell ours:k=4-denoised error map", "cornell ours:k=4-denoised crop"})
+    EXPECT_NE(page.find(alt), std::string::npos) << alt;
+  r = run_shell(quality + " --denoise none");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("denoise"), std::string::npos) << r.output;
+
+  const auto conv = dir / "c.csv";
+  r = run_shell("RAYCOH_OIDN=" + fake.string() +
+                " $R converge --generators noopt,ours --time 100s --max-frames 3 --ref-frames 2 --res 16x12 "
+                "--gpu-model none --denoise oidn --cache " +
+                (dir / "cache").string() + " --out " + conv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto rows = csv_rows(conv);
+  ASSERT_EQ(rows.size(), 6u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("denoise"), "oidn");
+    if (row.at("frame") == "3") {
+      EXPECT_EQ(row.at("denoised_rel_mse"), "");
+    } else {
+      EXPECT_EQ(row.at("denoised_rel_mse"), row.at("rel_mse"));
+      EXPECT_EQ(row.at("denoised_psnr"), row.at("psnr"));
+    }
+  }
+}
+
+// Without an oidnDenoise (no $RAYCOH_OIDN, no .venv in the working folder) one line says so and the denoised
+// columns stay empty; an unknown denoiser is a one-line error naming the valid ones.
+TEST(CliRendering, DenoiseWithoutOidnSaysSoOnceAndLeavesTheColumnsEmpty) {
+  expect_error("quality --denoise optix", "none, oidn");
+  expect_error("converge --denoise optix", "none, oidn");
+  const auto dir = temp_dir("cli_denoise_missing");
+  const std::string cd = "cd " + dir.string() + " && RAYCOH_OIDN= $R ";
+  CommandResult r =
+      run_shell(cd + "quality --scenes cornell --generators noopt --frames 1 --ref-frames 2 --res 16x12 " +
+                "--cache cache --out q.csv --denoise oidn");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r.output += run_shell(cd + "converge --generators noopt --time 100s --max-frames 1 --ref-frames 2 --res 16x12 " +
+                        "--gpu-model none --cache cache --out c.csv --denoise oidn")
+                  .output;
+  size_t lines = 0;
+  for (size_t at = 0; (at = r.output.find("OIDN: not available", at)) != std::string::npos; ++at) ++lines;
+  EXPECT_EQ(lines, 2u) << r.output;  // once per command
+  for (const char* csv : {"q.csv", "c.csv"})
+    for (const auto& row : csv_rows(dir / csv)) {
+      EXPECT_EQ(row.at("denoise"), "oidn") << csv;
+      EXPECT_EQ(row.at("denoised_rel_mse"), "") << csv;
+      EXPECT_EQ(row.at("denoised_psnr"), "") << csv;
+    }
+  EXPECT_FALSE(std::filesystem::exists(dir / "q-images" / "cornell-noopt-denoised.png"));
+}
+
 }  // namespace
 }  // namespace raycoh::test

@@ -147,6 +147,17 @@ printf 'scene,method,baseline,metric,clock,equal_time_error_ratio,equal_error_sp
 grep -q "| s | ours vs noopt | modeled_gpu (MODELED) | 2 | 0.950 ± 0.050 | 1/2 | 1.050 ± 0.050 |" seeds.md ||
   { echo "scripts_test: converge_seeds.py table wrong: $(cat seeds.md)"; exit 1; }
 expect_error "missing column" "$scripts/converge_seeds.py" table.csv
+# denoise_table.py: relMSE ratios to noopt, raw and denoised, over seeds (issue 32).
+for seed in 1 2; do
+  printf 'scene,method,seed,frame,rel_mse,denoised_rel_mse,rel_mse_corr,denoised_rel_mse_corr\n' > dn$seed.csv
+  printf 's,noopt,%s,1,1.0,0.1,1.0,0.1\ns,ours,%s,1,1.1,0.2,1.1,0.2\ns,ours,%s,2,0.6,,0.6,\n' $seed $seed $seed >> dn$seed.csv
+done
+sed -i 's/^s,ours,2,1,1.1,0.2,1.1,0.2$/s,ours,2,1,0.9,0.3,0.9,0.3/' dn2.csv
+"$scripts/denoise_table.py" dn1.csv dn2.csv --frames 1 > dn.md
+grep -q "| ours | 1 | 0.99 (0.90–1.10) | 2.45 (2.00–3.00) | 2.46 (1.82–3.33) | widens (every seed) | +0 / +0.15 |" dn.md &&
+  grep -q "| noopt denoised / raw | 1 | | | 0.10 (0.10–0.10) | denoiser lowers the error | noopt 1 / 0.1 |" dn.md ||
+  { echo "scripts_test: denoise_table.py table wrong: $(cat dn.md)"; exit 1; }
+expect_error "no column seed (a converge CSV of --denoise oidn is needed)" "$scripts/denoise_table.py" converge.csv
 # scripts/paper-protocol refuses bad input before it renders or creates anything.
 expect_error "usage: scripts/paper-protocol" "$scripts/paper-protocol" build 480x270
 expect_error "no scene file ../shared/scenes/no_such_scene" "$scripts/paper-protocol" build 480x270 "$work/refs" no_such_scene
