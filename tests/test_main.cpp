@@ -21,7 +21,15 @@ std::vector<std::filesystem::path> shared_scene_files() {
 }
 
 std::filesystem::path temp_dir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("raycoh_test_" + std::to_string(::getpid())) / name;
+  // A folder left by an earlier test process with the same process id (ids are reused) is that process's, never a
+  // live one's: cleared once, so that no test resumes from another run's files.
+  static const std::filesystem::path root = [] {
+    auto r = std::filesystem::temp_directory_path() / ("raycoh_test_" + std::to_string(::getpid()));
+    std::error_code ec;
+    std::filesystem::remove_all(r, ec);
+    return r;
+  }();
+  auto dir = root / name;
   std::filesystem::create_directories(dir);
   return dir;
 }
