@@ -8,6 +8,7 @@
 #include "harness/experiment.h"
 #include "harness/merge_defaults.h"
 #include "harness/quality.h"
+#include "harness/tune_run.h"
 
 namespace raycoh {
 
@@ -17,6 +18,12 @@ namespace {
 RunUnits command_units(bool quality, const std::vector<std::string>& words) {
   RunUnits u;
   std::vector<PluginSpec> generators;
+  if (quality && !words.empty() && words.front() == "tune") {  // a sharded tune's error stage (harness/tune.h)
+    u.scenes = {option_value(words, "--scene", "")};
+    u.methods = tune_quality_methods(option_value(words, "--space", TuneOptions{}.space),
+                                     option_value(words, "--generator", TuneOptions{}.generator));
+    return u;
+  }
   if (quality) {
     u.scenes = split_scenes("--scenes", option_value(words, "--scenes", join(QualityOptions{}.scenes, ",")));
     generators =
@@ -32,7 +39,9 @@ RunUnits command_units(bool quality, const std::vector<std::string>& words) {
 
 }  // namespace
 
-MergeCommands merge_command_defaults() { return {ExperimentOptions{}.frames, command_units}; }
+MergeCommands merge_command_defaults() {
+  return {ExperimentOptions{}.frames, TuneOptions{}.speed_frames, command_units};
+}
 
 BoundCommand bind_merge(CLI::App& parent) {
   auto o = std::make_shared<MergeOptions>();

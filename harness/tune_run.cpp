@@ -175,6 +175,18 @@ void measure_speeds(const TuneOptions& o, const std::vector<TuneSetting>& settin
 
 }  // namespace
 
+std::vector<std::string> tune_quality_methods(const std::string& space, const std::string& generator) {
+  TuneOptions o;
+  o.generator = generator;
+  o.search = "grid";
+  std::vector<TuneCandidate> cs;
+  for (const TuneSetting& s : expand(parse_tune_space(space), generator))
+    cs.push_back({s, 0, 0, false, {}, {}, {}, ""});
+  std::vector<std::string> methods{"noopt"};
+  for (const std::string& image : image_order(o, cs)) methods.push_back(image);
+  return methods;
+}
+
 std::string tune_speed_path(const TuneOptions& o) { return stem_path(o.out) + "-speed.csv"; }
 std::string tune_quality_path(const TuneOptions& o) {
   return o.quality_csv.empty() ? stem_path(o.out) + "-quality.csv" : o.quality_csv;

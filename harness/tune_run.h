@@ -27,6 +27,10 @@ struct TuneMeasured {
 std::string tune_speed_path(const TuneOptions& o);
 std::string tune_quality_path(const TuneOptions& o);
 
+// The error stage's methods of a grid search in the order its shards deal them (noopt, the paper's default image,
+// then every image of the space once): what `raycoh merge` needs to join a sharded tune's quality files.
+std::vector<std::string> tune_quality_methods(const std::string& space, const std::string& generator);
+
 // Runs (or resumes) both stages; std::nullopt for a shard that is not the whole run (its files are written).
 std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget& budget,
                                          const std::vector<TuneSetting>& settings, const Provenance& provenance);

@@ -60,6 +60,7 @@ struct RunUnits {
 // cannot read).
 struct MergeCommands {
   int experiment_frames = 1;
+  int tune_speed_frames = 1;  // the frames of a tune's speed stage without --speed-frames
   std::function<RunUnits(bool quality, const std::vector<std::string>& words)> units;
 };
 

@@ -214,10 +214,10 @@ std::string joined(const std::set<std::string>& values) {
   return join(v, "|");
 }
 
-RunFacts facts_of(const Input& in, const Kind& kind, int default_frames) {
+RunFacts facts_of(const Input& in, const Kind& kind, const MergeCommands& commands) {
   const std::vector<std::string>& columns = kind.layout.columns;
   RunFacts f;
-  f.frames = default_frames;
+  f.frames = commands.experiment_frames;
   f.empty = in.rows.empty();
   for (const std::string& name : kind.run_fields) {
     std::set<std::string> values;
@@ -237,10 +237,13 @@ RunFacts facts_of(const Input& in, const Kind& kind, int default_frames) {
     }
     for (const auto& [sc, v] : per_scene) f.fields.emplace_back(name + " of " + sc, joined(v));
   }
-  std::set<std::string> commands, shards;
+  std::set<std::string> command_lines, shards;
   for (const auto& row : in.rows) {
     const std::vector<std::string> words = command_words(row[column_index(columns, "command_line")]);
+    // A tune's speed stage (an experiment file) measures --speed-frames frames; its --frames are the renders'.
+    const bool tune = !words.empty() && words.front() == "tune";
     if (f.words.empty()) f.words = words;
+    if (tune && f.command.empty() && command_lines.empty()) f.frames = commands.tune_speed_frames;
     std::string command, shard = "0/1";
     for (size_t i = 0; i < words.size(); ++i) {
       const std::string& w = words[i];
@@ -254,19 +257,20 @@ RunFacts facts_of(const Input& in, const Kind& kind, int default_frames) {
       } else if (w.rfind("--out=", 0) == 0 || w.rfind("--images=", 0) == 0 || w.rfind("--cache=", 0) == 0 ||
                  w == "--force") {
       } else {
-        if (w == "--frames" && i + 1 < words.size()) f.frames = std::atoi(words[i + 1].c_str());
-        if (w.rfind("--frames=", 0) == 0) f.frames = std::atoi(w.c_str() + 9);
+        const std::string frames_option = tune ? "--speed-frames" : "--frames";
+        if (w == frames_option && i + 1 < words.size()) f.frames = std::atoi(words[i + 1].c_str());
+        if (w.rfind(frames_option + "=", 0) == 0) f.frames = std::atoi(w.c_str() + frames_option.size() + 1);
         command += (command.empty() ? "" : " ") + w;
       }
     }
-    commands.insert(command);
+    command_lines.insert(command);
     shards.insert(shard);
   }
   if (shards.size() > 1)
     throw Error(fmt::format("merge: {} holds rows of several shards ({}); merge each shard's own --out", in.path,
                             joined(shards)));
   if (!shards.empty()) f.shard = parse_shard(in.path + ": --shard", *shards.begin());
-  f.command = joined(commands);
+  f.command = joined(command_lines);
   return f;
 }
 
@@ -319,11 +323,11 @@ void refuse_same_files(const std::vector<std::string>& inputs, const std::vector
   }
 }
 
-Shards read_shards(const std::vector<std::string>& paths, const Kind& kind, int default_frames) {
+Shards read_shards(const std::vector<std::string>& paths, const Kind& kind, const MergeCommands& commands) {
   Shards s;
   for (const std::string& path : paths) {
     s.inputs.push_back(read_input(path, kind));
-    s.facts.push_back(facts_of(s.inputs.back(), kind, default_frames));
+    s.facts.push_back(facts_of(s.inputs.back(), kind, commands));
   }
   check_agreement(s.inputs, s.facts);
   for (const RunFacts& f : s.facts)

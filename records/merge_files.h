@@ -50,7 +50,7 @@ struct RunFacts {
   bool empty = false;  // no rows (a shard that owned no unit): nothing to agree on, its shard unknown
 };
 
-RunFacts facts_of(const Input& in, const Kind& kind, int default_frames);
+RunFacts facts_of(const Input& in, const Kind& kind, const MergeCommands& commands);
 // Every run-wide field equal in every file; the first difference is the error.
 void check_agreement(const std::vector<Input>& inputs, const std::vector<RunFacts>& facts);
 // Inputs that are not there (a shard that failed or is still running), listed together.
@@ -65,7 +65,7 @@ struct Shards {
   const RunFacts* any = nullptr;  // a file's facts that has rows
 };
 
-Shards read_shards(const std::vector<std::string>& paths, const Kind& kind, int default_frames);
+Shards read_shards(const std::vector<std::string>& paths, const Kind& kind, const MergeCommands& commands);
 
 // A total order of the items that keeps the order of every sequence wherever the sequences agree (Kahn's
 // algorithm over "a came right before b" edges, ties by first appearance): each shard's rows are a subsequence

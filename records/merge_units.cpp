@@ -218,15 +218,14 @@ int merge_units(const MergeOptions& o, const Kind& kind) {
     refuse_absent(summary_paths, summary_out);
     refuse_same_files(summary_paths, {o.out, summary_out});
   }
-  const Shards shards = read_shards(o.inputs, kind, o.commands.experiment_frames);
+  const Shards shards = read_shards(o.inputs, kind, o.commands);
   if (!shards.any) throw Error(fmt::format("merge: not writing {}: no input holds a row", o.out));
   const RunUnits units = units_of(o.commands, kind, shards.inputs[0].path, shards.any->words);
   Joined rows = join_units(kind, shards.inputs, shards.facts, units, shards.count);
   Shards summaries;
   Joined summary_rows;
   if (converge) {
-    summaries = read_shards(summary_paths, csv_kinds()[static_cast<size_t>(KindId::ConvergeSummary)],
-                            o.commands.experiment_frames);
+    summaries = read_shards(summary_paths, csv_kinds()[static_cast<size_t>(KindId::ConvergeSummary)], o.commands);
     if (summaries.any && summaries.count != shards.count)
       throw Error(fmt::format("merge: the summaries are of {} shards, the per-frame files of {}", summaries.count,
                               shards.count));
@@ -267,7 +266,7 @@ int run_merge(const MergeOptions& o, const Provenance& provenance) {
   refuse_absent(o.inputs, o.out);
   const Kind& kind = kind_of_file(o.inputs[0]);
   if (kind.id != KindId::Experiment) return merge_units(o, kind);
-  const Shards shards = read_shards(o.inputs, kind, o.commands.experiment_frames);
+  const Shards shards = read_shards(o.inputs, kind, o.commands);
   return merge_experiment(o, kind, shards.inputs, shards.facts);
 }
 

@@ -151,5 +151,38 @@ TEST(CliTune, PrefersAnUnbiasedHybridRuleWhereHybridGroupsBiasTheImage) {
                "--res 32x24");
 }
 
+// --search grid --shard I/N: each shard writes its part of both stages; raycoh merge joins each stage, and the same
+// command without --shard resumes both and decides as one process does.
+TEST(CliTune, ShardsMergeIntoTheSingleProcessDecision) {
+  const auto dir = temp_dir("cli_tune_shards");
+  const std::string common =
+      "tune --scene cornell --res 32x24 --space \"tile=8x8 k=8,16 order=tile hybrid=paper,donor\" --budget ds8=3 "
+      "--frames 2 --seeds 2 --ref-frames 8 --search grid --cache " +
+      (dir / "cache").string();
+  for (int i = 0; i < 2; ++i) {
+    const CommandResult r = run_raycoh(common + " --shard " + std::to_string(i) + "/2 --out " +
+                                       (dir / ("s" + std::to_string(i) + ".csv")).string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  for (const std::string stage : {"-speed.csv", "-quality.csv"}) {
+    const CommandResult m = run_raycoh("merge --out " + (dir / ("t" + stage)).string() + " " +
+                                       (dir / ("s0" + stage)).string() + " " + (dir / ("s1" + stage)).string());
+    ASSERT_EQ(m.exit_code, 0) << m.output;
+  }
+  const CommandResult joined = run_raycoh(common + " --out " + (dir / "t.csv").string());
+  ASSERT_EQ(joined.exit_code, 0) << joined.output;
+  EXPECT_EQ(joined.output.find("progress"), std::string::npos) << joined.output;  // nothing measured again
+  const CommandResult single = run_raycoh(common + " --out " + (dir / "one.csv").string());
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  auto decision = [](const std::string& out) {  // the line of the recommendation or of the closest miss
+    size_t at = out.find("\nRecommended:");
+    if (at == std::string::npos) at = out.find("\nNo setting meets");
+    EXPECT_NE(at, std::string::npos) << out;
+    return at == std::string::npos ? std::string() : out.substr(at + 1, out.find(':', at + 1) + 60 - at);
+  };
+  EXPECT_EQ(decision(joined.output), decision(single.output));
+  EXPECT_FALSE(decision(joined.output).empty());
+}
+
 }  // namespace
 }  // namespace raycoh::test
