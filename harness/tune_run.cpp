@@ -215,12 +215,17 @@ std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget&
     m.rows[row.method] = row;
     unmeasured.erase(row.method);
     if (o.search != "fastest" || row.method == "noopt" || !m.rows.count("noopt")) return false;
-    TuneCandidate probe = cs.front(), paper = paper_setting(o.generator) == cs.front().setting ? cs.front() : cs.back();
-    fill_error(probe, row, m.rows.at("noopt"));
-    const std::string paper_image = paper_setting(o.generator).image_spec();
-    if (m.rows.count(paper_image)) fill_error(paper, m.rows.at(paper_image), m.rows.at("noopt"));
-    paper.setting = paper_setting(o.generator);
-    const TuneBudget resolved = resolve_paper(budget, m.rows.count(paper_image) ? &paper : nullptr);
+    // The candidates judged as the final decision judges them: each with its own setting (K enters the bias test).
+    auto judged = [&](const TuneSetting& setting) {
+      TuneCandidate c =
+          *std::find_if(cs.begin(), cs.end(), [&](const TuneCandidate& x) { return x.setting == setting; });
+      if (m.rows.count(setting.image_spec())) fill_error(c, m.rows.at(setting.image_spec()), m.rows.at("noopt"));
+      return c;
+    };
+    const auto row_setting = std::find_if(cs.begin(), cs.end(),
+                                          [&](const TuneCandidate& c) { return c.setting.image_spec() == row.method; });
+    const TuneCandidate probe = judged(row_setting->setting), paper = judged(paper_setting(o.generator));
+    const TuneBudget resolved = resolve_paper(budget, paper.error_measured ? &paper : nullptr);
     if (judge(probe, resolved).pass) passing = std::max(passing, best.at(row.method));
     double rest = -1;
     for (const std::string& u : unmeasured) rest = std::max(rest, best.at(u));
