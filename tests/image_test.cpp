@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 
 #include "core/error.h"
 #include "tests/shading_test_util.h"
@@ -135,6 +137,36 @@ TEST(ImageFiles, ExrRoundTripIsBitExactAndPngIsWritten) {
     EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
   test::write_file(dir / "broken.exr", "not an exr");
   EXPECT_THROW(read_image((dir / "broken.exr").string()), Error);
+}
+// read_image reads an EXR a strip of rows at a time (oiio/image_codec.cpp): images of several strips (the last one
+// partial) and a tiled file with an offset data window read back exactly; a header claiming more than the file can
+// be read fails with a one-line error.
+TEST(ImageFiles, ExrReadsByStripsAndTiles) {
+  if (!image_io_available()) GTEST_SKIP() << "built without image I/O";
+  const fs::path dir = test::temp_dir("exr-strips");
+  const Image img = test_pattern(2100, 1000);  // 499 rows a strip: 3 strips
+  write_image(img, (dir / "big.exr").string());
+  const Image back = read_image((dir / "big.exr").string());
+  ASSERT_EQ(back.width, 2100);
+  ASSERT_EQ(back.height, 1000);
+  EXPECT_EQ(std::memcmp(back.rgb.data(), img.rgb.data(), img.rgb.size() * sizeof(float)), 0);
+  const Image tiled = read_image((fs::path(RAYCOH_SOURCE_DIR) / "tests" / "data" / "tiled-70x40.exr").string());
+  ASSERT_EQ(tiled.width, 70);
+  ASSERT_EQ(tiled.height, 40);
+  for (int y = 0; y < 40; y += 13)
+    for (int x = 0; x < 70; x += 23) {
+      const size_t p = 3 * (static_cast<size_t>(y) * 70 + x);
+      EXPECT_EQ(tiled.rgb[p], x);
+      EXPECT_EQ(tiled.rgb[p + 1], y);
+      EXPECT_EQ(tiled.rgb[p + 2], x + 100.0f * y) << x << "," << y;
+    }
+  std::ifstream in(dir / "big.exr", std::ios::binary);
+  std::string truncated((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  truncated.resize(truncated.size() / 2);
+  test::write_file(dir / "half.exr", truncated);
+  const std::string error = error_of([&] { read_image((dir / "half.exr").string()); });
+  EXPECT_NE(error.find("half.exr"), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
 }
 }  // namespace
 }  // namespace raycoh
