@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "oiio/exr_header.h"
 
 #if RAYCOH_IMAGE_IO
 #include <OpenImageIO/filesystem.h>
@@ -160,6 +161,7 @@ std::string encode_png(const std::string& path, [[maybe_unused]] int width, [[ma
 
 RgbFloatImage read_rgb_float(const std::string& path) {
 #if RAYCOH_IMAGE_IO
+  check_exr_header(path);  // before OpenEXR allocates what a damaged header claims
   std::string why;
   auto in = open_as("openexr", path, nullptr, why);
   if (!in) throw Error(path + ": cannot read it as an OpenEXR image: " + why);
