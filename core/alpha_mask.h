@@ -52,8 +52,14 @@ RAYCOH_HD RAYCOH_INLINE int alpha_wrap(int i, int n, uint32_t mode) {
 }
 
 // The first of the two texels a bilinear lookup at texel coordinate x reads, and the weight of the second; x
-// far outside the texture is first reduced by whole mirror periods (or clamped), so the int stays in range.
+// far outside the texture is first reduced by whole mirror periods (or clamped), so the int stays in range. A
+// coordinate that is not finite (NaN or infinite texture coordinates in a file, or finite ones so large that
+// u * width overflows) reads texel 0 with weight 0: converting it to int is undefined (found by fuzz_gltf).
 RAYCOH_HD RAYCOH_INLINE int alpha_start(float x, int n, uint32_t mode, float& frac) {
+  if (!(x > -3.0e38f && x < 3.0e38f)) {
+    frac = 0.f;
+    return 0;
+  }
   const float f = floorf(x);
   frac = x - f;
   if (mode == kWrapClamp) {

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -183,6 +184,21 @@ TEST(AlphaMask, BilinearAlphaWithWrapModes) {
   t.wrap_s = kWrapMirror;
   EXPECT_FLOAT_EQ(alpha_at(t, texels, 1.125f, 0.5f), 1.f);   // mirrored back onto texel 3
   EXPECT_FLOAT_EQ(alpha_at(t, texels, -0.125f, 0.5f), 0.f);  // mirrored onto texel 0
+}
+
+// Texture coordinates that are not finite, or so large that u x width overflows, read texel 0 in every wrap mode
+// (converting them to int was undefined: fuzz_gltf, tests/fuzz/regressions/gltf/).
+TEST(AlphaMask, NonFiniteTextureCoordinatesReadTexelZero) {
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                       -std::numeric_limits<float>::infinity(), 1e38f, -1e38f};
+  for (uint32_t mode : {kWrapRepeat, kWrapClamp, kWrapMirror})
+    for (float u : bad) {
+      const BilinearTaps b = bilinear_taps(4, 3, mode, mode, u, 0.5f);
+      EXPECT_EQ(b.xa, 0) << mode << " " << u;
+      EXPECT_EQ(b.ax, 0.f) << mode << " " << u;
+      EXPECT_TRUE(b.xb >= 0 && b.xb < 4) << mode << " " << u;
+      EXPECT_TRUE(b.ya >= 0 && b.ya < 3 && b.yb >= 0 && b.yb < 3) << mode << " " << u;
+    }
 }
 
 }  // namespace
