@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -62,8 +63,24 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
 
 // Images are decoded to 8-bit RGBA (oiio/image_codec.h, OpenImageIO; stb_image in builds without it). One that cannot
 // be decoded is a warning, not a failure: the materials using it keep their factors, and scenes info lists it.
-bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string* warn, int, int,
-                  const unsigned char* bytes, int size, void*) {
+// `model` is the one being loaded: tinygltf 2.7 hands a bufferView image to the loader without checking that the
+// view lies inside its buffer (found by fuzz_gltf: a bufferView longer than its buffer, read past its end), so the
+// loader checks it first and fails the load, naming the image, view and buffer.
+bool decode_image(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int, int,
+                  const unsigned char* bytes, int size, void* model) {
+  if (image->bufferView >= 0) {  // tinygltf has checked that the view and its buffer exist
+    const auto& m = *static_cast<const tinygltf::Model*>(model);
+    const tinygltf::BufferView& view = m.bufferViews[static_cast<size_t>(image->bufferView)];
+    const size_t have = m.buffers[static_cast<size_t>(view.buffer)].data.size();
+    if (view.byteOffset > have || view.byteLength > have - view.byteOffset || view.byteLength > INT32_MAX) {
+      if (err)
+        *err += fmt::format(
+            "image {}: bufferView {} (byteOffset {}, byteLength {}) runs past the end of buffer {} "
+            "({} bytes)\n",
+            index, image->bufferView, view.byteOffset, view.byteLength, view.buffer, have);
+      return false;
+    }
+  }
   Rgba8Image decoded;
   std::string why;
   if (size > 0 && !image_io_available()) {
@@ -194,8 +211,8 @@ std::vector<unsigned char> read_bytes(const std::string& path) {
 tinygltf::Model parse_model(const std::string& path, const std::vector<unsigned char>& bytes,
                             std::vector<std::string>& notes) {
   tinygltf::TinyGLTF gltf;
-  gltf.SetImageLoader(decode_image, nullptr);
   tinygltf::Model model;
+  gltf.SetImageLoader(decode_image, &model);
   std::string err, warn;
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;

@@ -170,5 +170,18 @@ TEST(BadInput, NoTrianglesToTrace) {
   }
 }
 
+// tinygltf 2.7 does not check that an image's bufferView lies inside its buffer; the loader does before decoding
+// (fuzz_gltf found the texture read past the end of its buffer: tests/fuzz/regressions/gltf/).
+TEST(BadInput, ImageBufferViewOutsideItsBuffer) {
+  for (const char* view :
+       {R"({"buffer":0,"byteOffset":0,"byteLength":100000})", R"({"buffer":0,"byteOffset":100000,"byteLength":4})"}) {
+    GltfWriter w = one_triangle();
+    w.views.push_back(view);
+    w.extra = fmt::format(R"(,"images":[{{"bufferView":{},"mimeType":"image/png"}}])", w.views.size() - 1);
+    expect_load_error(w.write("bad_image_view", "image.glb"),
+                      fmt::format("image 0: bufferView {} (byteOffset", w.views.size() - 1));
+  }
+}
+
 }  // namespace
 }  // namespace raycoh
