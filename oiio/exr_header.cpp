@@ -62,7 +62,9 @@ void check_window(HeaderReader& r, const ExrLimits& limits) {
 void check_tiles(HeaderReader& r, const ExrLimits& limits) {
   const int64_t tw = r.u32(), th = r.u32();
   r.skip(1);  // level and rounding mode
-  if (tw < 1 || th < 1 || tw * th > limits.max_tile_pixels)
+  // Each side first: the product of two 32-bit sides overflows int64 (found by fuzz_compare_image).
+  if (tw < 1 || th < 1 || tw > limits.max_tile_pixels || th > limits.max_tile_pixels ||
+      tw * th > limits.max_tile_pixels)
     r.fail("tiles of " + std::to_string(tw) + "x" + std::to_string(th) + "; valid: at most " +
            std::to_string(limits.max_tile_pixels) + " pixels");
 }

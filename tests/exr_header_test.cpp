@@ -84,6 +84,9 @@ TEST(ExrHeader, RefusesDataWindowsAndTilesBeyondTheLimits) {
   put_u32(s, t, 4096);
   put_u32(s, t + 4, 4096);
   EXPECT_NE(check_patched(s, "tiles.exr").find("tiles of 4096x4096; valid: at most 4194304 pixels"), std::string::npos);
+  put_u32(s, t, 3806520034u);  // sides whose product overflows int64 (fuzz_compare_image)
+  put_u32(s, t + 4, 3806520034u);
+  EXPECT_NE(check_patched(s, "tiles2.exr").find("tiles of 3806520034x3806520034"), std::string::npos);
 }
 
 TEST(ExrHeader, RefusesTruncatedAndForeignFiles) {
