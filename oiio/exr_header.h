@@ -1,7 +1,7 @@
 // A check of an OpenEXR file's header before OpenEXR reads it (oiio/image_codec.cpp read_rgb_float). Debian's
 // OpenEXR 3.1 allocates what a header claims before reading it: an 84-byte file whose string attribute claims
-// 822 MB took 2.2 GB of memory and 2.4 s to refuse (fuzz_compare_image), and a data window claims any number of
-// scan lines, whose offset table is allocated at open. This walks the header's attributes (name, type, size,
+// 822 MB peaked at 934 MB (fuzz_compare_image; claiming 2 GB instead, 2.2 GB and 2.4 s), and a data window claims any
+// number of scan lines, whose offset table is allocated at open. This walks the header's attributes (name, type, size,
 // value: the OpenEXR file layout) without allocating and refuses, with one line naming the file, an attribute
 // larger than the bytes left in the file, a header that does not end, and a data window or tile size beyond what
 // raycoh reads (ExrLimits).
