@@ -113,17 +113,55 @@ RAYCOH_HD RAYCOH_INLINE bool intersect_triangle(const PreparedRay& r, const BvhT
   return true;
 }
 
+// Where the traversal stack lives. InlineStack: inside the state, which the CPU tracers and the simt model keep per
+// lane; on the GPU a dynamically indexed array makes nvcc place the *whole* state in local memory (the classic
+// kernel's 352-byte frame: every read of the ray or the hit in a step is a local load). StackRef: the entries in an
+// array of the caller's, so that the state's scalars stay in registers and only the stack is in local memory.
+template <class Entry>
+struct InlineStackOf {
+  Entry entry[kTraversalStackSize];
+  RAYCOH_HD Entry& operator[](int i) { return entry[i]; }
+  RAYCOH_HD const Entry& operator[](int i) const { return entry[i]; }
+};
+template <class Entry>
+struct StackRefOf {
+  Entry* entry;
+  RAYCOH_HD Entry& operator[](int i) const { return entry[i]; }
+};
+
 // Traversal state of one ray; the fields are what a GPU thread keeps in registers.
-struct TraversalState {
+template <class Stack>
+struct TraversalStateOf {
   PreparedRay ray;
   Hit hit;
   int32_t node_ref;  // next node to visit (inner or leaf), or kSentinel when done
   int32_t leaf_ref;  // postponed leaf (< 0), or >= 0 for none
   int sp;
-  int32_t stack[kTraversalStackSize];
+  Stack stack;
+};
+using TraversalState = TraversalStateOf<InlineStackOf<int32_t>>;
+
+// How a BVH2 kernel reads its records and where it keeps its stack: a compile-time policy of the traversal, like
+// the counters. Both compute the same hits bit for bit (the same bytes, the same arithmetic); they differ in the
+// instructions nvcc emits:
+//   ClassicFetch  a node as 14 and a triangle as 10 scalar 4-byte loads (one per field read), the stack inside the
+//                 state: the `cuda` tracer's BVH2 kernel until 2026-11 (`traversal=classic`), kept as the baseline.
+//   WideFetch     a node as four and a triangle as three 16-byte read-only loads (load_node_wide,
+//                 load_triangle_wide), the stack apart from the state (`traversal=tuned`, the default).
+// On the host both read the same struct; the CPU tracers and the simt model run ClassicFetch's code.
+struct ClassicFetch {
+  static constexpr bool kStackApart = false;
+  RAYCOH_HD static const BvhNode& node(const BvhView& b, int32_t i) { return b.nodes[i]; }
+  RAYCOH_HD static const BvhTriangle& triangle(const BvhView& b, uint32_t i) { return b.tris[i]; }
+};
+struct WideFetch {
+  static constexpr bool kStackApart = true;
+  RAYCOH_HD static BvhNode node(const BvhView& b, int32_t i) { return load_node_wide(b.nodes, static_cast<uint32_t>(i)); }
+  RAYCOH_HD static BvhTriangle triangle(const BvhView& b, uint32_t i) { return load_triangle_wide(b.tris, i); }
 };
 
-RAYCOH_HD RAYCOH_INLINE void traversal_begin(TraversalState& s, const Ray& r) {
+template <class State>
+RAYCOH_HD RAYCOH_INLINE void traversal_begin(State& s, const Ray& r) {
   s.ray = prepare_ray(r);
   s.hit = Hit{};
   s.hit.t = r.tmax;
@@ -136,19 +174,24 @@ RAYCOH_HD RAYCOH_INLINE void traversal_begin(TraversalState& s, const Ray& r) {
     s.node_ref = kSentinel;
 }
 
-RAYCOH_HD RAYCOH_INLINE bool traversal_wants_node(const TraversalState& s) {
+template <class State>
+RAYCOH_HD RAYCOH_INLINE bool traversal_wants_node(const State& s) {
   return s.node_ref >= 0 && s.node_ref != kSentinel;
 }
-RAYCOH_HD RAYCOH_INLINE bool traversal_has_leaf(const TraversalState& s) { return s.leaf_ref < 0; }
-RAYCOH_HD RAYCOH_INLINE bool traversal_done(const TraversalState& s) {
+template <class State>
+RAYCOH_HD RAYCOH_INLINE bool traversal_has_leaf(const State& s) {
+  return s.leaf_ref < 0;
+}
+template <class State>
+RAYCOH_HD RAYCOH_INLINE bool traversal_done(const State& s) {
   return s.node_ref == kSentinel && s.leaf_ref >= 0;
 }
 
 // One iteration of the inner-node loop: fetch node_ref, enter the children the ray hits (nearer first),
 // postpone the first leaf met.
-template <class Counters>
-RAYCOH_HD RAYCOH_INLINE void node_step(TraversalState& s, const BvhView& bvh, Counters& counters) {
-  const BvhNode& n = bvh.nodes[s.node_ref];
+template <class Counters, class Fetch = ClassicFetch, class State>
+RAYCOH_HD RAYCOH_INLINE void node_step(State& s, const BvhView& bvh, Counters& counters) {
+  const auto& n = Fetch::node(bvh, s.node_ref);
   counters.on_node(s.node_ref);
   const float t0 = intersect_box(s.ray, n.lo0, n.hi0, s.hit.t);
   const float t1 = intersect_box(s.ray, n.lo1, n.hi1, s.hit.t);
@@ -174,34 +217,49 @@ RAYCOH_HD RAYCOH_INLINE void node_step(TraversalState& s, const BvhView& bvh, Co
 }
 
 // One iteration of the leaf loop: intersect the postponed leaf, then take node_ref as the next leaf if it is one.
-template <class Counters, class Filter = NoAlphaTest>
-RAYCOH_HD RAYCOH_INLINE void leaf_step(TraversalState& s, const BvhView& bvh, Counters& counters,
+template <class Counters, class Filter = NoAlphaTest, class Fetch = ClassicFetch, class State>
+RAYCOH_HD RAYCOH_INLINE void leaf_step(State& s, const BvhView& bvh, Counters& counters,
                                        const Filter& filter = Filter{}) {
   counters.on_leaf(s.leaf_ref);
   const uint32_t first = leaf_first(s.leaf_ref), count = leaf_count(s.leaf_ref);
   for (uint32_t i = first; i < first + count; ++i) {
     counters.on_triangle(i);
-    intersect_triangle(s.ray, bvh.tris[i], s.hit, filter);
+    intersect_triangle(s.ray, Fetch::triangle(bvh, i), s.hit, filter);
   }
   s.leaf_ref = s.node_ref;
   if (is_leaf_ref(s.node_ref)) s.node_ref = s.stack[--s.sp];
 }
 
-// Scalar driver: closest hit of one ray. A scalar "warp" of one lane leaves the node loop as soon as it holds a
-// leaf, exactly as a GPU warp whose lanes all hold one.
-template <class Counters, class Filter = NoAlphaTest>
-RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r, Counters& counters,
-                                        const Filter& filter = Filter{}) {
-  TraversalState s;
-  traversal_begin(s, r);
+// The while-while loop of one ray from traversal_begin to its end. A scalar "warp" of one lane leaves the node
+// loop as soon as it holds a leaf, exactly as a GPU warp whose lanes all hold one.
+template <class Fetch, class State, class Counters, class Filter>
+RAYCOH_HD RAYCOH_INLINE void traverse(State& s, const BvhView& bvh, Counters& counters, const Filter& filter) {
   while (!traversal_done(s)) {
     while (traversal_wants_node(s)) {
-      node_step(s, bvh, counters);
+      node_step<Counters, Fetch>(s, bvh, counters);
       if (traversal_has_leaf(s)) break;
     }
-    while (traversal_has_leaf(s)) leaf_step(s, bvh, counters, filter);
+    while (traversal_has_leaf(s)) leaf_step<Counters, Filter, Fetch>(s, bvh, counters, filter);
   }
-  return s.hit;
+}
+
+// Scalar driver: closest hit of one ray, read and stacked as Fetch says.
+template <class Counters, class Filter = NoAlphaTest, class Fetch = ClassicFetch>
+RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r, Counters& counters,
+                                        const Filter& filter = Filter{}) {
+  if constexpr (Fetch::kStackApart) {
+    int32_t entries[kTraversalStackSize];
+    TraversalStateOf<StackRefOf<int32_t>> s;
+    s.stack.entry = entries;
+    traversal_begin(s, r);
+    traverse<Fetch>(s, bvh, counters, filter);
+    return s.hit;
+  } else {
+    TraversalState s;
+    traversal_begin(s, r);
+    traverse<Fetch>(s, bvh, counters, filter);
+    return s.hit;
+  }
 }
 
 RAYCOH_HD RAYCOH_INLINE Hit closest_hit(const BvhView& bvh, const Ray& r) {

@@ -24,7 +24,10 @@
 
 namespace raycoh {
 
-struct CwbvhState {
+// Stack: InlineStackOf<uint64_t> (the CPU tracer and the simt model, a state per lane) or StackRefOf<uint64_t>
+// (closest_hit_cwbvh: the entries apart, so that on the GPU the state stays in registers; core/traverse.h).
+template <class Stack>
+struct CwbvhStateOf {
   PreparedRay ray;
   Hit hit;
   uint32_t octant;      // bit k set when dir[k] < 0
@@ -34,10 +37,12 @@ struct CwbvhState {
   uint32_t tri_base;    // triangle group: tri_base
   uint32_t tri_hits;    // triangle group: bit i for triangle tri_base + i not yet tested (bits 0..23)
   int sp;
-  uint64_t stack[kTraversalStackSize];  // node groups: base | hits << 32 | imask << 40
+  Stack stack;  // node groups: base | hits << 32 | imask << 40
 };
+using CwbvhState = CwbvhStateOf<InlineStackOf<uint64_t>>;
 
-RAYCOH_HD RAYCOH_INLINE void cwbvh_begin(CwbvhState& s, const Ray& r) {
+template <class State>
+RAYCOH_HD RAYCOH_INLINE void cwbvh_begin(State& s, const Ray& r) {
   s.ray = prepare_ray(r);
   s.hit = Hit{};
   s.hit.t = r.tmax;
@@ -52,17 +57,21 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_begin(CwbvhState& s, const Ray& r) {
   if (!(r.tmax > r.tmin) || !is_finite(r.org) || !is_finite(r.dir) || !(dot(r.dir, r.dir) > 0.f)) s.node_hits = 0;
 }
 
-RAYCOH_HD RAYCOH_INLINE bool cwbvh_has_triangles(const CwbvhState& s) { return s.tri_hits != 0; }
-RAYCOH_HD RAYCOH_INLINE bool cwbvh_wants_node(const CwbvhState& s) {
+template <class State>
+RAYCOH_HD RAYCOH_INLINE bool cwbvh_has_triangles(const State& s) { return s.tri_hits != 0; }
+template <class State>
+RAYCOH_HD RAYCOH_INLINE bool cwbvh_wants_node(const State& s) {
   return s.tri_hits == 0 && (s.node_hits != 0 || s.sp > 0);
 }
-RAYCOH_HD RAYCOH_INLINE bool cwbvh_done(const CwbvhState& s) {
+template <class State>
+RAYCOH_HD RAYCOH_INLINE bool cwbvh_done(const State& s) {
   return s.tri_hits == 0 && s.node_hits == 0 && s.sp == 0;
 }
 
 // The node the next cwbvh_node_step() fetches (pops a group first when the current one is empty). Requires
 // cwbvh_wants_node(s).
-RAYCOH_HD RAYCOH_INLINE uint32_t cwbvh_next_node(CwbvhState& s) {
+template <class State>
+RAYCOH_HD RAYCOH_INLINE uint32_t cwbvh_next_node(State& s) {
   if (s.node_hits == 0) {
     const uint64_t g = s.stack[--s.sp];
     s.node_base = static_cast<uint32_t>(g);
@@ -129,8 +138,8 @@ RAYCOH_HD RAYCOH_INLINE CwbvhFrame cwbvh_frame(float p, float scale, float org, 
 // Each plane is one FMA in the node's frame, rounded down for the entry planes and up for the exit planes, so a
 // child's [tnear, tfar] contains the exact distances to its decoded box (whose real value contains the child's
 // true box: bvh/cwbvh_build.cpp), before the far distance's 1 + 2 gamma(3) that intersect_box() applies too.
-template <class Counters>
-RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh, Counters& counters) {
+template <class Counters, class State>
+RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(State& s, const CwbvhView& bvh, Counters& counters) {
   const uint32_t index = cwbvh_next_node(s);
   s.node_hits &= s.node_hits - 1u;
   if (s.node_hits != 0)
@@ -193,21 +202,24 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_node_step(CwbvhState& s, const CwbvhView& bvh
   s.tri_hits = tri_hits;
 }
 
-// One triangle of the triangle group.
-template <class Counters, class Filter = NoAlphaTest>
-RAYCOH_HD RAYCOH_INLINE void cwbvh_triangle_step(CwbvhState& s, const CwbvhView& bvh, Counters& counters,
+// One triangle of the triangle group, read as three 16-byte words (load_triangle_wide, core/bvh.h).
+template <class Counters, class Filter = NoAlphaTest, class State>
+RAYCOH_HD RAYCOH_INLINE void cwbvh_triangle_step(State& s, const CwbvhView& bvh, Counters& counters,
                                                  const Filter& filter = Filter{}) {
   const uint32_t i = s.tri_base + lowest_bit(s.tri_hits);
   s.tri_hits &= s.tri_hits - 1u;
   counters.on_triangle(i);
-  intersect_triangle(s.ray, bvh.tris[i], s.hit, filter);
+  intersect_triangle(s.ray, load_triangle_wide(bvh.tris, i), s.hit, filter);
 }
 
-// Scalar driver: closest hit of one ray (with alpha cut-outs when Filter is AlphaTest, core/alpha_mask.h).
+// Scalar driver: closest hit of one ray (with alpha cut-outs when Filter is AlphaTest, core/alpha_mask.h). The
+// stack is apart from the state (StackRefOf), so that on the GPU only the stack is in local memory.
 template <class Counters, class Filter = NoAlphaTest>
 RAYCOH_HD RAYCOH_INLINE Hit closest_hit_cwbvh(const CwbvhView& bvh, const Ray& r, Counters& counters,
                                               const Filter& filter = Filter{}) {
-  CwbvhState s;
+  uint64_t entries[kTraversalStackSize];
+  CwbvhStateOf<StackRefOf<uint64_t>> s;
+  s.stack.entry = entries;
   cwbvh_begin(s, r);
   while (!cwbvh_done(s)) {
     if (cwbvh_has_triangles(s)) {

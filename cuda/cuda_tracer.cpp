@@ -133,6 +133,9 @@ const ParamTable& cuda_params() {
       choice_param("line", "64", {"64", "128"}, "bytes per line of the counted transactions (simt's line)"),
       choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
                    "layout: the BVH2, or the compressed 8-wide BVH (Ylitie et al. 2017; no counting kernel)"),
+      choice_param("traversal", "tuned", {"tuned", "classic"},
+                   "BVH2 kernel: tuned (16-byte loads, state in registers) or classic (a 4-byte load per field, state "
+                   "in local memory: the kernel until 2026-11, the baseline); bvh2 only"),
       choice_param("pipeline", "device", {"device", "host"},
                    "device: generate, key, sort, permute and trace on the GPU; host: trace host-made batches"),
   };
@@ -150,6 +153,11 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   const bool counting = params.get_choice("counters") == "on";
   const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line")));
   const bool cwbvh = params.get_choice("bvh") == "cwbvh";
+  launch.traversal =
+      params.get_choice("traversal") == "classic" ? cuda::Bvh2Traversal::Classic : cuda::Bvh2Traversal::Tuned;
+  if (cwbvh && launch.traversal == cuda::Bvh2Traversal::Classic)
+    throw Error(fmt::format("{}: traversal=classic is a BVH2 kernel; bvh=cwbvh has one kernel (traversal=tuned)",
+                            params.owner()));
   const bool on_device = params.get_choice("pipeline") == "device";
   params.finish();
   if (cwbvh && counting)

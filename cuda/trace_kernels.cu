@@ -62,6 +62,15 @@ __device__ __forceinline__ Hit trace_ray(const BvhView& bvh, const Ray& r, const
   NoCounters none;
   return closest_hit(bvh, r, none, filter);
 }
+// The tuned BVH2 kernel's view: the same arrays, read with 16-byte loads and the stack apart (WideFetch).
+struct WideBvhView {
+  BvhView bvh;
+};
+template <class Filter>
+__device__ __forceinline__ Hit trace_ray(const WideBvhView& v, const Ray& r, const Filter& filter) {
+  NoCounters none;
+  return closest_hit<NoCounters, Filter, WideFetch>(v.bvh, r, none, filter);
+}
 template <class Filter>
 __device__ __forceinline__ Hit trace_ray(const CwbvhView& bvh, const Ray& r, const Filter& filter) {
   NoCounters none;
@@ -266,9 +275,11 @@ struct DeviceTracer::Impl {
         cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, View, Filter>, block, 0));
     return per_sm;
   }
-  int persistent_blocks_per_sm(int block) const {
+  int persistent_blocks_per_sm(int block, Bvh2Traversal traversal) const {
     if (cwbvh)
       return masked ? blocks_per_sm<CwbvhView, AlphaTest>(block) : blocks_per_sm<CwbvhView, NoAlphaTest>(block);
+    if (traversal == Bvh2Traversal::Tuned)
+      return masked ? blocks_per_sm<WideBvhView, AlphaTest>(block) : blocks_per_sm<WideBvhView, NoAlphaTest>(block);
     return masked ? blocks_per_sm<BvhView, AlphaTest>(block) : blocks_per_sm<BvhView, NoAlphaTest>(block);
   }
 
@@ -320,20 +331,26 @@ float DeviceTracer::last_kernel_ms() const { return impl_->last_ms; }
 
 bool DeviceTracer::alpha_masked() const { return impl_->masked; }
 
-int DeviceTracer::persistent_blocks(int block) const {
+int DeviceTracer::persistent_blocks(int block, Bvh2Traversal traversal) const {
   check_block(block);
-  return std::max(1, impl_->persistent_blocks_per_sm(block)) * std::max(1, impl_->sms);
+  return std::max(1, impl_->persistent_blocks_per_sm(block, traversal)) * std::max(1, impl_->sms);
 }
 
 void DeviceTracer::launch_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
                                  const TraceLaunch& launch) {
   check_block(launch.block);
   Impl& m = *impl_;
-  const int blocks = launch.kernel == TraceKernel::Persistent ? persistent_blocks(launch.block) : 0;
+  const int blocks =
+      launch.kernel == TraceKernel::Persistent ? persistent_blocks(launch.block, launch.traversal) : 0;
+  const bool tuned = launch.traversal == Bvh2Traversal::Tuned;
   if (m.cwbvh && m.masked)
     m.launch(m.cwbvh_view(), m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
   else if (m.cwbvh)
     m.launch(m.cwbvh_view(), NoAlphaTest{}, d_rays, d_order, count, d_hits, launch, blocks);
+  else if (m.masked && tuned)
+    m.launch(WideBvhView{m.view()}, m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
+  else if (tuned)
+    m.launch(WideBvhView{m.view()}, NoAlphaTest{}, d_rays, d_order, count, d_hits, launch, blocks);
   else if (m.masked)
     m.launch(m.view(), m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
   else

@@ -3,7 +3,7 @@
 //
 // Every kernel runs core/traverse.h unchanged over the flat BVH2 (64-byte nodes holding both children's boxes,
 // Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs", HPG 2009), so hits equal the `cpu`
-// tracer's bit for bit. Kernels:
+// tracer's bit for bit, in either traversal form (TraceLaunch::traversal: tuned or classic loads). Kernels:
 //   persistent  Aila & Laine's persistent threads: as many blocks as fit on the GPU at once; each warp takes the
 //               next 32 consecutive rays of the batch from a global atomic counter, traces them (one ray per
 //               lane, while-while loop), and fetches again until the batch is exhausted. A warp always holds 32
@@ -39,10 +39,16 @@
 namespace raycoh::cuda {
 
 enum class TraceKernel { Persistent, Simple };
+// How the BVH2 kernels read the BVH and keep their state (core/traverse.h, ClassicFetch and WideFetch): tuned, the
+// default, 16-byte read-only loads and the state in registers; classic, the kernel as it was until 2026-11 (a
+// 4-byte load per field, the whole traversal state in local memory), kept as the baseline. The CWBVH kernels have
+// one form (16-byte loads, the stack apart from the state).
+enum class Bvh2Traversal { Tuned, Classic };
 
 struct TraceLaunch {
   TraceKernel kernel = TraceKernel::Persistent;
   int block = 128;  // threads per block: a multiple of 32 in [32, 1024]
+  Bvh2Traversal traversal = Bvh2Traversal::Tuned;
 };
 
 // A scene's alpha MASK arrays on the host (scenes/scene.h AlphaMasks); tri_count == 0: no masks.
@@ -115,7 +121,7 @@ class DeviceTracer {
   // Kernel time of the last trace / trace_counting call in milliseconds (CUDA events); -1 before the first.
   float last_kernel_ms() const;
   // Blocks the persistent kernel launches with this block size (SMs x resident blocks per SM).
-  int persistent_blocks(int block) const;
+  int persistent_blocks(int block, Bvh2Traversal traversal = Bvh2Traversal::Tuned) const;
   // Whether the kernels run the alpha MASK test (the tracer was made with non-empty AlphaMaskArrays).
   bool alpha_masked() const;
 

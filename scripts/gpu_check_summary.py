@@ -31,6 +31,8 @@ def tracer_label(row):
             return "cuda:cwbvh"
     if name == "simt" and params.get("bvh") == "cwbvh":
         return "simt:cwbvh"
+    if name in ("cuda", "simt") and params.get("traversal") == "classic":  # the BVH2 kernel before 2026-11
+        return name + ":classic"
     return name
 
 

@@ -68,17 +68,23 @@ struct KernelSpec {
   uint32_t ray_bytes = 32, hit_bytes = 16;  // one ray read and one hit written per lane
 };
 
-// The step costs of the CWBVH kernel (core/traverse_cwbvh.h) on the same GPU: node, triangle and leaf steps of
-// the `simt` tracer's `bvh=cwbvh` (sources in simt/gpu_presets.cpp).
-void use_cwbvh_kernel(KernelSpec& k);
+// The kernels of the `cuda` tracer the model can stand for (cuda/trace_kernels.h): the BVH2 kernel tuned (16-byte
+// loads, state in registers; `traversal=tuned`, the default) or classic (a 4-byte load per field, the whole state
+// in local memory; `traversal=classic`), and the CWBVH kernel (`bvh=cwbvh`).
+enum class TraceKernelChoice : uint8_t { Bvh2Tuned, Bvh2Classic, Cwbvh };
 
 struct GpuModelConfig {
   std::string preset;  // "rtx3060", "h100", "gpgpusim-rtx3070"
   CacheModelConfig cache;
   GpuSpec gpu;
-  KernelSpec kernel;
+  KernelSpec kernel;  // the kernel modelled: `tuned` unless use_kernel() chose another
+  // The preset's step costs of each kernel, counted from the code its GPU runs (sources in simt/gpu_presets.cpp).
+  KernelSpec tuned, classic, cwbvh;
   uint32_t resident_override = 0;  // 0: occupancy from the kernel's registers and block size
 };
+
+// Makes `kernel` the preset's costs of k (its launch shape, kind and block, kept).
+void use_kernel(GpuModelConfig& c, TraceKernelChoice k);
 
 std::vector<std::string> gpu_preset_names();  // {"rtx3060", "h100", "gpgpusim-rtx3070"}
 // Throws raycoh::Error for an unknown name, naming the valid ones.

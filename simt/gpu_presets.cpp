@@ -13,7 +13,8 @@ namespace {
 
 constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
 
-// Our traversal kernel as nvcc 13.0 compiles it (the same source for both presets):
+// The classic BVH2 kernel (`traversal=classic`, ClassicFetch in core/traverse.h) as nvcc 13.0 compiles it (the same
+// source for both presets):
 //   regs_per_thread: `nvcc -Xptxas -v` on cuda/trace_kernels.cu reports 55 registers for persistent_kernel on
 //     sm_86 and sm_90 (54 for simple_kernel), with a 352-byte stack frame (traversal stack and state in local memory).
 //   step costs: scripts/count-step-instructions (SASS of probe kernels; every branch of a step counted once except
@@ -27,7 +28,7 @@ constexpr uint64_t kKiB = 1024, kMiB = 1024 * 1024;
 //     4-byte load each (Vec3 is 12 bytes: nvcc does not widen them; scripts/count-ptx-step-instructions counts 14
 //     ld.global per PTX node step too), at bytes 0-52: 4, 4, 4, 2 per word; a triangle's 10 are v0, prim, v1, v2
 //     at bytes 0-12, 16-24, 32-40: 4, 3, 3.
-KernelSpec our_kernel() {
+KernelSpec classic_kernel() {
   KernelSpec k;
   k.kind = TraceKernel::Persistent;  // the `cuda` tracer's default kernel and block size
   k.block_threads = 128;
@@ -37,6 +38,60 @@ KernelSpec our_kernel() {
   k.leaf = {42, 0, 4};
   k.ray_begin = {28, 2, 0};
   return k;
+}
+
+// The tuned BVH2 kernel (`traversal=tuned`, WideFetch in core/traverse.h), counted with the same method by
+// scripts/count-cwbvh-step-instructions (nvcc 13's SASS of the probe kernels simt/probe/step_probes.cu probe_wide_*,
+// whose state is in registers as in closest_hit; sm_86, sm_90 in brackets): node step 112 instructions = 146
+// partition cycles [111 = 144] (ALU-bound: 73 integer/compare/select/min/max at half rate), 4 global loads (3
+// LDG.E.128 and one LDG.E.64: ptxas narrows the fourth word to the two child references it uses; modelled as four
+// 16-byte loads of the node's four words) and 3 local accesses (the stack's push and two pops; the state no longer
+// lives in local memory); triangle 152 = 152 [155], 3 LDG.E.128 (v0 + prim, v1, v2), 0 local (more integer
+// selects than the classic kernel's 124: the watertight test's axis permutation indexes registers, not local
+// memory); leaf bookkeeping 26 = 34 [25 = 38], 1 local. traversal_begin computes what the classic kernel's does: 28.
+// Registers: 56 on sm_86, 55 on sm_90 (`nvcc -Xptxas -v`, persistent_kernel<.., WideBvhView, NoAlphaTest>), stack
+// frame 256 bytes (the stack alone; the classic kernel's 352 hold the whole state).
+KernelSpec tuned_kernel(uint32_t regs) {
+  KernelSpec k = classic_kernel();
+  k.node = {146, 4, 3, {1, 1, 1, 1, 0}};
+  k.node.load_bytes = 16;
+  k.triangle = {152, 3, 0, {1, 1, 1, 0, 0}};
+  k.triangle.load_bytes = 16;
+  k.leaf = {34, 0, 1};
+  k.regs_per_thread = regs;
+  return k;
+}
+
+// The CWBVH kernel's step costs, counted as the tuned BVH2's (scripts/count-cwbvh-step-instructions, SASS of the
+// probe kernels in simt/probe/cwbvh_step_probes.cu, nvcc 13 for sm_86 [sm_90]): node step 409 instructions = 542
+// partition cycles [404 = 540] (ALU-bound: 271 integer/compare/select instructions at half rate — byte permutes
+// and min/max for the 8 children's 6 planes, the per-slot selector moves, masks), 5 global loads (the 80-byte
+// node as five LDG.E.128), 2 local accesses (the stack's push and pop: closest_hit_cwbvh keeps the stack apart
+// from the state since 2026-11, so the state is in registers); triangle step 154 = 154 [155], 3 LDG.E.128 (the
+// triangle as three 16-byte words, load_triangle_wide). The Leaf step (entering the triangle loop) has no
+// instructions of its own in closest_hit_cwbvh: it is costed as one triangle's bookkeeping, 2 instructions = 4
+// cycles (probe_cw_triangle minus probe_cw_test). Registers: 66 on sm_86, 56 on sm_90 (`nvcc -Xptxas -v`,
+// persistent_kernel<.., CwbvhView, NoAlphaTest>), stack frame 512 bytes. Until 2026-11 (state and stack in local
+// memory, triangles as ten 4-byte loads): node 395 instructions = 496 cycles, 5 loads, 17 local accesses; triangle
+// 126, 10 loads; 64 registers, 624-byte frame (all sm_86). Before 2026-11-27 the node step decoded each plane to
+// world space with a multiply and two adds and branched per slot: 716 instructions = 722 cycles, 46 local accesses.
+KernelSpec cwbvh_kernel(uint32_t regs) {
+  KernelSpec k = classic_kernel();
+  k.node = {542, 5, 2, {1, 1, 1, 1, 1}};
+  k.node.load_bytes = 16;  // the node's five 16-byte words
+  k.triangle = {154, 3, 0, {1, 1, 1, 0, 0}};
+  k.triangle.load_bytes = 16;
+  k.leaf = {4, 0, 0};
+  k.regs_per_thread = regs;
+  return k;
+}
+
+// The hardware presets' kernels; `regs_tuned` and `regs_cwbvh` from ptxas for the preset's architecture.
+void set_kernels(GpuModelConfig& m, uint32_t regs_tuned, uint32_t regs_cwbvh) {
+  m.classic = classic_kernel();
+  m.tuned = tuned_kernel(regs_tuned);
+  m.cwbvh = cwbvh_kernel(regs_cwbvh);
+  m.kernel = m.tuned;
 }
 
 // Both: 128-byte lines of 32-byte sectors (CUDA C++ Best Practices Guide, "Coalesced Access to Global Memory").
@@ -89,7 +144,7 @@ GpuModelConfig rtx3060() {
   g.l1_latency = 39;
   g.l2_latency = 187;
   g.dram_latency = 187 + 254;
-  m.kernel = our_kernel();
+  set_kernels(m, 56, 66);  // sm_86
   return m;
 }
 
@@ -121,7 +176,7 @@ GpuModelConfig h100() {
   g.l1_latency = 34;
   g.l2_latency = 200;
   g.dram_latency = 200 + 190;
-  m.kernel = our_kernel();
+  set_kernels(m, 55, 56);  // sm_90
   return m;
 }
 
@@ -176,41 +231,42 @@ GpuModelConfig gpgpusim_rtx3070() {
   // the simulator build's nvcc 11.8 for compute_86, every branch of a step counted once, as for SASS): node step
   // 146 instructions, 14 ld.global, 23 ld/st.local; triangle 134, 10, 0 (its pair differs by -1 local: none);
   // leaf 35, 0, 8; traversal_begin 32 beside the ray's two loads. Until 2026-11-27 this preset used the SASS costs
-  // of our_kernel() (115, 124, 39, 28). Registers: the simulator takes them from ptxas (nvcc 11.8, sm_86) on the
+  // of classic_kernel() (115, 124, 39, 28). Registers: the simulator takes them from ptxas (nvcc 11.8, sm_86) on the
   // same PTX, which reports 55 for persistent_kernel<false, BvhView, NoAlphaTest> (raycoh.N.sm_86.ptxas), as
   // nvcc 13 does.
-  m.kernel = our_kernel();
+  set_kernels(m, 56, 66);
   // The simulator issues each warp's PTX in program order and waits for every operand (its scoreboard), with the
   // latencies of cfg:55-62 and cfg:96: a step alone on its scheduler, every load an L1 hit, takes node 1,242,
   // triangle 1,353, leaf 135 cycles (scripts/count-ptx-step-instructions, "in-order issue"). nvcc leaves PTX
   // unscheduled (each load's value used by the next instruction); ptxas schedules the SASS a GPU runs, so the
   // hardware presets have none.
-  m.kernel.node = {146, 14, 23, {4, 4, 4, 2, 0}, 1242};
-  m.kernel.triangle = {134, 10, 0, {4, 3, 3, 0, 0}, 1353};
-  m.kernel.leaf = {35, 0, 8, {}, 135};
-  m.kernel.ray_begin = {32, 2, 0};
+  m.classic.node = {146, 14, 23, {4, 4, 4, 2, 0}, 1242};
+  m.classic.triangle = {134, 10, 0, {4, 3, 3, 0, 0}, 1353};
+  m.classic.leaf = {35, 0, 8, {}, 135};
+  m.classic.ray_begin = {32, 2, 0};
+  // The tuned kernel's PTX (the same script, probe_wide_*): node 120 instructions, 4 ld.global.v4 (16 bytes;
+  // `ld.global.nc`), 3 local, in-order 462 cycles; triangle 138, 3, 0, 1070; leaf 24, 0, 1, 80. Registers: nvcc 13's
+  // ptxas for sm_86 (56); the simulator build's were not read. The CWBVH kernel keeps its SASS costs (its PTX was
+  // never counted): a known gap of this preset.
+  m.tuned = m.classic;
+  m.tuned.node = {120, 4, 3, {1, 1, 1, 1, 0}, 462, 16};
+  m.tuned.triangle = {138, 3, 0, {1, 1, 1, 0, 0}, 1070, 16};
+  m.tuned.leaf = {24, 0, 1, {}, 80};
+  m.tuned.regs_per_thread = 56;
+  m.kernel = m.tuned;
   return m;
 }
 
 }  // namespace
 
-// The CWBVH kernel's step costs, counted as the BVH2's (scripts/count-cwbvh-step-instructions, SASS of the probe
-// kernels in simt/probe/cwbvh_step_probes.cu, nvcc 13 for sm_86; the same tools give the BVH2's 115 / 124 / 42
-// exactly): node step 395 instructions = 496 partition cycles (ALU-bound: 248 integer/compare/select
-// instructions at half rate — 48 byte permutes and 48 min/max for the 8 children's 6 planes, the per-slot
-// selector moves, masks), 5 global loads (the 80-byte node as five 16-byte words), 17 local accesses (the state
-// and stack entry); triangle step 126 = 126, 10 loads. The Leaf step (entering the triangle loop) has no
-// instructions of its own in closest_hit_cwbvh: it is costed as one triangle's bookkeeping, 4 instructions = 6
-// cycles and 1 local access (probe_cw_triangle minus probe_cw_test). Until 2026-11-27 the node step decoded each
-// plane to world space with a multiply and two adds and branched per slot: 716 instructions = 722 cycles, 46
-// local accesses. Registers: 64 (`nvcc -Xptxas -v` on cuda/trace_kernels.cu, persistent_kernel<.., CwbvhView, ..>
-// for sm_86), against the BVH2 kernel's 55: 32 resident warps per SM instead of 36.
-void use_cwbvh_kernel(KernelSpec& k) {
-  k.node = {496, 5, 17, {1, 1, 1, 1, 1}};
-  k.node.load_bytes = 16;  // the node's five 16-byte words, LDG.E.128 each (triangles: 4-byte LDG.E)
-  k.triangle = {126, 10, 0, {4, 3, 3, 0, 0}};
-  k.leaf = {6, 0, 1};
-  k.regs_per_thread = 64;
+void use_kernel(GpuModelConfig& c, TraceKernelChoice k) {
+  const KernelSpec& from = k == TraceKernelChoice::Bvh2Tuned ? c.tuned : k == TraceKernelChoice::Bvh2Classic ? c.classic : c.cwbvh;
+  const TraceKernel kind = c.kernel.kind;
+  const uint32_t block = c.kernel.block_threads, warp = c.kernel.warp_size;
+  c.kernel = from;
+  c.kernel.kind = kind;
+  c.kernel.block_threads = block;
+  c.kernel.warp_size = warp;
 }
 
 const char* to_string(TraceKernel k) { return k == TraceKernel::Persistent ? "persistent" : "simple"; }
@@ -258,7 +314,8 @@ void validate(const GpuModelConfig& c) {
     if (g.l1_banks > 32 || (g.l1_banks & (g.l1_banks - 1)) != 0 || (g.l1_banks && c.cache.sector_bytes != 32))
       throw Error(fmt::format("simt: l1_banks={} needs a power of two in [1, 32] and 32-byte sectors (got {})",
                               g.l1_banks, c.cache.sector_bytes));
-    for (const StepCost* s : {&c.kernel.node, &c.kernel.triangle}) {
+    for (const StepCost* s : {&c.kernel.node, &c.kernel.triangle, &c.tuned.node, &c.tuned.triangle, &c.classic.node,
+                              &c.classic.triangle, &c.cwbvh.node, &c.cwbvh.triangle}) {
       uint32_t words = 0;
       for (uint8_t n : s->word_loads) words += n;
       if (words != s->global_loads)

@@ -211,8 +211,12 @@ const ParamTable& simt_params() {
       choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
                    "layout: the shared BVH2, or the compressed 8-wide BVH (Ylitie et al. 2017) and its kernel's step "
                    "costs"),
+      choice_param("traversal", "tuned", {"tuned", "classic"},
+                   "the `cuda` BVH2 kernel modelled: tuned (16-byte loads, state in registers) or classic (a 4-byte "
+                   "load per field, state in local memory); bvh2 only"),
       preset_row("node_cycles", ParamType::Float, 1, 100000,
-                 "partition issue cycles of a node step; default: the layout's counted kernel (115 bvh2, 496 cwbvh)"),
+                 "partition issue cycles of a node step; default: the kernel's counted cost (146 tuned, 115 classic, "
+                 "542 cwbvh)"),
   };
   return table;
 }
@@ -244,7 +248,12 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, c
   const int warp = params.get_int("warp");
   const int line = std::stoi(params.get_choice("line"));
   const bool cw = params.get_choice("bvh") == "cwbvh";
-  if (cw) use_cwbvh_kernel(kernel);  // before the rows whose defaults it sets (regs, node_cycles)
+  const bool classic = params.get_choice("traversal") == "classic";
+  if (cw && classic)
+    throw Error(fmt::format("{}: traversal=classic is a BVH2 kernel; bvh=cwbvh has one kernel (traversal=tuned)",
+                            params.owner()));
+  // Before the rows whose defaults it sets (regs, node_cycles).
+  use_kernel(gpu, cw ? TraceKernelChoice::Cwbvh : classic ? TraceKernelChoice::Bvh2Classic : TraceKernelChoice::Bvh2Tuned);
   kernel.regs_per_thread = static_cast<uint32_t>(preset_int(params, "regs", kernel.regs_per_thread));
   gpu.resident_override = static_cast<uint32_t>(params.get_int("resident"));
   CacheModelConfig& cache = gpu.cache;

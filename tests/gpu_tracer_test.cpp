@@ -190,12 +190,16 @@ TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
   EXPECT_NE(message("pipeline=gpu").find("device, host"), std::string::npos) << message("pipeline=gpu");
   EXPECT_NE(message("bvh=cwbvh,counters=on").find("counters=on has no CWBVH kernel"), std::string::npos)
       << message("bvh=cwbvh,counters=on");
+  EXPECT_NE(message("traversal=fast").find("tuned, classic"), std::string::npos) << message("traversal=fast");
+  EXPECT_NE(message("bvh=cwbvh,traversal=classic").find("traversal=classic is a BVH2 kernel"), std::string::npos)
+      << message("bvh=cwbvh,traversal=classic");
   if (cuda::device_count() == 0) {
     EXPECT_NE(message("").find("tracer 'cuda': no CUDA device"), std::string::npos) << message("");
   } else {
     EXPECT_EQ(message(""), "");
     auto t = make_tracer({"cuda", ""}, scene, bvh);
-    EXPECT_EQ(t->params(), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,pipeline=device");
+    EXPECT_EQ(t->params(),
+              "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,traversal=tuned,pipeline=device");
     EXPECT_EQ(t->last_counters(), nullptr);
     EXPECT_LT(t->last_device_ms(), 0.0);  // nothing traced yet
     auto c = make_tracer({"cuda", "counters=on,line=128"}, scene, bvh);
@@ -217,9 +221,11 @@ TEST(GpuTracer, HitsEqualTheCpuTracerForEveryKernelBlockAndOrder) {
     const std::vector<Hit> cpu_primary = trace_with(*cpu, primary);
     const std::vector<Hit> cpu_secondary = trace_with(*cpu, secondary);
     const std::vector<Hit> cpu_indirect = trace_with(*cpu, secondary, &order);
-    for (const char* params : {"kernel=persistent,block=128", "kernel=persistent,block=32",
-                               "kernel=persistent,block=1024", "kernel=simple,block=128", "kernel=simple,block=64",
-                               "kernel=simple,block=1024", "counters=on", "counters=on,block=1024"}) {
+    // Both BVH2 kernels (tuned, the default, and classic) with each launch shape.
+    for (const char* params :
+         {"kernel=persistent,block=128", "kernel=persistent,block=32", "kernel=persistent,block=1024",
+          "kernel=simple,block=128", "kernel=simple,block=64", "kernel=simple,block=1024", "traversal=classic",
+          "traversal=classic,block=1024", "traversal=classic,kernel=simple", "counters=on", "counters=on,block=1024"}) {
       SCOPED_TRACE(params);
       auto gpu = make_tracer({"cuda", params}, f->scene, f->bvh);
       EXPECT_EQ(differing_hits(trace_with(*gpu, primary), cpu_primary), 0u);
