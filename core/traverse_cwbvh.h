@@ -212,6 +212,19 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_triangle_step(State& s, const CwbvhView& bvh,
   intersect_triangle(s.ray, load_triangle_wide(bvh.tris, i), s.hit, filter);
 }
 
+// The loop of one ray from cwbvh_begin to its end, on a state whose stack the caller placed.
+template <class State, class Counters, class Filter>
+RAYCOH_HD RAYCOH_INLINE void cwbvh_traverse(State& s, const CwbvhView& bvh, Counters& counters, const Filter& filter) {
+  while (!cwbvh_done(s)) {
+    if (cwbvh_has_triangles(s)) {
+      counters.on_leaf(0);
+      while (cwbvh_has_triangles(s)) cwbvh_triangle_step(s, bvh, counters, filter);
+    } else {
+      cwbvh_node_step(s, bvh, counters);
+    }
+  }
+}
+
 // Scalar driver: closest hit of one ray (with alpha cut-outs when Filter is AlphaTest, core/alpha_mask.h). The
 // stack is apart from the state (StackRefOf), so that on the GPU only the stack is in local memory.
 template <class Counters, class Filter = NoAlphaTest>
@@ -221,14 +234,7 @@ RAYCOH_HD RAYCOH_INLINE Hit closest_hit_cwbvh(const CwbvhView& bvh, const Ray& r
   CwbvhStateOf<StackRefOf<uint64_t>> s;
   s.stack.entry = entries;
   cwbvh_begin(s, r);
-  while (!cwbvh_done(s)) {
-    if (cwbvh_has_triangles(s)) {
-      counters.on_leaf(0);
-      while (cwbvh_has_triangles(s)) cwbvh_triangle_step(s, bvh, counters, filter);
-    } else {
-      cwbvh_node_step(s, bvh, counters);
-    }
-  }
+  cwbvh_traverse(s, bvh, counters, filter);
   return s.hit;
 }
 

@@ -136,6 +136,9 @@ const ParamTable& cuda_params() {
       choice_param("traversal", "tuned", {"tuned", "classic"},
                    "BVH2 kernel: tuned (16-byte loads, state in registers) or classic (a 4-byte load per field, state "
                    "in local memory: the kernel until 2026-11, the baseline); bvh2 only"),
+      choice_param("stack", "local", {"local", "shared"},
+                   "CWBVH kernel's traversal stack: local memory, or shared memory sized by the tree's depth "
+                   "(bvh=cwbvh only)"),
       choice_param("pipeline", "device", {"device", "host"},
                    "device: generate, key, sort, permute and trace on the GPU; host: trace host-made batches"),
   };
@@ -157,6 +160,11 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
       params.get_choice("traversal") == "classic" ? cuda::Bvh2Traversal::Classic : cuda::Bvh2Traversal::Tuned;
   if (cwbvh && launch.traversal == cuda::Bvh2Traversal::Classic)
     throw Error(fmt::format("{}: traversal=classic is a BVH2 kernel; bvh=cwbvh has one kernel (traversal=tuned)",
+                            params.owner()));
+  launch.shared_stack = params.get_choice("stack") == "shared";
+  if (launch.shared_stack && !cwbvh)
+    throw Error(fmt::format("{}: stack=shared is the CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack "
+                            "in local memory",
                             params.owner()));
   const bool on_device = params.get_choice("pipeline") == "device";
   params.finish();
@@ -185,8 +193,14 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
                              a.tri_texture.size()));
   }
   // The CWBVH's host copy is dropped once uploaded.
-  auto device = cwbvh ? std::make_unique<cuda::DeviceTracer>(build_cwbvh(scene, bvh.config).view(), alpha)
-                      : std::make_unique<cuda::DeviceTracer>(bvh.view(), alpha);
+  std::unique_ptr<cuda::DeviceTracer> device;
+  if (cwbvh) {
+    const Cwbvh cw = build_cwbvh(scene, bvh.config);
+    device = std::make_unique<cuda::DeviceTracer>(cw.view(), alpha, static_cast<uint32_t>(cw.stats.max_depth));
+  } else {
+    device = std::make_unique<cuda::DeviceTracer>(bvh.view(), alpha);
+  }
+  device->check_launch(launch);
   auto tracer = std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, cwbvh, params.canonical());
   if (on_device) tracer->make_pipeline(scene, bvh);
   return tracer;

@@ -1,5 +1,5 @@
 // The GPU traversal kernels behind cuda/trace_kernels.h: persistent-thread and one-thread-per-ray closest-hit
-// kernels, and the warp-synchronous counting kernel that reproduces simt/simt.h.
+// kernels over the BVH2 (tuned and classic) and the CWBVH (stack in local or shared memory).
 //
 // Persistent threads follow Aila & Laine ("Understanding the Efficiency of Ray Traversal on GPUs", HPG 2009,
 // section 3): launch only as many warps as the GPU holds at once; lane 0 of a warp takes 32 ray indices with one
@@ -7,13 +7,7 @@
 // while-while loop of core/traverse.h, and the warp fetches again. Fetching whole warps of consecutive rays keeps
 // the batch order's warp composition (DESIGN.md section 1), which is what the generators and encoders shape.
 //
-// Counting (simt/simt.h, "Reproducing it in CUDA"): every loop is warp-uniform with explicit masks from
-// __ballot_sync over all 32 lanes (lanes past the end of the batch stay in the loops with false predicates), the
-// node-loop break is `(ballot(has_leaf) & N) == N`, steps are counted from node_ref / leaf_ref before
-// node_step / leaf_step run, and the triangle sub-steps of a leaf step are j = 0 .. __reduce_max_sync(count) - 1.
-// Distinct lines and sectors of a step are counted exactly as the size of the union of the lanes' unit ranges:
-// a unit of lane i counts unless a lower active lane's range covers it (32 __shfl_sync rounds per step). This is
-// one rule for nodes and triangles, for any line and sector size, including triangles straddling two lines.
+// The warp-synchronous counting kernel that reproduces simt/simt.h is cuda/counting_kernel.cu.
 //
 // Alpha MASK cut-outs: every kernel is a template on the traversal's filter policy (core/alpha_mask.h) and gets
 // the filter by value. AlphaTest holds the device copies of the scene's mask arrays and runs alpha_opaque() of
@@ -29,6 +23,8 @@
 #include "core/traverse.h"
 #include "core/traverse_cwbvh.h"
 #include "cuda/cuda_check.cuh"
+#include "cuda/counting_kernel.h"
+#include "cuda/ray_io.cuh"
 #include "cuda/trace_kernels.h"
 
 namespace raycoh::cuda {
@@ -37,23 +33,6 @@ namespace {
 
 constexpr unsigned kFullMask = 0xffffffffu;
 constexpr int kWarp = 32;
-
-// Rays are 32 bytes and buffers come from cudaMalloc (256-byte aligned): two 16-byte read-only loads.
-__device__ __forceinline__ Ray load_ray(const Ray* rays, size_t i) {
-  const float4* p = reinterpret_cast<const float4*>(rays + i);
-  const float4 a = __ldg(p), b = __ldg(p + 1);
-  Ray r;
-  r.org = Vec3{a.x, a.y, a.z};
-  r.tmin = a.w;
-  r.dir = Vec3{b.x, b.y, b.z};
-  r.tmax = b.w;
-  return r;
-}
-
-// Hits are 16 bytes: one store.
-__device__ __forceinline__ void store_hit(Hit* hits, size_t i, const Hit& h) {
-  reinterpret_cast<float4*>(hits)[i] = make_float4(h.t, __uint_as_float(h.prim), h.u, h.v);
-}
 
 // The closest hit of one ray in either layout under the filter: the shared traversals, unchanged (with
 // NoAlphaTest these are closest_hit(bvh, r) and closest_hit_cwbvh(bvh, r), the same instantiations).
@@ -70,6 +49,27 @@ template <class Filter>
 __device__ __forceinline__ Hit trace_ray(const WideBvhView& v, const Ray& r, const Filter& filter) {
   NoCounters none;
   return closest_hit<NoCounters, Filter, WideFetch>(v.bvh, r, none, filter);
+}
+// The CWBVH kernel with its stack in shared memory (`stack=shared`): entry i of a thread at
+// stack_memory[i * blockDim.x + threadIdx.x], 8 bytes each (a warp's accesses to one level fall in distinct
+// banks); the launch gives each block (the tree's depth + 2) * blockDim.x entries of dynamic shared memory.
+struct SharedStackCwbvhView {
+  CwbvhView bvh;
+};
+struct StridedStackRef {
+  uint64_t* base;
+  uint32_t stride;
+  __device__ uint64_t& operator[](int i) const { return base[static_cast<uint32_t>(i) * stride]; }
+};
+template <class Filter>
+__device__ __forceinline__ Hit trace_ray(const SharedStackCwbvhView& v, const Ray& r, const Filter& filter) {
+  extern __shared__ uint64_t stack_memory[];
+  NoCounters none;
+  CwbvhStateOf<StridedStackRef> s;
+  s.stack = StridedStackRef{stack_memory + threadIdx.x, blockDim.x};
+  cwbvh_begin(s, r);
+  cwbvh_traverse(s, v.bvh, none, filter);
+  return s.hit;
 }
 template <class Filter>
 __device__ __forceinline__ Hit trace_ray(const CwbvhView& bvh, const Ray& r, const Filter& filter) {
@@ -100,105 +100,6 @@ __global__ void persistent_kernel(View bvh, Filter filter, const Ray* rays, cons
   }
 }
 
-// ---- counting ---------------------------------------------------------------------------------------------
-
-// Size of the union of the unit ranges [first, last] of the active lanes (last - first < 32); all 32 lanes call it.
-// Each unit of a lane counts once, unless a lower active lane covers it: the union is counted exactly once.
-__device__ __forceinline__ uint32_t distinct_units(bool active, uint32_t first, uint32_t last) {
-  const unsigned lane = threadIdx.x & (kWarp - 1);
-  const uint32_t span = active ? last - first + 1u : 0u;
-  uint32_t covered = 0;  // bit k: unit first + k is covered by a lower active lane
-  for (int j = 0; j < kWarp; ++j) {
-    const uint32_t first_j = __shfl_sync(kFullMask, first, j);
-    const uint32_t span_j = __shfl_sync(kFullMask, span, j);
-    if (static_cast<unsigned>(j) < lane && span_j > 0) {
-      const uint32_t last_j = first_j + (span_j - 1u);
-      for (uint32_t k = 0; k < span; ++k) {
-        const uint32_t u = first + k;
-        if (first_j <= u && u <= last_j) covered |= 1u << k;
-      }
-    }
-  }
-  const uint32_t own = span - static_cast<uint32_t>(__popc(covered));
-  return __reduce_add_sync(kFullMask, own);
-}
-
-// Distinct lines (or sectors) of `unit` bytes among the active lanes' byte ranges [addr, addr + bytes). One call
-// site for all lanes: the shuffles inside must be reached by the whole warp at the same instruction.
-__device__ __forceinline__ uint32_t units_of(bool active, uint64_t addr, uint32_t bytes, uint32_t unit) {
-  const auto first = static_cast<uint32_t>(addr / unit);
-  const auto last = static_cast<uint32_t>((addr + bytes - 1) / unit);
-  return distinct_units(active, first, last);
-}
-
-template <bool Indirect, class Filter>
-__global__ void counting_kernel(BvhView bvh, Filter filter, const Ray* rays, const uint32_t* order, size_t count,
-                                Hit* hits, SimtConfig layout, WarpStepCounters* out, size_t warps) {
-  // A whole warp leaves together here: blockDim.x is a multiple of 32.
-  const size_t warp = (blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x) / kWarp;
-  if (warp >= warps) return;
-  const unsigned lane = threadIdx.x & (kWarp - 1);
-  const unsigned lane_bit = 1u << lane;
-  const size_t i = warp * kWarp + lane;
-  const bool valid = i < count;
-
-  Ray r;  // lanes past the end get an empty interval: traversal_begin marks them done at once
-  r.tmax = 0.f;
-  if (valid) r = load_ray(rays, Indirect ? order[i] : i);
-  TraversalState st;
-  traversal_begin(st, r);
-  RayCounters rc;
-  WarpStepCounters c;
-  c.warps = 1;
-  constexpr uint32_t kNodeBytes = sizeof(BvhNode), kTriBytes = sizeof(BvhTriangle);
-
-  unsigned live = __ballot_sync(kFullMask, valid && !traversal_done(st));
-  while (live) {
-    // Node loop.
-    unsigned n = __ballot_sync(kFullMask, (live & lane_bit) && traversal_wants_node(st));
-    while (n) {
-      const bool in_n = (n & lane_bit) != 0;
-      const uint64_t addr = layout.node_base + uint64_t{kNodeBytes} * static_cast<uint32_t>(in_n ? st.node_ref : 0);
-      c.node_steps += 1;
-      c.node_lanes += static_cast<uint32_t>(__popc(n));
-      c.node_lines += units_of(in_n, addr, kNodeBytes, layout.line_bytes);
-      c.node_fetches += units_of(in_n, addr, kNodeBytes, layout.sector_bytes);
-      if (in_n) node_step(st, bvh, rc);
-      if (__ballot_sync(kFullMask, in_n && traversal_has_leaf(st)) == n) break;
-      n = __ballot_sync(kFullMask, in_n && traversal_wants_node(st));
-    }
-    // Leaf loop.
-    unsigned l = __ballot_sync(kFullMask, (live & lane_bit) && traversal_has_leaf(st));
-    while (l) {
-      const bool in_l = (l & lane_bit) != 0;
-      const uint32_t first = in_l ? leaf_first(st.leaf_ref) : 0u;
-      const uint32_t tri_count = in_l ? leaf_count(st.leaf_ref) : 0u;
-      const uint32_t max_count = __reduce_max_sync(kFullMask, tri_count);
-      c.leaf_steps += 1;
-      c.leaf_lanes += static_cast<uint32_t>(__popc(l));
-      for (uint32_t j = 0; j < max_count; ++j) {
-        const bool in_sub = in_l && j < tri_count;
-        const unsigned sub = __ballot_sync(kFullMask, in_sub);
-        const uint64_t addr = layout.tri_base + uint64_t{kTriBytes} * (in_sub ? first + j : 0u);
-        c.triangle_steps += 1;
-        c.triangle_lanes += static_cast<uint32_t>(__popc(sub));
-        c.triangle_lines += units_of(in_sub, addr, kTriBytes, layout.line_bytes);
-        c.triangle_fetches += units_of(in_sub, addr, kTriBytes, layout.sector_bytes);
-      }
-      if (in_l) leaf_step(st, bvh, rc, filter);
-      l = __ballot_sync(kFullMask, in_l && traversal_has_leaf(st));
-    }
-    live = __ballot_sync(kFullMask, valid && !traversal_done(st));
-  }
-
-  c.rays = static_cast<uint32_t>(__popc(__ballot_sync(kFullMask, valid)));
-  c.nodes = __reduce_add_sync(kFullMask, rc.nodes);
-  c.leaves = __reduce_add_sync(kFullMask, rc.leaves);
-  c.triangles = __reduce_add_sync(kFullMask, rc.triangles);
-  if (valid) store_hit(hits, i, st.hit);
-  if (lane == 0) out[warp] = c;
-}
-
 void check_block(int block) {
   if (block < kWarp || block > 1024 || block % kWarp != 0)
     throw Error("cuda: block size " + std::to_string(block) + " is not a multiple of 32 in [32, 1024]");
@@ -210,16 +111,6 @@ unsigned grid_for(size_t threads, int block) {
   return static_cast<unsigned>(blocks);
 }
 
-template <class Filter>
-void launch_counting(const BvhView& bvh, const Filter& filter, unsigned blocks, int block, const Ray* rays,
-                     const uint32_t* order, size_t count, Hit* hits, const SimtConfig& layout, WarpStepCounters* out,
-                     size_t warps) {
-  if (order)
-    counting_kernel<true><<<blocks, block>>>(bvh, filter, rays, order, count, hits, layout, out, warps);
-  else
-    counting_kernel<false><<<blocks, block>>>(bvh, filter, rays, nullptr, count, hits, layout, out, warps);
-}
-
 }  // namespace
 
 struct DeviceTracer::Impl {
@@ -228,6 +119,7 @@ struct DeviceTracer::Impl {
   DeviceBuffer<BvhTriangle> tris;
   uint32_t node_count = 0, tri_count = 0;
   bool cwbvh = false;
+  uint32_t stack_entries = 0;  // CWBVH: stack entries a ray can need (the tree's depth + 2), for stack=shared
   // The scene's alpha MASK arrays (empty: no masks, and the kernels run NoAlphaTest).
   DeviceBuffer<uint32_t> alpha_tri_texture;
   DeviceBuffer<float> alpha_tri_uv;
@@ -267,15 +159,26 @@ struct DeviceTracer::Impl {
         AlphaMaskView{alpha_tri_texture.get(), alpha_tri_uv.get(), alpha_textures.get(), alpha_texels.get()}};
   }
 
+  // Dynamic shared memory of a block of the launch (the CWBVH stack with stack=shared, else none).
+  size_t shared_bytes(const TraceLaunch& launch) const {
+    return cwbvh && launch.shared_stack ? size_t{stack_entries} * sizeof(uint64_t) * static_cast<size_t>(launch.block)
+                                        : 0;
+  }
+
   // Resident blocks per SM of this layout's persistent kernel (the instance that trace_device launches).
   template <class View, class Filter>
-  static int blocks_per_sm(int block) {
+  static int blocks_per_sm(int block, size_t shared = 0) {
     int per_sm = 0;
     RAYCOH_CUDA_CHECK(
-        cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, View, Filter>, block, 0));
+        cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, persistent_kernel<false, View, Filter>, block, shared));
     return per_sm;
   }
-  int persistent_blocks_per_sm(int block, Bvh2Traversal traversal) const {
+  int persistent_blocks_per_sm(const TraceLaunch& launch) const {
+    const int block = launch.block;
+    const Bvh2Traversal traversal = launch.traversal;
+    if (cwbvh && launch.shared_stack)
+      return masked ? blocks_per_sm<SharedStackCwbvhView, AlphaTest>(block, shared_bytes(launch))
+                    : blocks_per_sm<SharedStackCwbvhView, NoAlphaTest>(block, shared_bytes(launch));
     if (cwbvh)
       return masked ? blocks_per_sm<CwbvhView, AlphaTest>(block) : blocks_per_sm<CwbvhView, NoAlphaTest>(block);
     if (traversal == Bvh2Traversal::Tuned)
@@ -287,6 +190,7 @@ struct DeviceTracer::Impl {
   template <class View, class Filter>
   void launch(const View& bvh, const Filter& filter, const Ray* d_rays, const uint32_t* d_order, size_t count,
               Hit* d_hits, const TraceLaunch& launch, int persistent_blocks) {
+    const size_t shared = shared_bytes(launch);
     if (launch.kernel == TraceKernel::Persistent) {
       // Resident blocks only, and no more warps than the batch has: every warp fetches at least once.
       const unsigned blocks =
@@ -294,9 +198,9 @@ struct DeviceTracer::Impl {
       RAYCOH_CUDA_CHECK(cudaMemset(next_ray.get(), 0, sizeof(unsigned long long)));
       timer.start();
       if (d_order)
-        persistent_kernel<true><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
+        persistent_kernel<true><<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
       else
-        persistent_kernel<false><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
+        persistent_kernel<false><<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
       timer.stop();
     } else {
@@ -304,9 +208,9 @@ struct DeviceTracer::Impl {
       timer.start();
       if (blocks > 0) {
         if (d_order)
-          simple_kernel<true><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits);
+          simple_kernel<true><<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits);
         else
-          simple_kernel<false><<<blocks, launch.block>>>(bvh, filter, d_rays, d_order, count, d_hits);
+          simple_kernel<false><<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits);
         RAYCOH_CUDA_CHECK_LAUNCH();
       }
       timer.stop();
@@ -319,8 +223,10 @@ DeviceTracer::DeviceTracer(const BvhView& bvh, const AlphaMaskArrays& alpha) : i
   impl_->init(bvh.tris, bvh.tri_count, bvh.node_count, alpha);
 }
 
-DeviceTracer::DeviceTracer(const CwbvhView& bvh, const AlphaMaskArrays& alpha) : impl_(std::make_unique<Impl>()) {
+DeviceTracer::DeviceTracer(const CwbvhView& bvh, const AlphaMaskArrays& alpha, uint32_t depth)
+    : impl_(std::make_unique<Impl>()) {
   impl_->cwbvh = true;
+  impl_->stack_entries = std::min<uint32_t>(depth + 2, kTraversalStackSize);
   impl_->cwbvh_nodes.upload(bvh.nodes, bvh.node_count);
   impl_->init(bvh.tris, bvh.tri_count, bvh.node_count, alpha);
 }
@@ -331,19 +237,34 @@ float DeviceTracer::last_kernel_ms() const { return impl_->last_ms; }
 
 bool DeviceTracer::alpha_masked() const { return impl_->masked; }
 
-int DeviceTracer::persistent_blocks(int block, Bvh2Traversal traversal) const {
-  check_block(block);
-  return std::max(1, impl_->persistent_blocks_per_sm(block, traversal)) * std::max(1, impl_->sms);
+int DeviceTracer::persistent_blocks(const TraceLaunch& launch) const {
+  check_block(launch.block);
+  return std::max(1, impl_->persistent_blocks_per_sm(launch)) * std::max(1, impl_->sms);
+}
+
+void DeviceTracer::check_launch(const TraceLaunch& launch) const {
+  check_block(launch.block);
+  if (launch.shared_stack && !impl_->cwbvh)
+    throw Error("cuda: stack=shared is a CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack in local memory");
+  const size_t shared = impl_->shared_bytes(launch);
+  if (shared > 48 * 1024)
+    throw Error("cuda: stack=shared needs " + std::to_string(shared) + " bytes of shared memory per block of " +
+                std::to_string(launch.block) + " threads (" + std::to_string(impl_->stack_entries) +
+                " entries of 8 bytes each), over the 49152 a block gets without opt-in; use a smaller block or "
+                "stack=local");
 }
 
 void DeviceTracer::launch_device(const Ray* d_rays, const uint32_t* d_order, size_t count, Hit* d_hits,
                                  const TraceLaunch& launch) {
-  check_block(launch.block);
+  check_launch(launch);
   Impl& m = *impl_;
-  const int blocks =
-      launch.kernel == TraceKernel::Persistent ? persistent_blocks(launch.block, launch.traversal) : 0;
+  const int blocks = launch.kernel == TraceKernel::Persistent ? persistent_blocks(launch) : 0;
   const bool tuned = launch.traversal == Bvh2Traversal::Tuned;
-  if (m.cwbvh && m.masked)
+  if (m.cwbvh && launch.shared_stack && m.masked)
+    m.launch(SharedStackCwbvhView{m.cwbvh_view()}, m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
+  else if (m.cwbvh && launch.shared_stack)
+    m.launch(SharedStackCwbvhView{m.cwbvh_view()}, NoAlphaTest{}, d_rays, d_order, count, d_hits, launch, blocks);
+  else if (m.cwbvh && m.masked)
     m.launch(m.cwbvh_view(), m.alpha_test(), d_rays, d_order, count, d_hits, launch, blocks);
   else if (m.cwbvh)
     m.launch(m.cwbvh_view(), NoAlphaTest{}, d_rays, d_order, count, d_hits, launch, blocks);

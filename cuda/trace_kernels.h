@@ -49,6 +49,8 @@ struct TraceLaunch {
   TraceKernel kernel = TraceKernel::Persistent;
   int block = 128;  // threads per block: a multiple of 32 in [32, 1024]
   Bvh2Traversal traversal = Bvh2Traversal::Tuned;
+  // CWBVH only: the traversal stack in shared memory ((depth + 2) 8-byte entries per thread) instead of local memory.
+  bool shared_stack = false;
 };
 
 // A scene's alpha MASK arrays on the host (scenes/scene.h AlphaMasks); tri_count == 0: no masks.
@@ -93,8 +95,10 @@ class DeviceTracer {
   // alpha: the scene's MASK arrays (uploaded too; every kernel then runs the AlphaTest filter), or empty. Throws
   // raycoh::Error when alpha_arrays_error() finds them inconsistent with the BVH.
   explicit DeviceTracer(const BvhView& bvh, const AlphaMaskArrays& alpha = {});
-  // The compressed 8-wide layout (no counting kernel).
-  explicit DeviceTracer(const CwbvhView& bvh, const AlphaMaskArrays& alpha = {});
+  // The compressed 8-wide layout (no counting kernel); depth: the tree's depth (Cwbvh stats.max_depth), which bounds
+  // the traversal stack of a ray and sizes the shared-memory stack of stack=shared.
+  explicit DeviceTracer(const CwbvhView& bvh, const AlphaMaskArrays& alpha = {},
+                        uint32_t depth = kTraversalStackSize - 2);
   ~DeviceTracer();
   DeviceTracer(const DeviceTracer&) = delete;
   DeviceTracer& operator=(const DeviceTracer&) = delete;
@@ -120,8 +124,10 @@ class DeviceTracer {
 
   // Kernel time of the last trace / trace_counting call in milliseconds (CUDA events); -1 before the first.
   float last_kernel_ms() const;
-  // Blocks the persistent kernel launches with this block size (SMs x resident blocks per SM).
-  int persistent_blocks(int block, Bvh2Traversal traversal = Bvh2Traversal::Tuned) const;
+  // Blocks the persistent kernel launches with this launch (SMs x resident blocks per SM).
+  int persistent_blocks(const TraceLaunch& launch) const;
+  // Throws raycoh::Error when the launch cannot run on this tracer (block size, a shared stack that does not fit).
+  void check_launch(const TraceLaunch& launch) const;
   // Whether the kernels run the alpha MASK test (the tracer was made with non-empty AlphaMaskArrays).
   bool alpha_masked() const;
 

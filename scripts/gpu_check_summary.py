@@ -28,7 +28,7 @@ def tracer_label(row):
         if params.get("counters") == "on":
             return "cuda:counters"
         if params.get("bvh") == "cwbvh":
-            return "cuda:cwbvh"
+            return "cuda:cwbvh-shared" if params.get("stack") == "shared" else "cuda:cwbvh"
     if name == "simt" and params.get("bvh") == "cwbvh":
         return "simt:cwbvh"
     if name in ("cuda", "simt") and params.get("traversal") == "classic":  # the BVH2 kernel before 2026-11

@@ -6,7 +6,7 @@ Usage: kernel_gain.py PREDICTION.csv [...] [--measured MEASURED.csv ...]   (mark
 PREDICTION.csv: `raycoh table` rows of the simt tracer (MODELED) for the three kernels of the `cuda` tracer, made
 and committed before any hardware run (results/kernels/README.md): simt:traversal=classic (the BVH2 kernel before
 2026-11), simt (the tuned BVH2 kernel) and simt:bvh=cwbvh. MEASURED.csv: rows of the same methods and scenes on
-cuda:traversal=classic, cuda and cuda:bvh=cwbvh (scripts/gpu-check --kernels). Tables:
+cuda:traversal=classic, cuda, cuda:bvh=cwbvh and cuda:bvh=cwbvh,stack=shared (scripts/gpu-check --kernels). Tables:
   prediction  per scene, method and kernel: predicted MRay/s and ratio to noopt (MODELED) beside the measured ones
               and the miss of the ratio in percent;
   gain        per scene and method, per kernel: the trace-only and the end-to-end ratio to noopt, measured (cuda;
@@ -22,8 +22,11 @@ _spec = importlib.util.spec_from_file_location("gpu_check_summary",
 summary = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(summary)
 
-KERNELS = (("classic", "cuda:classic", "simt:classic"), ("tuned", "cuda", "simt"), ("cwbvh", "cuda:cwbvh",
-                                                                                    "simt:cwbvh"))
+# (kernel, its cuda label, the simt label that models it). The model does not tell a stack in shared memory from
+# one in local memory (both one L1 wavefront an access, and local lines are not in its cache model): the CWBVH
+# kernel's two stacks share one prediction.
+KERNELS = (("classic", "cuda:classic", "simt:classic"), ("tuned", "cuda", "simt"), ("cwbvh", "cuda:cwbvh", "simt:cwbvh"),
+           ("cwbvh stack=shared", "cuda:cwbvh-shared", "simt:cwbvh"))
 
 
 def rate(acc, field):

@@ -193,13 +193,16 @@ TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
   EXPECT_NE(message("traversal=fast").find("tuned, classic"), std::string::npos) << message("traversal=fast");
   EXPECT_NE(message("bvh=cwbvh,traversal=classic").find("traversal=classic is a BVH2 kernel"), std::string::npos)
       << message("bvh=cwbvh,traversal=classic");
+  EXPECT_NE(message("stack=shared").find("stack=shared is the CWBVH kernel's"), std::string::npos)
+      << message("stack=shared");
+  EXPECT_NE(message("stack=global").find("local, shared"), std::string::npos) << message("stack=global");
   if (cuda::device_count() == 0) {
     EXPECT_NE(message("").find("tracer 'cuda': no CUDA device"), std::string::npos) << message("");
   } else {
     EXPECT_EQ(message(""), "");
     auto t = make_tracer({"cuda", ""}, scene, bvh);
     EXPECT_EQ(t->params(),
-              "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,traversal=tuned,pipeline=device");
+              "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,traversal=tuned,stack=local,pipeline=device");
     EXPECT_EQ(t->last_counters(), nullptr);
     EXPECT_LT(t->last_device_ms(), 0.0);  // nothing traced yet
     auto c = make_tracer({"cuda", "counters=on,line=128"}, scene, bvh);
@@ -258,7 +261,8 @@ TEST(GpuTracer, CwbvhHitsEqualTheCpuCwbvhAndTheBvh2) {
     const std::vector<Hit> cpu_secondary = trace_with(*cpu, secondary);
     const std::vector<Hit> cpu_indirect = trace_with(*cpu, secondary, &order);
     for (const char* params :
-         {"bvh=cwbvh", "bvh=cwbvh,block=32", "bvh=cwbvh,kernel=simple,block=64", "bvh=cwbvh,block=1024"}) {
+         {"bvh=cwbvh", "bvh=cwbvh,block=32", "bvh=cwbvh,kernel=simple,block=64", "bvh=cwbvh,block=1024",
+          "bvh=cwbvh,stack=shared", "bvh=cwbvh,stack=shared,kernel=simple,block=64"}) {
       SCOPED_TRACE(params);
       auto gpu = make_tracer({"cuda", params}, f->scene, f->bvh);
       EXPECT_EQ(gpu->last_counters(), nullptr);
@@ -293,7 +297,7 @@ TEST(GpuTracer, PersistentKernelCoversLargeBatchesOnce) {
   const auto f = make_frame("cornell", test::gpu_test_size(640, 160), test::gpu_test_size(480, 120));
   auto cpu = make_tracer({"cpu", ""}, f->scene, f->bvh);
   cuda::DeviceTracer device(f->bvh.view());
-  const size_t resident = static_cast<size_t>(device.persistent_blocks(128)) * 128;
+  const size_t resident = static_cast<size_t>(device.persistent_blocks(cuda::TraceLaunch{})) * 128;
   const size_t count = test::gpu_test_size<size_t>(1500007, resident + resident / 2 + 7);
   std::vector<Ray> rays = f->secondary.rays;
   while (rays.size() < count) rays.insert(rays.end(), f->secondary.rays.begin(), f->secondary.rays.end());
