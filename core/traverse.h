@@ -113,9 +113,9 @@ RAYCOH_HD RAYCOH_INLINE bool intersect_triangle(const PreparedRay& r, const BvhT
   return true;
 }
 
-// Where the traversal stack lives. InlineStack: inside the state, which the CPU tracers and the simt model keep per
+// Where the traversal stack lives. InlineStackOf: inside the state, which the CPU tracers and the simt model keep per
 // lane; on the GPU a dynamically indexed array makes nvcc place the *whole* state in local memory (the classic
-// kernel's 352-byte frame: every read of the ray or the hit in a step is a local load). StackRef: the entries in an
+// kernel's 352-byte frame: every read of the ray or the hit in a step is a local load). StackRefOf: the entries in an
 // array of the caller's, so that the state's scalars stay in registers and only the stack is in local memory.
 template <class Entry>
 struct InlineStackOf {
@@ -156,7 +156,9 @@ struct ClassicFetch {
 };
 struct WideFetch {
   static constexpr bool kStackApart = true;
-  RAYCOH_HD static BvhNode node(const BvhView& b, int32_t i) { return load_node_wide(b.nodes, static_cast<uint32_t>(i)); }
+  RAYCOH_HD static BvhNode node(const BvhView& b, int32_t i) {
+    return load_node_wide(b.nodes, static_cast<uint32_t>(i));
+  }
   RAYCOH_HD static BvhTriangle triangle(const BvhView& b, uint32_t i) { return load_triangle_wide(b.tris, i); }
 };
 

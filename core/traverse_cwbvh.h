@@ -58,7 +58,9 @@ RAYCOH_HD RAYCOH_INLINE void cwbvh_begin(State& s, const Ray& r) {
 }
 
 template <class State>
-RAYCOH_HD RAYCOH_INLINE bool cwbvh_has_triangles(const State& s) { return s.tri_hits != 0; }
+RAYCOH_HD RAYCOH_INLINE bool cwbvh_has_triangles(const State& s) {
+  return s.tri_hits != 0;
+}
 template <class State>
 RAYCOH_HD RAYCOH_INLINE bool cwbvh_wants_node(const State& s) {
   return s.tri_hits == 0 && (s.node_hits != 0 || s.sp > 0);

@@ -163,9 +163,10 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
                             params.owner()));
   launch.shared_stack = params.get_choice("stack") == "shared";
   if (launch.shared_stack && !cwbvh)
-    throw Error(fmt::format("{}: stack=shared is the CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack "
-                            "in local memory",
-                            params.owner()));
+    throw Error(
+        fmt::format("{}: stack=shared is the CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack "
+                    "in local memory",
+                    params.owner()));
   const bool on_device = params.get_choice("pipeline") == "device";
   params.finish();
   if (cwbvh && counting)

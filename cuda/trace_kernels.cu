@@ -22,8 +22,8 @@
 #include "core/error.h"
 #include "core/traverse.h"
 #include "core/traverse_cwbvh.h"
-#include "cuda/cuda_check.cuh"
 #include "cuda/counting_kernel.h"
+#include "cuda/cuda_check.cuh"
 #include "cuda/ray_io.cuh"
 #include "cuda/trace_kernels.h"
 
@@ -198,9 +198,11 @@ struct DeviceTracer::Impl {
       RAYCOH_CUDA_CHECK(cudaMemset(next_ray.get(), 0, sizeof(unsigned long long)));
       timer.start();
       if (d_order)
-        persistent_kernel<true><<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
+        persistent_kernel<true>
+            <<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
       else
-        persistent_kernel<false><<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
+        persistent_kernel<false>
+            <<<blocks, launch.block, shared>>>(bvh, filter, d_rays, d_order, count, d_hits, next_ray.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
       timer.stop();
     } else {
@@ -245,7 +247,8 @@ int DeviceTracer::persistent_blocks(const TraceLaunch& launch) const {
 void DeviceTracer::check_launch(const TraceLaunch& launch) const {
   check_block(launch.block);
   if (launch.shared_stack && !impl_->cwbvh)
-    throw Error("cuda: stack=shared is a CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack in local memory");
+    throw Error(
+        "cuda: stack=shared is a CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack in local memory");
   const size_t shared = impl_->shared_bytes(launch);
   if (shared > 48 * 1024)
     throw Error("cuda: stack=shared needs " + std::to_string(shared) + " bytes of shared memory per block of " +

@@ -260,7 +260,9 @@ GpuModelConfig gpgpusim_rtx3070() {
 }  // namespace
 
 void use_kernel(GpuModelConfig& c, TraceKernelChoice k) {
-  const KernelSpec& from = k == TraceKernelChoice::Bvh2Tuned ? c.tuned : k == TraceKernelChoice::Bvh2Classic ? c.classic : c.cwbvh;
+  const KernelSpec& from = k == TraceKernelChoice::Bvh2Tuned     ? c.tuned
+                           : k == TraceKernelChoice::Bvh2Classic ? c.classic
+                                                                 : c.cwbvh;
   const TraceKernel kind = c.kernel.kind;
   const uint32_t block = c.kernel.block_threads, warp = c.kernel.warp_size;
   c.kernel = from;

@@ -253,7 +253,9 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, c
     throw Error(fmt::format("{}: traversal=classic is a BVH2 kernel; bvh=cwbvh has one kernel (traversal=tuned)",
                             params.owner()));
   // Before the rows whose defaults it sets (regs, node_cycles).
-  use_kernel(gpu, cw ? TraceKernelChoice::Cwbvh : classic ? TraceKernelChoice::Bvh2Classic : TraceKernelChoice::Bvh2Tuned);
+  use_kernel(gpu, cw        ? TraceKernelChoice::Cwbvh
+                  : classic ? TraceKernelChoice::Bvh2Classic
+                            : TraceKernelChoice::Bvh2Tuned);
   kernel.regs_per_thread = static_cast<uint32_t>(preset_int(params, "regs", kernel.regs_per_thread));
   gpu.resident_override = static_cast<uint32_t>(params.get_int("resident"));
   CacheModelConfig& cache = gpu.cache;

@@ -46,7 +46,7 @@ TEST(GpgpusimPreset, MirrorsTheSimulatorsRtx3070) {
   EXPECT_EQ(g.kernel.node.global_loads, 4u);
   EXPECT_EQ(g.kernel.node.load_bytes, 16u);
   EXPECT_DOUBLE_EQ(g.kernel.node.inorder_cycles, 462.0);
-  EXPECT_DOUBLE_EQ(gpu_preset("h100").kernel.node.inorder_cycles, 0.0);  // ptxas schedules SASS
+  EXPECT_DOUBLE_EQ(gpu_preset("h100").kernel.node.inorder_cycles, 0.0);      // ptxas schedules SASS
   EXPECT_DOUBLE_EQ(gpu_preset("rtx3060").classic.node.issue_cycles, 115.0);  // SASS
   EXPECT_DOUBLE_EQ(gpu_preset("rtx3060").kernel.node.issue_cycles, 146.0);   // SASS of the tuned kernel
   // cfg:94; the hardware presets keep the tag rule

@@ -119,10 +119,11 @@ TEST(GpuAlphaMask, CudaHitsEqualTheCpuTracerOnMaskedScenes) {
     for (const char* layout : {"bvh2", "cwbvh"}) {
       auto cpu = make_tracer({"cpu", std::string("bvh=") + layout}, m->scene, m->bvh);
       const std::vector<Hit> want = trace_with(*cpu, m->rays), want_indirect = trace_with(*cpu, m->rays, &order);
-      for (const std::string kernel :
-           {"kernel=persistent,block=128", "kernel=simple,block=64", "traversal=classic", "counters=on", "stack=shared"}) {
+      for (const std::string kernel : {"kernel=persistent,block=128", "kernel=simple,block=64", "traversal=classic",
+                                       "counters=on", "stack=shared"}) {
         const bool bvh2_only = kernel == "traversal=classic" || kernel == "counters=on";
-        if ((std::string(layout) == "cwbvh" && bvh2_only) || (std::string(layout) == "bvh2" && kernel == "stack=shared"))
+        if ((std::string(layout) == "cwbvh" && bvh2_only) ||
+            (std::string(layout) == "bvh2" && kernel == "stack=shared"))
           continue;
         const std::string params = kernel + ",bvh=" + layout;
         SCOPED_TRACE(m->name + " cuda:" + params);

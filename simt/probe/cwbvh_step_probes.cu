@@ -1,6 +1,7 @@
 // Probe kernels for scripts/count-cwbvh-step-instructions: as simt/probe/step_probes.cu for the CWBVH traversal
 // (core/traverse_cwbvh.h). Each pair differs only by one step; the state is loaded and stored so that the stack
-// stays in local memory as in a real kernel, apart from the state (StackRefOf, as closest_hit_cwbvh keeps it). Compiled for counting only; never linked into raycoh.
+// stays in local memory as in a real kernel, apart from the state (StackRefOf, as closest_hit_cwbvh keeps it). Compiled
+// for counting only; never linked into raycoh.
 #include "core/traverse_cwbvh.h"
 
 using namespace raycoh;
