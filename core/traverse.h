@@ -67,14 +67,39 @@ RAYCOH_HD RAYCOH_INLINE PreparedRay prepare_ray(const Ray& r) {
   return p;
 }
 
+// min and max of the slab test. MinMaxInstructions (the tuned kernel's): on the device fminf / fmaxf, one FMNMX
+// each, where the conditional form compiles to a compare and a select. They choose the same value: no operand is
+// NaN (box planes are finite or infinite, the ray's origin finite and its inverse direction finite and non-zero,
+// so a product is never 0 * inf), and where two operands compare equal they differ at most in the sign of a zero,
+// which no use of the result can see (the results are only compared, or scaled and compared).
+template <bool MinMaxInstructions>
+RAYCOH_HD RAYCOH_INLINE float slab_min(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  if constexpr (MinMaxInstructions) return fminf(a, b);
+#endif
+  return min_f(a, b);
+}
+template <bool MinMaxInstructions>
+RAYCOH_HD RAYCOH_INLINE float slab_max(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  if constexpr (MinMaxInstructions) return fmaxf(a, b);
+#endif
+  return max_f(a, b);
+}
+
 // Slab test; returns the entry distance, or +inf when [tmin, tmax] misses the box.
+template <bool MinMaxInstructions = false>
 RAYCOH_HD RAYCOH_INLINE float intersect_box(const PreparedRay& r, Vec3 lo, Vec3 hi, float tmax) {
+  constexpr bool M = MinMaxInstructions;
   const float tx0 = (lo.x - r.org.x) * r.inv_dir.x, tx1 = (hi.x - r.org.x) * r.inv_dir.x;
   const float ty0 = (lo.y - r.org.y) * r.inv_dir.y, ty1 = (hi.y - r.org.y) * r.inv_dir.y;
   const float tz0 = (lo.z - r.org.z) * r.inv_dir.z, tz1 = (hi.z - r.org.z) * r.inv_dir.z;
-  const float tnear = max_f(max_f(min_f(tx0, tx1), min_f(ty0, ty1)), max_f(min_f(tz0, tz1), r.tmin));
+  const float tnear = slab_max<M>(slab_max<M>(slab_min<M>(tx0, tx1), slab_min<M>(ty0, ty1)),
+                                  slab_max<M>(slab_min<M>(tz0, tz1), r.tmin));
   // 1 + 2 gamma(3): makes the far distance conservative against rounding (Ize 2013).
-  const float tfar = min_f(min_f(max_f(tx0, tx1), max_f(ty0, ty1)), min_f(max_f(tz0, tz1), tmax)) * 1.00000024f;
+  const float tfar = slab_min<M>(slab_min<M>(slab_max<M>(tx0, tx1), slab_max<M>(ty0, ty1)),
+                                 slab_min<M>(slab_max<M>(tz0, tz1), tmax)) *
+                     1.00000024f;
   return tnear <= tfar ? tnear : __builtin_huge_valf();
 }
 
@@ -147,15 +172,18 @@ using TraversalState = TraversalStateOf<InlineStackOf<int32_t>>;
 //   ClassicFetch  a node as 14 and a triangle as 10 scalar 4-byte loads (one per field read), the stack inside the
 //                 state: the `cuda` tracer's BVH2 kernel until 2026-11 (`traversal=classic`), kept as the baseline.
 //   WideFetch     a node as four and a triangle as three 16-byte read-only loads (load_node_wide,
-//                 load_triangle_wide), the stack apart from the state (`traversal=tuned`, the default).
+//                 load_triangle_wide), the stack apart from the state, the slab test's min and max as single
+//                 instructions (slab_min, slab_max) (`traversal=tuned`, the default).
 // On the host both read the same struct; the CPU tracers and the simt model run ClassicFetch's code.
 struct ClassicFetch {
   static constexpr bool kStackApart = false;
+  static constexpr bool kMinMaxInstructions = false;
   RAYCOH_HD static const BvhNode& node(const BvhView& b, int32_t i) { return b.nodes[i]; }
   RAYCOH_HD static const BvhTriangle& triangle(const BvhView& b, uint32_t i) { return b.tris[i]; }
 };
 struct WideFetch {
   static constexpr bool kStackApart = true;
+  static constexpr bool kMinMaxInstructions = true;
   RAYCOH_HD static BvhNode node(const BvhView& b, int32_t i) {
     return load_node_wide(b.nodes, static_cast<uint32_t>(i));
   }
@@ -195,8 +223,8 @@ template <class Counters, class Fetch = ClassicFetch, class State>
 RAYCOH_HD RAYCOH_INLINE void node_step(State& s, const BvhView& bvh, Counters& counters) {
   const auto& n = Fetch::node(bvh, s.node_ref);
   counters.on_node(s.node_ref);
-  const float t0 = intersect_box(s.ray, n.lo0, n.hi0, s.hit.t);
-  const float t1 = intersect_box(s.ray, n.lo1, n.hi1, s.hit.t);
+  const float t0 = intersect_box<Fetch::kMinMaxInstructions>(s.ray, n.lo0, n.hi0, s.hit.t);
+  const float t1 = intersect_box<Fetch::kMinMaxInstructions>(s.ray, n.lo1, n.hi1, s.hit.t);
   const bool hit0 = t0 != __builtin_huge_valf();
   const bool hit1 = t1 != __builtin_huge_valf();
   if (!hit0 && !hit1) {

@@ -42,18 +42,20 @@ KernelSpec classic_kernel() {
 
 // The tuned BVH2 kernel (`traversal=tuned`, WideFetch in core/traverse.h), counted with the same method by
 // scripts/count-cwbvh-step-instructions (nvcc 13's SASS of the probe kernels simt/probe/step_probes.cu probe_wide_*,
-// whose state is in registers as in closest_hit; sm_86, sm_90 in brackets): node step 112 instructions = 146
-// partition cycles [111 = 144] (ALU-bound: 73 integer/compare/select/min/max at half rate), 4 global loads (3
+// whose state is in registers as in closest_hit; sm_86, sm_90 in brackets): node step 88 instructions = 98
+// partition cycles [87 = 96] (ALU-bound: 49 integer/compare/select/min/max at half rate), 4 global loads (3
 // LDG.E.128 and one LDG.E.64: ptxas narrows the fourth word to the two child references it uses; modelled as four
 // 16-byte loads of the node's four words) and 3 local accesses (the stack's push and two pops; the state no longer
 // lives in local memory); triangle 152 = 152 [155], 3 LDG.E.128 (v0 + prim, v1, v2), 0 local (more integer
 // selects than the classic kernel's 124: the watertight test's axis permutation indexes registers, not local
 // memory); leaf bookkeeping 26 = 34 [25 = 38], 1 local. traversal_begin computes what the classic kernel's does: 28.
-// Registers: 56 on sm_86, 55 on sm_90 (`nvcc -Xptxas -v`, persistent_kernel<.., WideBvhView, NoAlphaTest>), stack
-// frame 256 bytes (the stack alone; the classic kernel's 352 hold the whole state).
+// The slab test's min and max are one FMNMX each (slab_min / slab_max): with the conditional form (a compare and a
+// select each) the node step was 112 = 146. Registers: 55 on sm_86, 54 on sm_90 (`nvcc -Xptxas -v`,
+// persistent_kernel<.., WideBvhView, NoAlphaTest>), stack frame 256 bytes (the stack alone; the classic kernel's
+// 352 hold the whole state).
 KernelSpec tuned_kernel(uint32_t regs) {
   KernelSpec k = classic_kernel();
-  k.node = {146, 4, 3, {1, 1, 1, 1, 0}};
+  k.node = {98, 4, 3, {1, 1, 1, 1, 0}};
   k.node.load_bytes = 16;
   k.triangle = {152, 3, 0, {1, 1, 1, 0, 0}};
   k.triangle.load_bytes = 16;
@@ -144,7 +146,7 @@ GpuModelConfig rtx3060() {
   g.l1_latency = 39;
   g.l2_latency = 187;
   g.dram_latency = 187 + 254;
-  set_kernels(m, 56, 66);  // sm_86
+  set_kernels(m, 55, 66);  // sm_86
   return m;
 }
 
@@ -176,7 +178,7 @@ GpuModelConfig h100() {
   g.l1_latency = 34;
   g.l2_latency = 200;
   g.dram_latency = 200 + 190;
-  set_kernels(m, 55, 56);  // sm_90
+  set_kernels(m, 54, 56);  // sm_90
   return m;
 }
 
@@ -234,7 +236,7 @@ GpuModelConfig gpgpusim_rtx3070() {
   // of classic_kernel() (115, 124, 39, 28). Registers: the simulator takes them from ptxas (nvcc 11.8, sm_86) on the
   // same PTX, which reports 55 for persistent_kernel<false, BvhView, NoAlphaTest> (raycoh.N.sm_86.ptxas), as
   // nvcc 13 does.
-  set_kernels(m, 56, 66);
+  set_kernels(m, 55, 66);
   // The simulator issues each warp's PTX in program order and waits for every operand (its scoreboard), with the
   // latencies of cfg:55-62 and cfg:96: a step alone on its scheduler, every load an L1 hit, takes node 1,242,
   // triangle 1,353, leaf 135 cycles (scripts/count-ptx-step-instructions, "in-order issue"). nvcc leaves PTX
@@ -244,15 +246,15 @@ GpuModelConfig gpgpusim_rtx3070() {
   m.classic.triangle = {134, 10, 0, {4, 3, 3, 0, 0}, 1353};
   m.classic.leaf = {35, 0, 8, {}, 135};
   m.classic.ray_begin = {32, 2, 0};
-  // The tuned kernel's PTX (the same script, probe_wide_*): node 120 instructions, 4 ld.global.v4 (16 bytes;
-  // `ld.global.nc`), 3 local, in-order 462 cycles; triangle 138, 3, 0, 1070; leaf 24, 0, 1, 80. Registers: nvcc 13's
-  // ptxas for sm_86 (56); the simulator build's were not read. The CWBVH kernel keeps its SASS costs (its PTX was
+  // The tuned kernel's PTX (the same script, probe_wide_*): node 95 instructions, 4 ld.global.nc (16 bytes), 3
+  // local, in-order 331 cycles; triangle 138, 3, 0, 1070; leaf 24, 0, 1, 80. Registers: nvcc 13's ptxas for sm_86
+  // (55); the simulator build's were not read. The CWBVH kernel keeps its SASS costs (its PTX was
   // never counted): a known gap of this preset.
   m.tuned = m.classic;
-  m.tuned.node = {120, 4, 3, {1, 1, 1, 1, 0}, 462, 16};
+  m.tuned.node = {95, 4, 3, {1, 1, 1, 1, 0}, 331, 16};
   m.tuned.triangle = {138, 3, 0, {1, 1, 1, 0, 0}, 1070, 16};
   m.tuned.leaf = {24, 0, 1, {}, 80};
-  m.tuned.regs_per_thread = 56;
+  m.tuned.regs_per_thread = 55;
   m.kernel = m.tuned;
   return m;
 }

@@ -215,7 +215,7 @@ const ParamTable& simt_params() {
                    "the `cuda` BVH2 kernel modelled: tuned (16-byte loads, state in registers) or classic (a 4-byte "
                    "load per field, state in local memory); bvh2 only"),
       preset_row("node_cycles", ParamType::Float, 1, 100000,
-                 "partition issue cycles of a node step; default: the kernel's counted cost (146 tuned, 115 classic, "
+                 "partition issue cycles of a node step; default: the kernel's counted cost (98 tuned, 115 classic, "
                  "542 cwbvh)"),
   };
   return table;

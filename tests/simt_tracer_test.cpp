@@ -227,11 +227,11 @@ TEST(SimtTracer, CoherentOrderBeatsScanlineOrder) {
 TEST(SimtTracer, ParametersAndErrors) {
   const Batch b = make_batch("cornell", 8, 8);
   EXPECT_EQ(make_tracer({"simt", ""}, b.scene, b.bvh)->params(),
-            "preset=rtx3060,kernel=persistent,block=128,warp=32,line=64,bvh=bvh2,traversal=tuned,regs=56,resident=0,"
-            "sms=28,l1_kb=128,l2_mb=3,l1_tags=4,l1_banks=0,l1_words=0,dram_gbs=360,l2_bpc=1327.4073,node_cycles=146");
+            "preset=rtx3060,kernel=persistent,block=128,warp=32,line=64,bvh=bvh2,traversal=tuned,regs=55,resident=0,"
+            "sms=28,l1_kb=128,l2_mb=3,l1_tags=4,l1_banks=0,l1_words=0,dram_gbs=360,l2_bpc=1327.4073,node_cycles=98");
   EXPECT_EQ(make_tracer({"simt", "preset=h100,line=128,kernel=simple,block=256"}, b.scene, b.bvh)->params(),
-            "preset=h100,kernel=simple,block=256,warp=32,line=128,bvh=bvh2,traversal=tuned,regs=55,resident=0,"
-            "sms=132,l1_kb=256,l2_mb=50,l1_tags=4,l1_banks=0,l1_words=1,dram_gbs=3350,l2_bpc=3628.73,node_cycles=146");
+            "preset=h100,kernel=simple,block=256,warp=32,line=128,bvh=bvh2,traversal=tuned,regs=54,resident=0,"
+            "sms=132,l1_kb=256,l2_mb=50,l1_tags=4,l1_banks=0,l1_words=1,dram_gbs=3350,l2_bpc=3628.73,node_cycles=98");
   EXPECT_NE(make_tracer({"simt", "bvh=cwbvh"}, b.scene, b.bvh)->params().find("bvh=cwbvh,traversal=tuned,regs=66,"),
             std::string::npos);  // the CWBVH kernel's registers
   EXPECT_NE(make_tracer({"simt", "traversal=classic"}, b.scene, b.bvh)->params().find("regs=55,"),
