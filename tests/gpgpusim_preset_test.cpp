@@ -107,6 +107,7 @@ TEST(GpgpusimPreset, L1BankCyclesFollowTheSimulatorsQueue) {
 // sectors, 8 cycles each (tag rule: 512 bytes through 128 bytes a cycle, 4 each).
 TEST(GpgpusimPreset, TheBankRuleTakesALoadsSectorsFourBanksAtATime) {
   GpuModelConfig g = gpu_preset("gpgpusim-rtx3070");
+  use_kernel(g, TraceKernelChoice::Bvh2Classic);  // 14 four-byte loads a node step
   g.cache.sms = 1;
   g.gpu.launch_cycles = 0;
   SimtConfig sc;

@@ -167,7 +167,8 @@ TEST(GpuTracerRegistry, ListedInCudaBuildsWithItsParameters) {
   const auto& infos = tracer_infos();
   const auto it = std::find_if(infos.begin(), infos.end(), [](const TracerInfo& i) { return i.name == "cuda"; });
   ASSERT_NE(it, infos.end());
-  EXPECT_EQ(default_params(it->table()), "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,pipeline=device");
+  EXPECT_EQ(default_params(it->table()),
+            "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,traversal=tuned,stack=local,pipeline=device");
   EXPECT_EQ(it->table()[2].choices, (std::vector<std::string>{"off", "on"}));
 }
 

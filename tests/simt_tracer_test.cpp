@@ -118,6 +118,27 @@ TEST_P(SimtOnScene, HitsEqualTheCpuTracerBitForBit) {
   }
 }
 
+// The two BVH2 kernels the model stands for count the same traversal (hits and warp counters equal) and differ in
+// cost only: on incoherent rays the tuned kernel (16-byte loads, state in registers) needs fewer L1 wavefronts.
+TEST_P(SimtOnScene, TunedAndClassicKernelsCountTheSameTraversal) {
+  const Batch b = make_batch(GetParam(), 96, 64);
+  CoherenceCounters c[2];
+  std::vector<Hit> hits[2];
+  const char* params[2] = {"preset=h100,traversal=classic", "preset=h100"};
+  for (int k = 0; k < 2; ++k) {
+    auto simt = make_tracer({"simt", params[k]}, b.scene, b.bvh);
+    hits[k].resize(b.rays.size());
+    simt->trace(b.rays.data(), b.rays.size(), hits[k].data());
+    c[k] = *simt->last_counters();
+  }
+  EXPECT_EQ(std::memcmp(hits[0].data(), hits[1].data(), hits[0].size() * sizeof(Hit)), 0);
+  EXPECT_EQ(c[0].node_steps, c[1].node_steps);
+  EXPECT_EQ(c[0].node_lines, c[1].node_lines);
+  EXPECT_EQ(c[0].triangle_fetches, c[1].triangle_fetches);
+  EXPECT_LT(c[1].modeled.l1_wavefronts, c[0].modeled.l1_wavefronts);
+  EXPECT_LT(c[1].modeled.l1_local_wavefronts, c[0].modeled.l1_local_wavefronts);
+}
+
 std::string scene_name(const ::testing::TestParamInfo<std::string>& info) {
   std::string stem = std::filesystem::path(info.param).stem().string();
   for (char& c : stem)
