@@ -97,9 +97,9 @@ RAYCOH_HD RAYCOH_INLINE float intersect_box(const PreparedRay& r, Vec3 lo, Vec3 
   const float tnear = slab_max<M>(slab_max<M>(slab_min<M>(tx0, tx1), slab_min<M>(ty0, ty1)),
                                   slab_max<M>(slab_min<M>(tz0, tz1), r.tmin));
   // 1 + 2 gamma(3): makes the far distance conservative against rounding (Ize 2013).
-  const float tfar = slab_min<M>(slab_min<M>(slab_max<M>(tx0, tx1), slab_max<M>(ty0, ty1)),
-                                 slab_min<M>(slab_max<M>(tz0, tz1), tmax)) *
-                     1.00000024f;
+  const float tfar =
+      slab_min<M>(slab_min<M>(slab_max<M>(tx0, tx1), slab_max<M>(ty0, ty1)), slab_min<M>(slab_max<M>(tz0, tz1), tmax)) *
+      1.00000024f;
   return tnear <= tfar ? tnear : __builtin_huge_valf();
 }
 

@@ -89,10 +89,16 @@ def main(argv):
     if not predicted:
         print(f"kernel_gain: no rows in {', '.join(args[:cut])}", file=sys.stderr)
         return 1
-    print("## The model's prediction (MODELED, committed before the hardware run) beside the measurement\n")
-    print("\n".join(prediction_table(predicted, measured)))
-    print("\n## Coherence gain (ratio to noopt) against the trace kernel: measured (cuda) and MODELED (simt)\n")
-    print("\n".join(gain_table(predicted, measured)))
+    text = ("## The model's prediction (MODELED, committed before the hardware run) beside the measurement\n\n" +
+            "\n".join(prediction_table(predicted, measured)) +
+            "\n\n## Coherence gain (ratio to noopt) against the trace kernel: measured (cuda) and MODELED (simt)\n\n" +
+            "\n".join(gain_table(predicted, measured)))
+    device = summary.simulated_device([p for p in args[cut + 1:] if pathlib.Path(p).exists()])
+    if device:  # rows of a simulator build: a second model's figures, and in functional mode no time at all
+        text = (f"**SIMULATED, not hardware**: the measured columns come from {device}; in functional mode their "
+                "times are the simulator's wall time and mean nothing.\n\n" +
+                text.replace("measured", "SIMULATED"))
+    print(text)
     if not measured:
         print("\nNo measured rows given: every measured column is –.")
     return 0
