@@ -158,15 +158,9 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   const bool cwbvh = params.get_choice("bvh") == "cwbvh";
   launch.traversal =
       params.get_choice("traversal") == "classic" ? cuda::Bvh2Traversal::Classic : cuda::Bvh2Traversal::Tuned;
-  if (cwbvh && launch.traversal == cuda::Bvh2Traversal::Classic)
-    throw Error(fmt::format("{}: traversal=classic is a BVH2 kernel; bvh=cwbvh has one kernel (traversal=tuned)",
-                            params.owner()));
   launch.shared_stack = params.get_choice("stack") == "shared";
-  if (launch.shared_stack && !cwbvh)
-    throw Error(
-        fmt::format("{}: stack=shared is the CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack "
-                    "in local memory",
-                    params.owner()));
+  const std::string choice = cuda::launch_choice_error(launch, cwbvh);
+  if (!choice.empty()) throw Error(fmt::format("{}: {}", params.owner(), choice));
   const bool on_device = params.get_choice("pipeline") == "device";
   params.finish();
   if (cwbvh && counting)

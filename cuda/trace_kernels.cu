@@ -246,9 +246,8 @@ int DeviceTracer::persistent_blocks(const TraceLaunch& launch) const {
 
 void DeviceTracer::check_launch(const TraceLaunch& launch) const {
   check_block(launch.block);
-  if (launch.shared_stack && !impl_->cwbvh)
-    throw Error(
-        "cuda: stack=shared is a CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack in local memory");
+  const std::string choice = launch_choice_error(launch, impl_->cwbvh);
+  if (!choice.empty()) throw Error("cuda: " + choice);
   const size_t shared = impl_->shared_bytes(launch);
   if (shared > 48 * 1024)
     throw Error("cuda: stack=shared needs " + std::to_string(shared) + " bytes of shared memory per block of " +

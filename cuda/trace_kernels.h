@@ -88,6 +88,17 @@ inline std::string alpha_arrays_error(const AlphaMaskArrays& a, const BvhTriangl
   return "";
 }
 
+// Why a launch's kernel choices cannot run on a tracer of this layout (empty when they can): classic is a BVH2
+// kernel, a shared stack a CWBVH kernel's. Plain host code: the `cuda` tracer checks its parameters with it before
+// it needs a device, DeviceTracer::check_launch before every launch.
+inline std::string launch_choice_error(const TraceLaunch& launch, bool cwbvh) {
+  if (cwbvh && launch.traversal == Bvh2Traversal::Classic)
+    return "traversal=classic is a BVH2 kernel; bvh=cwbvh has one kernel (traversal=tuned)";
+  if (!cwbvh && launch.shared_stack)
+    return "stack=shared is the CWBVH kernel's (bvh=cwbvh); the BVH2 kernels keep their stack in local memory";
+  return "";
+}
+
 // The BVH on the device (uploaded once by the constructor) and reusable ray/hit buffers (grown on demand).
 // Throws raycoh::Error on any CUDA error, including "no device".
 class DeviceTracer {

@@ -12,6 +12,7 @@
 #include "simt/gpu_model.h"
 #include "simt/simt.h"
 #include "simt/timed_replay.h"
+#include "tests/node_step_replay.h"
 
 namespace raycoh {
 namespace {
@@ -110,23 +111,9 @@ TEST(GpgpusimPreset, TheBankRuleTakesALoadsSectorsFourBanksAtATime) {
   use_kernel(g, TraceKernelChoice::Bvh2Classic);  // 14 four-byte loads a node step
   g.cache.sms = 1;
   g.gpu.launch_cycles = 0;
-  SimtConfig sc;
-  sc.line_bytes = 128;
-  sc.sector_bytes = 32;
   auto run = [&](uint32_t banks) {
     g.gpu.l1_banks = banks;
-    std::vector<WarpTrace> traces(1);
-    traces[0].lanes = 32;
-    traces[0].l1_banks = banks;
-    simt_detail::StepFetches f = simt_detail::StepFetches::for_trace(&traces[0]);
-    f.reset();
-    for (uint64_t l = 0; l < 32; ++l) f.add(64 * l, 64, sc);
-    f.finish();
-    f.emit(&traces[0], SimtStepKind::Node);
-    TimedReplay r(g, 1, 1 << 20);
-    r.run(traces, 1);
-    EXPECT_TRUE(r.done());
-    return r.result();
+    return test::replay_divergent_node_step(g);
   };
   const double local = g.kernel.node.local_accesses;  // 23 (PTX)
   EXPECT_DOUBLE_EQ(run(4).l1_busy, 16 + 14 * 16 + local);

@@ -16,7 +16,6 @@
 #include "scenes/scene.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
-#include "simt/simt.h"
 #include "simt/timed_replay.h"
 #include "tests/test_util.h"
 #include "tracers/tracer.h"
@@ -339,47 +338,6 @@ TEST(TimingModel, PipelineStagesMoveTheDocumentedBytes) {
   EXPECT_NEAR(contiguous, 2.0 * n * batch_bytes_per_ray() / 360e6, 0.05 * contiguous);
   EXPECT_GT(modeled_permute_ms(c, scattered.data(), n), 2.0 * contiguous);
   EXPECT_GT(modeled_generation_ms(c, n, n), 0.0);
-}
-
-}  // namespace
-}  // namespace raycoh
-
-namespace raycoh {
-namespace {
-
-// The H100 rule (l1_words) on one divergent node step, 32 lanes on 32 consecutive 64-byte nodes, for the two BVH2
-// kernels. Word w of node n is 4-byte word 16 n + 4 w + j: each 16-byte word of the record falls in 2 of the 32
-// banks. Classic: 4-byte loads, one pass of 32 lanes, 16 distinct words in each of 2 banks: 16 wavefronts a load,
-// 14 loads + 18 local accesses. Tuned: 16-byte loads in 4 passes of 8 lanes, each pass 4 lanes' words in each of
-// 8 banks: 4 wavefronts a pass, 16 a load; 4 loads + 3 local accesses. (The tag stage, 16 lines in 4 banks of 4,
-// is below both.)
-double divergent_node_l1(TraceKernelChoice kernel) {
-  GpuModelConfig g = gpu_preset("h100");
-  use_kernel(g, kernel);
-  g.cache.sms = 1;
-  SimtConfig sc;
-  sc.line_bytes = 128;
-  sc.sector_bytes = 32;
-  std::vector<WarpTrace> traces(1);
-  traces[0].lanes = 32;
-  traces[0].l1_words = true;
-  traces[0].node_load_bytes = g.kernel.node.load_bytes;
-  simt_detail::StepFetches f = simt_detail::StepFetches::for_trace(&traces[0]);
-  f.reset();
-  for (uint64_t n = 0; n < 32; ++n) f.add(64 * n, 64, sc);
-  f.finish();
-  f.emit(&traces[0], SimtStepKind::Node);
-  TimedReplay r(g, 1, 1 << 20);
-  r.run(traces, 1);
-  EXPECT_TRUE(r.done());
-  return r.result().l1_busy;
-}
-
-TEST(TimingModel, TheTunedKernelsNodeStepTakesFewerH100Wavefronts) {
-  const double classic = divergent_node_l1(TraceKernelChoice::Bvh2Classic);
-  const double tuned = divergent_node_l1(TraceKernelChoice::Bvh2Tuned);
-  // The same ray fetch in both: the difference is the node step's.
-  EXPECT_DOUBLE_EQ(classic - tuned, (14 * 16 + 18) - (4 * 16 + 3));
 }
 
 }  // namespace
