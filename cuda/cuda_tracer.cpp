@@ -18,7 +18,9 @@
 // pipeline=device (the default): a run makes every batch on the GPU too (cuda/device_pipeline.h): camera rays,
 // the noopt / ours / contiguous generators, every key encoder, CUB's radix sort, the gather and the trace, each
 // timed with CUDA events; the harness reads those times through device_pipeline() instead of timing trace()
-// calls. pipeline=host traces the batches the host made, the ones every other tracer traces.
+// calls. pipeline=fused does the same except that each secondary pass is one kernel that makes every tile's rays
+// and traces them where they are made (cuda/fused_kernels.cu; no batch in memory, no encoder). pipeline=host
+// traces the batches the host made, the ones every other tracer traces.
 //
 // Sources: Aila & Laine, "Understanding the Efficiency of Ray Traversal on GPUs" (HPG 2009): while-while
 // traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles;
@@ -67,8 +69,9 @@ class CudaTracer final : public Tracer {
   }
 
   // pipeline=device: every batch is made, sorted and traced on the device (cuda/device_pipeline.h).
-  void make_pipeline(const Scene& scene, const Bvh& bvh) {
+  void make_pipeline(const Scene& scene, const Bvh& bvh, bool fused) {
     cuda::PipelineTrace trace;
+    trace.fused = fused;
     trace.tracer = device_.get();
     trace.launch = launch_;
     trace.counting = counting_;
@@ -139,8 +142,10 @@ const ParamTable& cuda_params() {
       choice_param("stack", "local", {"local", "shared"},
                    "CWBVH kernel's traversal stack: local memory, or shared memory sized by the tree's depth "
                    "(bvh=cwbvh only)"),
-      choice_param("pipeline", "device", {"device", "host"},
-                   "device: generate, key, sort, permute and trace on the GPU; host: trace host-made batches"),
+      choice_param("pipeline", "device", {"device", "fused", "host"},
+                   "device: generate, key, sort, permute and trace on the GPU; fused: one kernel makes each tile's "
+                   "secondary rays and traces them (noopt, ours, contiguous; no batch, no encoder); host: trace "
+                   "host-made batches"),
   };
   return table;
 }
@@ -161,8 +166,19 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   launch.shared_stack = params.get_choice("stack") == "shared";
   const std::string choice = cuda::launch_choice_error(launch, cwbvh);
   if (!choice.empty()) throw Error(fmt::format("{}: {}", params.owner(), choice));
-  const bool on_device = params.get_choice("pipeline") == "device";
+  const std::string pipeline = params.get_choice("pipeline");
+  const bool on_device = pipeline != "host", fused = pipeline == "fused";
   params.finish();
+  if (fused && counting)
+    throw Error(
+        fmt::format("{}: counters=on traces a batch with the counting kernel; pipeline=fused has none "
+                    "(use pipeline=device)",
+                    params.owner()));
+  if (fused && launch.shared_stack)
+    throw Error(
+        fmt::format("{}: stack=shared gives the block's shared memory to the stack; pipeline=fused needs it "
+                    "for the tile's rays (use stack=local)",
+                    params.owner()));
   if (cwbvh && counting)
     throw Error(fmt::format("{}: counters=on has no CWBVH kernel (bvh=cwbvh); count CWBVH steps with the simt tracer",
                             params.owner()));
@@ -197,7 +213,7 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   }
   device->check_launch(launch);
   auto tracer = std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, cwbvh, params.canonical());
-  if (on_device) tracer->make_pipeline(scene, bvh);
+  if (on_device) tracer->make_pipeline(scene, bvh, fused);
   return tracer;
 }
 

@@ -9,6 +9,7 @@
 #include "core/batch_view.h"
 #include "core/error.h"
 #include "core/tile_grid.h"
+#include "cuda/trace_kernels.h"
 #include "generators/grouping.h"
 
 namespace raycoh {
@@ -50,17 +51,56 @@ inline __device__ uint32_t block_exclusive_count(bool flag, uint32_t* warp_total
   return before + static_cast<uint32_t>(__popc(bits & ((1u << lane) - 1u)));
 }
 
-// Adds each thread's tallies of emitted rays into the statistics (one atomic per counter and block).
-inline __device__ void tally_block(bool emitted, uint32_t flags, unsigned long long* stats) {
+// Exclusive sum of `value` over the block's threads in thread order, and the block's total (warp shuffles, one
+// barrier pair). Every thread of the block calls it (blockDim.x a multiple of 32); warp_totals is
+// __shared__ uint32_t[32].
+inline __device__ uint32_t block_exclusive_sum(uint32_t value, uint32_t* warp_totals, uint32_t& total) {
+  const unsigned lane = threadIdx.x & 31u, warp = threadIdx.x >> 5;
+  uint32_t inclusive = value;
+  for (unsigned d = 1; d < 32; d <<= 1) {
+    const uint32_t v = __shfl_up_sync(kFullMask, inclusive, d);
+    if (lane >= d) inclusive += v;
+  }
+  if (lane == 31) warp_totals[warp] = inclusive;
+  __syncthreads();
+  uint32_t before = 0;
+  total = 0;
+  for (unsigned w = 0; w < (blockDim.x >> 5); ++w) {
+    const uint32_t v = warp_totals[w];
+    if (w < warp) before += v;
+    total += v;
+  }
+  __syncthreads();
+  return before + inclusive - value;
+}
+
+// Statistics of one block in shared memory (shared atomics), added to the global ones once per block.
+struct BlockStats {
+  uint32_t* slots;  // __shared__ uint32_t[kStatCount]
+  __device__ void clear() const {
+    if (threadIdx.x < kStatCount) slots[threadIdx.x] = 0;
+  }
+  __device__ void add(int slot, uint32_t n) const {
+    if (n) atomicAdd(slots + slot, n);
+  }
+  // After a barrier: one global atomic per non-zero slot.
+  __device__ void flush(unsigned long long* stats) const {
+    if (threadIdx.x < kStatCount && slots[threadIdx.x])
+      atomicAdd(stats + threadIdx.x, static_cast<unsigned long long>(slots[threadIdx.x]));
+  }
+};
+
+// Adds each thread's tallies of emitted rays into the block's statistics.
+inline __device__ void tally_block(bool emitted, uint32_t flags, const BlockStats& stats) {
   const int rays = __syncthreads_count(emitted);
   const int below_geometric = __syncthreads_count(emitted && (flags & kSampleBelowGeometric));
   const int below_shading = __syncthreads_count(emitted && (flags & kSampleBelowShading));
   const int non_finite = __syncthreads_count(emitted && (flags & kSampleNonFinite));
   if (threadIdx.x == 0) {
-    if (rays) atomicAdd(stats + kStatRays, static_cast<unsigned long long>(rays));
-    if (below_geometric) atomicAdd(stats + kStatBelowGeometric, static_cast<unsigned long long>(below_geometric));
-    if (below_shading) atomicAdd(stats + kStatBelowShading, static_cast<unsigned long long>(below_shading));
-    if (non_finite) atomicAdd(stats + kStatNonFinite, static_cast<unsigned long long>(non_finite));
+    stats.add(kStatRays, static_cast<uint32_t>(rays));
+    stats.add(kStatBelowGeometric, static_cast<uint32_t>(below_geometric));
+    stats.add(kStatBelowShading, static_cast<uint32_t>(below_shading));
+    stats.add(kStatNonFinite, static_cast<uint32_t>(non_finite));
   }
 }
 
@@ -77,6 +117,15 @@ inline int round_up_warp(int n) { return (n + 31) / 32 * 32; }
 void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
                          const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
                          const BatchView& out, unsigned long long* stats);
+
+// The fused trace (cuda/fused_kernels.cu): one block per tile makes the tile's rays (noopt, or ours / contiguous
+// with `config`) and traces them with the launch's kernel form over `scene`; hits[pixel] for every ray's pixel.
+void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
+                        const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid, Hit* hits,
+                        unsigned long long* stats);
+void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, const GroupingConfig& config,
+                           const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials, Hit* hits,
+                           unsigned long long* stats);
 
 // Camera rays of make_primary_rays_gpu (cuda/device_primary.cu) into device arrays of width x height entries,
 // queued on the default stream (nothing waited for): d_rays[slot] and d_pixels[slot] in the batch order.

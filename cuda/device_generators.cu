@@ -138,7 +138,10 @@ struct DeviceGenerator::Impl {
   uint32_t frame = 0;
   size_t hits = 0, tiles = 0;
   bool grouping = false, uploaded = false, launched = false;
+  bool fused = false;  // the last launch was launch_fused (no batch, no tile offsets)
   BatchView view{};
+  struct Plan;
+  Plan plan(uint32_t seed, const Generator& cpu) const;
 
   // out[i] = sum of in[0 .. i) for i <= n (CUB's device-wide scan).
   void exclusive_sum(const uint32_t* in, uint32_t* out, size_t n) {
@@ -238,44 +241,80 @@ void DeviceGenerator::upload(const GBuffer& g) {
   m.uploaded = true;
 }
 
+// What one launch generates: the CPU generator's typed configuration and the tile grid of its order.
+struct DeviceGenerator::Impl::Plan {
+  GpuGenerator gen;
+  bool grouping = false, scanline = false;
+  GroupingConfig config{};
+  TileGrid grid;
+  size_t pixels = 0, tiles = 0;
+};
+
+DeviceGenerator::Impl::Plan DeviceGenerator::Impl::plan(uint32_t seed, const Generator& cpu) const {
+  if (!uploaded) throw Error("cuda: DeviceGenerator::launch before upload (no G-buffer on the device)");
+  Plan p;
+  p.gen = gpu_generator(cpu);
+  p.grouping = p.gen.grouping != nullptr;
+  p.config = p.grouping ? p.gen.grouping->config(seed, frame) : GroupingConfig{};
+  const auto [tile_w, tile_h] = p.grouping ? p.gen.grouping->tile() : p.gen.noopt->tile();
+  // NoOpt's scanline order is its tile order with one-row tiles, as on the CPU.
+  p.grid = !p.grouping && p.gen.noopt->order() == RayOrder::Scanline ? TileGrid(width, height, width, 1)
+                                                                     : TileGrid(width, height, tile_w, tile_h);
+  p.pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+  p.tiles = static_cast<size_t>(p.grid.count());
+  p.scanline = p.grouping && p.config.order == RayOrder::Scanline;
+  return p;
+}
+
 void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
   Impl& m = *impl_;
-  if (!m.uploaded) throw Error("cuda: DeviceGenerator::launch before upload (no G-buffer on the device)");
-  const GpuGenerator gen = gpu_generator(cpu);
-  const bool grouping = gen.grouping != nullptr;
-  const GroupingConfig config = grouping ? gen.grouping->config(seed, m.frame) : GroupingConfig{};
-  const auto [tile_w, tile_h] = grouping ? gen.grouping->tile() : gen.noopt->tile();
-  // NoOpt's scanline order is its tile order with one-row tiles, as on the CPU.
-  const TileGrid grid = !grouping && gen.noopt->order() == RayOrder::Scanline
-                            ? TileGrid(m.width, m.height, m.width, 1)
-                            : TileGrid(m.width, m.height, tile_w, tile_h);
-  const size_t pixels = static_cast<size_t>(m.width) * static_cast<size_t>(m.height);
-  const size_t tiles = static_cast<size_t>(grid.count());
+  const Impl::Plan p = m.plan(seed, cpu);
   const size_t n = m.hits;
-  const bool scanline = grouping && config.order == RayOrder::Scanline;
-  m.view = m.reserve(n, pixels, tiles, grouping, scanline);
-  m.grouping = grouping;
-  m.tiles = tiles;
+  m.view = m.reserve(n, p.pixels, p.tiles, p.grouping, p.scanline);
+  m.grouping = p.grouping;
+  m.tiles = p.tiles;
+  m.fused = false;
 
   m.timer.start();
-  if (tiles > 0 && n > 0) {
-    tile_hits_kernel<<<static_cast<unsigned>(tiles), 128>>>(m.points.get(), grid, m.counts.get());
+  if (p.tiles > 0 && n > 0) {
+    tile_hits_kernel<<<static_cast<unsigned>(p.tiles), 128>>>(m.points.get(), p.grid, m.counts.get());
     RAYCOH_CUDA_CHECK_LAUNCH();
-    m.exclusive_sum(m.counts.get(), m.offsets.get(), tiles + 1);
-    if (scanline) {
-      hit_flags_kernel<<<blocks_for(pixels, 256), 256>>>(m.points.get(), pixels, m.flags.get());
+    m.exclusive_sum(m.counts.get(), m.offsets.get(), p.tiles + 1);
+    if (p.scanline) {
+      hit_flags_kernel<<<blocks_for(p.pixels, 256), 256>>>(m.points.get(), p.pixels, m.flags.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
-      m.exclusive_sum(m.flags.get(), m.slots.get(), pixels);
+      m.exclusive_sum(m.flags.get(), m.slots.get(), p.pixels);
     }
-    if (grouping) {
-      launch_group_kernel(config, grid, m.points.get(), m.point_materials, m.offsets.get(), m.slots.get(), m.view,
+    if (p.grouping) {
+      launch_group_kernel(p.config, p.grid, m.points.get(), m.point_materials, m.offsets.get(), m.slots.get(), m.view,
                           m.stats.get());
     } else {
-      const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
-      noopt_kernel<<<static_cast<unsigned>(tiles), block>>>(m.points.get(), m.point_materials, seed, m.frame, grid,
-                                                            m.offsets.get(), m.view, m.stats.get());
+      const int block = std::min(256, round_up_warp(p.grid.tile_w * p.grid.tile_h));
+      noopt_kernel<<<static_cast<unsigned>(p.tiles), block>>>(m.points.get(), m.point_materials, seed, m.frame, p.grid,
+                                                              m.offsets.get(), m.view, m.stats.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
     }
+  }
+  m.timer.stop();
+  m.launched = true;
+}
+
+void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const DeviceTracer& tracer,
+                                   const TraceLaunch& trace, Hit* hits) {
+  Impl& m = *impl_;
+  const Impl::Plan p = m.plan(seed, cpu);
+  m.stats.zero(kStatCount);
+  m.grouping = p.grouping;
+  m.tiles = p.tiles;
+  m.fused = true;
+  m.view = BatchView{};
+  const DeviceScene scene = tracer.device_scene();
+  m.timer.start();
+  if (p.tiles > 0 && m.hits > 0) {
+    if (p.grouping)
+      launch_fused_grouping(scene, trace, p.config, p.grid, m.points.get(), m.point_materials, hits, m.stats.get());
+    else
+      launch_fused_noopt(scene, trace, m.points.get(), m.point_materials, seed, m.frame, p.grid, hits, m.stats.get());
   }
   m.timer.stop();
   m.launched = true;
@@ -285,13 +324,16 @@ void DeviceGenerator::finish(GenerationStats& stats) {
   Impl& m = *impl_;
   if (!m.launched) throw Error("cuda: DeviceGenerator::finish without a launch");
   m.last_ms = m.timer.elapsed_ms();
-  uint32_t total = 0;
-  if (m.tiles > 0 && m.hits > 0)
-    RAYCOH_CUDA_CHECK(cudaMemcpy(&total, m.offsets.get() + m.tiles, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+  stats = m.download_stats();
+  uint64_t total = stats.rays;  // the fused trace keeps no tile offsets: its ray count
+  if (!m.fused && m.tiles > 0 && m.hits > 0) {
+    uint32_t offsets_total = 0;
+    RAYCOH_CUDA_CHECK(cudaMemcpy(&offsets_total, m.offsets.get() + m.tiles, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+    total = offsets_total;
+  }
   if (total != m.hits)
     throw Error("cuda: the device counted " + std::to_string(total) + " hit pixels, the G-buffer " +
                 std::to_string(m.hits));
-  stats = m.download_stats();
 }
 
 BatchView DeviceGenerator::device_batch() const { return impl_->view; }

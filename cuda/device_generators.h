@@ -32,6 +32,7 @@
 
 #include "core/batch_view.h"
 #include "core/ray_batch.h"
+#include "cuda/trace_kernels.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
 #include "scenes/scene.h"
@@ -76,6 +77,11 @@ class DeviceGenerator {
   // valid until the next launch; download() copies it to the host.
   void upload(const GBuffer& gbuffer);
   void launch(uint32_t seed, const Generator& cpu);
+  // The fused form of launch (cuda:pipeline=fused): no batch; each tile's rays are made and traced by one block
+  // with the tracer's kernel form, hits[pixel] for each ray's pixel (width x height entries). Timed as one kernel
+  // by the same timer; finish() as after launch(). device_batch() is then empty.
+  void launch_fused(uint32_t seed, const Generator& cpu, const DeviceTracer& tracer, const TraceLaunch& trace,
+                    Hit* hits);
   void finish(GenerationStats& stats);
   BatchView device_batch() const;
   size_t device_count() const;

@@ -38,7 +38,7 @@ class CudaPipeline final : public DevicePipeline {
 
   std::string refusal(const std::string& generator_name, const Generator& generator,
                       const Encoder& encoder) const override {
-    return device_pipeline_refusal(generator_name, generator, encoder);
+    return device_pipeline_refusal(generator_name, generator, encoder, trace_.fused);
   }
 
   DeviceStageTimes primary(int width, int height, int tile_w, int tile_h, uint32_t seed, uint32_t frame,
@@ -72,6 +72,7 @@ class CudaPipeline final : public DevicePipeline {
                              GenerationStats& stats) override {
     if (!gbuffer_ready_) throw Error("cuda: a secondary pass before upload_first_hits (no G-buffer on the device)");
     last_ = Pass::None;
+    if (trace_.fused) return secondary_fused(generator, encoder, seed, stats);
     DeviceKeys* keys = keys_for(encoder);
     const bool physical = keys && mode == PermuteMode::Physical;
     stages_.start_span();
@@ -104,6 +105,7 @@ class CudaPipeline final : public DevicePipeline {
     last_n_ = n;
     last_keys_ = keys;
     last_physical_ = physical;
+    last_fused_ = false;
     return t;
   }
 
@@ -116,9 +118,13 @@ class CudaPipeline final : public DevicePipeline {
   void download_secondary(RayBatch& generated, std::vector<uint32_t>& order, RayBatch& permuted,
                           std::vector<Hit>& hits) const override {
     if (last_ != Pass::Secondary) throw Error("cuda: download_secondary: the last pass was not a secondary pass");
-    generator_.download(generated);
     order.clear();
     permuted = RayBatch{};
+    if (last_fused_) {
+      download_fused(generated, hits);
+      return;
+    }
+    generator_.download(generated);
     if (last_keys_) {
       order.resize(last_n_);
       last_keys_->download_order(order.data(), last_n_);
@@ -134,6 +140,43 @@ class CudaPipeline final : public DevicePipeline {
 
  private:
   enum class Pass { None, Primary, Secondary };
+
+  // pipeline=fused: one kernel makes and traces each tile's rays (hits at their pixels); its time is trace_ms.
+  DeviceStageTimes secondary_fused(const Generator& generator, const Encoder& encoder, uint32_t seed,
+                                   GenerationStats& stats) {
+    if (encoder.key_bits() > 0)
+      throw Error(fmt::format("cuda: encoder '{}' sorts a batch; cuda:pipeline=fused keeps none", encoder.name()));
+    const size_t pixels = static_cast<size_t>(gbuffer_.width) * static_cast<size_t>(gbuffer_.height);
+    stages_.start_span();
+    generator_.launch_fused(seed, generator, *trace_.tracer, trace_.launch, stages_.hits(pixels));
+    stages_.stop_span();
+    generator_.finish(stats);
+    DeviceStageTimes t;
+    t.fused = true;
+    t.trace_ms = generator_.last_kernel_ms();
+    t.span_ms = stages_.wait_span_ms();
+    last_ = Pass::Secondary;
+    last_n_ = generator_.device_count();
+    last_keys_ = nullptr;
+    last_physical_ = false;
+    last_fused_ = true;
+    last_generator_ = &generator;
+    last_seed_ = seed;
+    return t;
+  }
+
+  // The batch of the last fused pass, made again by the materialized device generator (equal to the CPU's), and the
+  // fused hits in its order.
+  void download_fused(RayBatch& generated, std::vector<Hit>& hits) const {
+    GenerationStats unused;
+    generator_.launch(last_seed_, *last_generator_);
+    generator_.finish(unused);
+    generator_.download(generated);
+    std::vector<Hit> at_pixel;
+    stages_.download_hits(at_pixel, static_cast<size_t>(gbuffer_.width) * static_cast<size_t>(gbuffer_.height));
+    hits.resize(generated.size());
+    for (size_t i = 0; i < generated.size(); ++i) hits[i] = at_pixel[generated.pixel[i]];
+  }
 
   // Queues the trace stage; returns -1 for the timing kernel (its time is read after the span closes), or the
   // counting kernel's time (it waits for its counters, which go to trace_.counted).
@@ -162,7 +205,7 @@ class CudaPipeline final : public DevicePipeline {
   const Scene& scene_;
   const Bvh& bvh_;
   PipelineTrace trace_;
-  DeviceGenerator generator_;
+  mutable DeviceGenerator generator_;  // mutable: a fused pass's batch is made again when downloaded
   DeviceStages stages_;
   std::vector<std::pair<KeyRecipe, std::unique_ptr<DeviceKeys>>> keys_;
   GBuffer gbuffer_;
@@ -172,14 +215,18 @@ class CudaPipeline final : public DevicePipeline {
   size_t last_n_ = 0;
   DeviceKeys* last_keys_ = nullptr;
   bool last_physical_ = false;
+  bool last_fused_ = false;
+  const Generator* last_generator_ = nullptr;  // fused: the last pass's (download_secondary remakes its batch)
+  uint32_t last_seed_ = 0;
 };
 
 }  // namespace
 
 std::string device_pipeline_refusal(const std::string& generator_name, const Generator& generator,
-                                    const Encoder& encoder) {
+                                    const Encoder& encoder, bool fused) {
   const char* const host = "; cuda:pipeline=host traces host-made batches of it";
-  if (!dynamic_cast<const NoOptGenerator*>(&generator) && !dynamic_cast<const TangentSpaceReuse*>(&generator))
+  const auto* grouping = dynamic_cast<const TangentSpaceReuse*>(&generator);
+  if (!dynamic_cast<const NoOptGenerator*>(&generator) && !grouping)
     return fmt::format("generator '{}' has no device version; device generators: noopt, ours, contiguous{}",
                        generator_name, host);
   try {
@@ -188,6 +235,16 @@ std::string device_pipeline_refusal(const std::string& generator_name, const Gen
     return fmt::format("generator '{}': {}{}", generator_name, e.what(), host);
   }
   const KeyRecipe recipe = encoder.recipe();
+  if (fused && encoder.key_bits() > 0)
+    return fmt::format(
+        "encoder '{}' sorts a batch, and cuda:pipeline=fused keeps none (it traces each ray where it "
+        "is made): use encoder none, or cuda:pipeline=device",
+        encoder.name());
+  if (fused && grouping && grouping->config(0, 0).order == RayOrder::Scanline)
+    return fmt::format(
+        "generator '{}': order=scanline has no fused form (a fused block makes one tile's rays); "
+        "use order=tile or order=group, or cuda:pipeline=device",
+        generator_name);
   if (encoder.key_bits() > 0 && (recipe.kind == KeyKind::None || recipe.bits != encoder.key_bits()))
     return fmt::format(
         "encoder '{}' has no device version; device encoders: none, origin, reis, costa, aila, twopoint, mlhcc{}",

@@ -16,6 +16,12 @@
 // What has no device version is refused, never run on the CPU in its place (device_pipeline_refusal): the
 // generators direct, sadeghi and microjitter, ours / contiguous tiles of more than 1024 pixels, and the `window`
 // encoder. `cuda:pipeline=host` traces host-made batches instead (the batches every other tracer traces).
+//
+// `cuda:pipeline=fused` (PipelineTrace::fused): a secondary pass is one kernel that makes each tile's rays from
+// the G-buffer and traces them where they are made (noopt, ours and contiguous, in tile or group order; no
+// encoder with keys). Its time is the pass's trace_ms (generation included; gen_ms is 0). download_secondary then
+// gives the batch made again by the materialized generator (the fused pass keeps none) and the fused hits in its order,
+// hits[i] = the hit the fused kernel wrote at ray i's pixel.
 #pragma once
 
 #include <functional>
@@ -40,14 +46,17 @@ struct PipelineTrace {
   DeviceTracer* tracer = nullptr;  // the cuda tracer's; outlives the pipeline
   TraceLaunch launch;
   bool counting = false;
+  // cuda:pipeline=fused: secondary passes make and trace each tile's rays in one kernel (cuda/fused_kernels.cu);
+  // no batch, keys or sort (an encoder with keys is refused).
+  bool fused = false;
   SimtConfig layout;  // counting: simt's address layout (simt_config)
   std::function<void(const std::vector<WarpStepCounters>& warps, size_t rays)> counted;
 };
 
-// Empty when the generator (named generator_name) and the encoder have device versions; otherwise one line that
-// names what has none and lists what is valid. Needs no device.
+// Empty when the generator (named generator_name) and the encoder have device versions (fused: a fused form);
+// otherwise one line that names what has none and lists what is valid. Needs no device.
 std::string device_pipeline_refusal(const std::string& generator_name, const Generator& generator,
-                                    const Encoder& encoder);
+                                    const Encoder& encoder, bool fused = false);
 
 // The Scene and Bvh must outlive the pipeline (mlhcc's cuts are built from the BVH when first asked for).
 std::unique_ptr<DevicePipeline> make_device_pipeline(const Scene& scene, const Bvh& bvh, PipelineTrace trace);

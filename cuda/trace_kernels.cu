@@ -26,6 +26,7 @@
 #include "cuda/cuda_check.cuh"
 #include "cuda/ray_io.cuh"
 #include "cuda/trace_kernels.h"
+#include "cuda/trace_ray.cuh"
 
 namespace raycoh::cuda {
 
@@ -33,49 +34,6 @@ namespace {
 
 constexpr unsigned kFullMask = 0xffffffffu;
 constexpr int kWarp = 32;
-
-// The closest hit of one ray in either layout under the filter: the shared traversals, unchanged (with
-// NoAlphaTest these are closest_hit(bvh, r) and closest_hit_cwbvh(bvh, r), the same instantiations).
-template <class Filter>
-__device__ __forceinline__ Hit trace_ray(const BvhView& bvh, const Ray& r, const Filter& filter) {
-  NoCounters none;
-  return closest_hit(bvh, r, none, filter);
-}
-// The tuned BVH2 kernel's view: the same arrays, read with 16-byte loads and the stack apart (WideFetch).
-struct WideBvhView {
-  BvhView bvh;
-};
-template <class Filter>
-__device__ __forceinline__ Hit trace_ray(const WideBvhView& v, const Ray& r, const Filter& filter) {
-  NoCounters none;
-  return closest_hit<NoCounters, Filter, WideFetch>(v.bvh, r, none, filter);
-}
-// The CWBVH kernel with its stack in shared memory (`stack=shared`): entry i of a thread at
-// stack_memory[i * blockDim.x + threadIdx.x], 8 bytes each (a warp's accesses to one level fall in distinct
-// banks); the launch gives each block (the tree's depth + 2) * blockDim.x entries of dynamic shared memory.
-struct SharedStackCwbvhView {
-  CwbvhView bvh;
-};
-struct StridedStackRef {
-  uint64_t* base;
-  uint32_t stride;
-  __device__ uint64_t& operator[](int i) const { return base[static_cast<uint32_t>(i) * stride]; }
-};
-template <class Filter>
-__device__ __forceinline__ Hit trace_ray(const SharedStackCwbvhView& v, const Ray& r, const Filter& filter) {
-  extern __shared__ uint64_t stack_memory[];
-  NoCounters none;
-  CwbvhStateOf<StridedStackRef> s;
-  s.stack = StridedStackRef{stack_memory + threadIdx.x, blockDim.x};
-  cwbvh_begin(s, r);
-  cwbvh_traverse(s, v.bvh, none, filter);
-  return s.hit;
-}
-template <class Filter>
-__device__ __forceinline__ Hit trace_ray(const CwbvhView& bvh, const Ray& r, const Filter& filter) {
-  NoCounters none;
-  return closest_hit_cwbvh(bvh, r, none, filter);
-}
 
 template <bool Indirect, class View, class Filter>
 __global__ void simple_kernel(View bvh, Filter filter, const Ray* rays, const uint32_t* order, size_t count,
@@ -238,6 +196,19 @@ DeviceTracer::~DeviceTracer() = default;
 float DeviceTracer::last_kernel_ms() const { return impl_->last_ms; }
 
 bool DeviceTracer::alpha_masked() const { return impl_->masked; }
+
+DeviceScene DeviceTracer::device_scene() const {
+  const Impl& m = *impl_;
+  DeviceScene s;
+  if (m.cwbvh)
+    s.cwbvh = m.cwbvh_view();
+  else
+    s.bvh = m.view();
+  s.cwbvh_layout = m.cwbvh;
+  s.masked = m.masked;
+  if (m.masked) s.alpha = m.alpha_test().view;
+  return s;
+}
 
 int DeviceTracer::persistent_blocks(const TraceLaunch& launch) const {
   check_block(launch.block);

@@ -99,6 +99,17 @@ inline std::string launch_choice_error(const TraceLaunch& launch, bool cwbvh) {
   return "";
 }
 
+// A tracer's arrays on the device, for a kernel that traces inside itself (cuda/fused_kernels.cu, through
+// with_trace_view of cuda/trace_ray.cuh): one of the two layouts (the other's nodes are null) and the alpha MASK
+// arrays where the scene has masks.
+struct DeviceScene {
+  BvhView bvh{};
+  CwbvhView cwbvh{};
+  bool cwbvh_layout = false;
+  bool masked = false;
+  AlphaMaskView alpha{};
+};
+
 // The BVH on the device (uploaded once by the constructor) and reusable ray/hit buffers (grown on demand).
 // Throws raycoh::Error on any CUDA error, including "no device".
 class DeviceTracer {
@@ -141,6 +152,8 @@ class DeviceTracer {
   void check_launch(const TraceLaunch& launch) const;
   // Whether the kernels run the alpha MASK test (the tracer was made with non-empty AlphaMaskArrays).
   bool alpha_masked() const;
+  // The uploaded arrays (valid while the tracer lives).
+  DeviceScene device_scene() const;
 
  private:
   struct Impl;

@@ -25,7 +25,7 @@ DeviceMeasurement measure_device(const std::function<DeviceStageTimes()>& pass, 
 
 void set_device_times(ExperimentRow& row, const DeviceMeasurement& m, bool counting) {
   const DeviceStageTimes& t = m.median;
-  row.pipeline = "device";
+  row.pipeline = t.fused ? "fused" : "device";
   row.gen_ms = t.gen_ms;
   row.key_ms = t.key_ms;
   row.sort_ms = t.sort_ms;

@@ -82,9 +82,9 @@ RayBatch block_batch(const Scene& scene, const GBuffer& g, const GroupingConfig&
   out.resize(g.hits, true);
   const BatchView view = batch_view(out);
   const auto full_m = static_cast<uint32_t>(tw * th);
-  std::vector<uint32_t> shared(tile_groups_bytes(full_m, (full_m + c.k - 1) / c.k) / 4 + 1);
-  const TileGroups sh =
-      carve_tile_groups(reinterpret_cast<unsigned char*>(shared.data()), full_m, (full_m + c.k - 1) / c.k);
+  const uint32_t groups = (full_m + c.k - 1) / c.k;
+  std::vector<uint32_t> shared(tile_groups_bytes(full_m, groups, c.k) / 4 + 1);
+  const TileGroups sh = carve_tile_groups(reinterpret_cast<unsigned char*>(shared.data()), full_m, groups, c.k);
   stats = GenerationStats{};
   for (uint32_t t = 0; t < static_cast<uint32_t>(grid.count()); ++t) {
     const TileBlock b = make_tile_block(c, grid, t, g.points.data(), materials.data(), sh);
@@ -96,6 +96,8 @@ RayBatch block_batch(const Scene& scene, const GBuffer& g, const GroupingConfig&
       hits += hit[i];
     }
     if (hits == 0) continue;
+    for (uint32_t i = 0; i < b.m; ++i)
+      if (hit[i]) phase_member_rank(b, i);
     for (uint32_t q = 0; q < b.groups; ++q) {
       const GroupCensus census = phase_census(b, q);
       if (census.count > 0) ++stats.groups[static_cast<int>(census.type())];

@@ -29,6 +29,7 @@ DeviceStageTimes median_stage_times(std::vector<DeviceStageTimes> passes, double
   m.permute_ms = median(&DeviceStageTimes::permute_ms);
   m.trace_ms = median(&DeviceStageTimes::trace_ms);
   m.span_ms = median(&DeviceStageTimes::span_ms);
+  m.fused = passes.front().fused;
   if (trace_min_ms) {
     *trace_min_ms = passes.front().trace_ms;
     for (const DeviceStageTimes& p : passes) *trace_min_ms = std::min(*trace_min_ms, p.trace_ms);

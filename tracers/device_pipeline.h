@@ -27,9 +27,11 @@ class Encoder;
 // pass, from before the first generation kernel to after the trace kernel: the stages plus what lies between them
 // (launch gaps, the few zeroing memsets); it is measured, not the sum of the stages. Stages a pass does not run
 // (the primary pass's keys, `none`'s sort, indirect mode's gather) are 0.
+// A fused pass (cuda:pipeline=fused) makes and traces its rays in one kernel: its trace_ms holds the generation too.
 struct DeviceStageTimes {
   double gen_ms = 0, key_ms = 0, sort_ms = 0, permute_ms = 0, trace_ms = 0;
   double span_ms = 0;
+  bool fused = false;
   double stages_ms() const { return gen_ms + key_ms + sort_ms + permute_ms + trace_ms; }
 };
 
