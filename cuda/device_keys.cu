@@ -41,10 +41,11 @@ __device__ __forceinline__ uint64_t code_of(const KeyParams& kp, const Ray& r) {
   return 0;
 }
 
-template <KeyKind Kind>
-__global__ void key_kernel(KeyParams kp, const Ray* rays, size_t n, uint64_t* keys) {
+// K: uint32_t for keys of at most 32 bits (half the bytes for the key kernel and every sort pass), else uint64_t.
+template <KeyKind Kind, class K>
+__global__ void key_kernel(KeyParams kp, const Ray* rays, size_t n, K* keys) {
   const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
-  if (i < n) keys[i] = key_from_code(code_of<Kind>(kp, rays[i]), kp.bits);
+  if (i < n) keys[i] = static_cast<K>(key_from_code(code_of<Kind>(kp, rays[i]), kp.bits));
 }
 
 __global__ void iota_kernel(uint32_t* v, size_t n) {
@@ -74,12 +75,17 @@ struct DeviceKeys::Impl {
   DeviceBuffer<MlhccNodeCut> cuts;
   DeviceBuffer<Ray> rays, sorted_rays;
   DeviceBuffer<uint64_t> keys, sorted_keys;
+  DeviceBuffer<uint32_t> keys32, sorted_keys32;
   DeviceBuffer<uint32_t> values, order;
+  size_t iota_count = 0;  // values[i] = i for i < iota_count
   DeviceBuffer<unsigned char> sort_temp;
   EventTimer key_timer, sort_timer, permute_timer;
 
-  void launch_keys(const Ray* d_rays, size_t n, uint64_t* d_keys) {
-    if (n == 0) return;
+  // Keys of at most 32 bits are sorted as 32-bit words (keys32 / sorted_keys32), wider ones as 64-bit words.
+  bool narrow() const { return config.bits <= 32; }
+
+  template <class K>
+  void launch_keys_as(const Ray* d_rays, size_t n, K* d_keys) {
     const unsigned blocks = blocks_for(n);
     switch (config.kind) {
       case KeyKind::None:
@@ -105,26 +111,70 @@ struct DeviceKeys::Impl {
     }
     RAYCOH_CUDA_CHECK_LAUNCH();
   }
+  void launch_keys(const Ray* d_rays, size_t n) {
+    if (n == 0) return;
+    if (narrow())
+      launch_keys_as(d_rays, n, keys32.get());
+    else
+      launch_keys_as(d_rays, n, keys.get());
+  }
 
-  // Sorts (keys, 0..n-1) by the key bits into sorted_keys / order.
+  // Sorts (keys, 0..n-1) by the key's bits [0, bits) into sorted keys / order. The index column 0..n-1 is written
+  // once per size (CUB reads it and leaves it unchanged).
+  template <class K>
+  void sort_pairs(const K* in, K* out, size_t n) {
+    size_t bytes = 0;
+    RAYCOH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, in, out, values.get(), order.get(),
+                                                      static_cast<int>(n), 0, config.bits));
+    sort_temp.reserve(bytes);
+    RAYCOH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(sort_temp.get(), bytes, in, out, values.get(), order.get(),
+                                                      static_cast<int>(n), 0, config.bits));
+  }
   void launch_sort(size_t n) {
     if (n == 0) return;
     if (n > 0x7fffffffu) throw Error("cuda: radix sort of " + std::to_string(n) + " pairs is too large");
-    iota_kernel<<<blocks_for(n), kBlock>>>(values.get(), n);
-    RAYCOH_CUDA_CHECK_LAUNCH();
-    size_t bytes = 0;
-    RAYCOH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys.get(), sorted_keys.get(), values.get(),
-                                                      order.get(), static_cast<int>(n), 0, config.bits));
-    sort_temp.reserve(bytes);
-    RAYCOH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(sort_temp.get(), bytes, keys.get(), sorted_keys.get(),
-                                                      values.get(), order.get(), static_cast<int>(n), 0, config.bits));
+    if (iota_count < n) {
+      iota_kernel<<<blocks_for(n), kBlock>>>(values.get(), n);
+      RAYCOH_CUDA_CHECK_LAUNCH();
+      iota_count = n;
+    }
+    if (narrow())
+      sort_pairs(keys32.get(), sorted_keys32.get(), n);
+    else
+      sort_pairs(keys.get(), sorted_keys.get(), n);
+  }
+
+  // The first n sorted keys, as 64-bit words.
+  void download_sorted_keys(uint64_t* out, size_t n) const {
+    if (!narrow()) {
+      sorted_keys.download(out, n);
+      return;
+    }
+    std::vector<uint32_t> narrow_keys(n);
+    sorted_keys32.download(narrow_keys.data(), n);
+    for (size_t i = 0; i < n; ++i) out[i] = narrow_keys[i];
+  }
+  void download_keys(uint64_t* out, size_t n) const {
+    if (!narrow()) {
+      keys.download(out, n);
+      return;
+    }
+    std::vector<uint32_t> narrow_keys(n);
+    keys32.download(narrow_keys.data(), n);
+    for (size_t i = 0; i < n; ++i) out[i] = narrow_keys[i];
   }
 
   // The key and sort buffers (the host-array calls upload their rays into `rays` themselves; sort_device reads the
   // caller's device rays and needs none).
   void reserve(size_t n) {
-    keys.reserve(n);
-    sorted_keys.reserve(n);
+    if (narrow()) {
+      keys32.reserve(n);
+      sorted_keys32.reserve(n);
+    } else {
+      keys.reserve(n);
+      sorted_keys.reserve(n);
+    }
+    if (values.capacity() < n) iota_count = 0;  // a new buffer: its index column is written again
     values.reserve(n);
     order.reserve(n);
   }
@@ -159,16 +209,21 @@ void DeviceKeys::keys(const Ray* rays, size_t n, uint64_t* keys) {
   Impl& m = *impl_;
   m.reserve(n);
   m.rays.upload(rays, n);
-  m.launch_keys(m.rays.get(), n, m.keys.get());
-  m.keys.download(keys, n);
+  m.launch_keys(m.rays.get(), n);
+  m.download_keys(keys, n);
 }
 
 void DeviceKeys::sort(const uint64_t* keys, size_t n, uint64_t* sorted_keys, uint32_t* order) {
   Impl& m = *impl_;
   m.reserve(n);
-  m.keys.upload(keys, n);
+  if (m.narrow()) {
+    std::vector<uint32_t> narrow_keys(keys, keys + n);
+    m.keys32.upload(narrow_keys.data(), n);
+  } else {
+    m.keys.upload(keys, n);
+  }
   m.launch_sort(n);
-  m.sorted_keys.download(sorted_keys, n);
+  m.download_sorted_keys(sorted_keys, n);
   m.order.download(order, n);
 }
 
@@ -176,7 +231,7 @@ void DeviceKeys::sort_device(const Ray* d_rays, size_t n) {
   Impl& m = *impl_;
   m.reserve(n);
   m.key_timer.start();
-  m.launch_keys(d_rays, n, m.keys.get());
+  m.launch_keys(d_rays, n);
   m.key_timer.stop();
   m.sort_timer.start();
   m.launch_sort(n);
@@ -184,8 +239,6 @@ void DeviceKeys::sort_device(const Ray* d_rays, size_t n) {
 }
 
 const uint32_t* DeviceKeys::device_order() const { return impl_->order.get(); }
-
-const uint64_t* DeviceKeys::device_sorted_keys() const { return impl_->sorted_keys.get(); }
 
 void DeviceKeys::download_order(uint32_t* order, size_t n) const { impl_->order.download(order, n); }
 
@@ -212,7 +265,7 @@ void DeviceKeys::reorder(const Ray* rays, size_t n, uint64_t* sorted_keys, uint3
   timings = wait_timings();
   const float permute_ms = m.permute_timer.elapsed_ms();
   timings.permute_ms = sorted_rays ? permute_ms : 0.f;
-  m.sorted_keys.download(sorted_keys, n);
+  m.download_sorted_keys(sorted_keys, n);
   m.order.download(order, n);
   if (sorted_rays) m.sorted_rays.download(sorted_rays, n);
 }

@@ -54,10 +54,10 @@ class DeviceKeys {
                GpuReorderTimings& timings);
   // Keys and sort of n rays that live on the device, queued on the default stream between the key and sort
   // timers' events (nothing is waited for): the order and sorted keys stay on the device, valid until the next
-  // call. wait_timings() waits and returns key_ms and sort_ms (permute_ms 0: the caller gathers).
+  // call (keys of at most 32 bits are made and sorted as 32-bit words). wait_timings() waits and returns key_ms and
+  // sort_ms (permute_ms 0: the caller gathers).
   void sort_device(const Ray* d_rays, size_t n);
   const uint32_t* device_order() const;
-  const uint64_t* device_sorted_keys() const;
   GpuReorderTimings wait_timings() const;
   // The first n entries of device_order() (waits for the sort).
   void download_order(uint32_t* order, size_t n) const;

@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "simt/pipeline_model.h"
+
 namespace raycoh {
 
 namespace {
@@ -38,6 +40,24 @@ void set_device_times(ExperimentRow& row, const DeviceMeasurement& m, bool count
   if (counting) return;  // the counting kernel's time is no traversal time: no end-to-end span
   row.gpu_e2e_ms = t.span_ms;
   row.gpu_e2e_mray_s = mray_s(row.rays, t.span_ms);
+}
+
+void set_stage_traffic(ExperimentRow& row, const DevicePipeline& pipeline, const Encoder& encoder, PermuteMode mode,
+                       size_t pixels, bool fused) {
+  const bool physical = mode == PermuteMode::Physical;
+  std::vector<uint32_t> order;
+  if (!fused && encoder.key_bits() > 0 && physical) {
+    RayBatch generated, permuted;
+    std::vector<Hit> hits;
+    pipeline.download_secondary(generated, order, permuted, hits);
+  }
+  const ModeledStages s = stage_traffic(pixels, encoder.key_bits(), encoder.window(), physical, row.rays, order, fused);
+  row.modeled_gen_bytes = s.gen_bytes;
+  if (encoder.key_bits() > 0 && !fused) {
+    row.modeled_key_bytes = s.key_bytes;
+    row.modeled_sort_bytes = s.sort_bytes;
+    if (physical) row.modeled_permute_bytes = s.permute_bytes;
+  }
 }
 
 }  // namespace raycoh

@@ -5,6 +5,7 @@
 
 #include <functional>
 
+#include "encoders/encoder.h"
 #include "records/experiment_row.h"
 #include "tracers/device_pipeline.h"
 
@@ -23,5 +24,11 @@ DeviceMeasurement measure_device(const std::function<DeviceStageTimes()>& pass, 
 // mray_s, e2e_ms = the sum of the stages and e2e_mray_s; for timing runs also gpu_e2e_ms (the measured span) and
 // gpu_e2e_mray_s. row.rays must be set.
 void set_device_times(ExperimentRow& row, const DeviceMeasurement& m, bool counting);
+
+// The bytes the last secondary pass of `pipeline` moved in each stage (simt/pipeline_model.h stage_traffic; the
+// gather's by the pass's own sort order, downloaded untimed): modeled_*_bytes, the traffic a measured stage is
+// set beside. row.rays must be set.
+void set_stage_traffic(ExperimentRow& row, const DevicePipeline& pipeline, const Encoder& encoder, PermuteMode mode,
+                       size_t pixels, bool fused);
 
 }  // namespace raycoh

@@ -369,6 +369,7 @@ void ExperimentRun::run_device_row(ExperimentRow r, size_t ti, size_t mi) {
   r.rays = gs.rays;
   set_device_times(r, m, setup_->models[ti]);
   set_generation(r, gs);
+  set_stage_traffic(r, p, *setup_->encoders[mi], permute_, size_t(o_.width) * size_t(o_.height), m.median.fused);
   finish_row(std::move(r), ti, ModeledStages{});
 }
 

@@ -65,6 +65,10 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("modeled_key_ms", &R::modeled_key_ms, Optional<General>{}),
         column("modeled_sort_ms", &R::modeled_sort_ms, Optional<General>{}),
         column("modeled_permute_ms", &R::modeled_permute_ms, Optional<General>{}),
+        column("modeled_gen_bytes", &R::modeled_gen_bytes, Optional<General>{}),
+        column("modeled_key_bytes", &R::modeled_key_bytes, Optional<General>{}),
+        column("modeled_sort_bytes", &R::modeled_sort_bytes, Optional<General>{}),
+        column("modeled_permute_bytes", &R::modeled_permute_bytes, Optional<General>{}),
         column("pipeline", &R::pipeline, Text{}),
         column("gpu_e2e_ms", &R::gpu_e2e_ms, Optional<General>{}),
         column("gpu_e2e_mray_s", &R::gpu_e2e_mray_s, Optional<General>{}),
@@ -177,6 +181,10 @@ void set_counters(ExperimentRow& r, const CoherenceCounters& c, const ModeledSta
   r.modeled_key_ms = stages.key_ms;
   r.modeled_sort_ms = stages.sort_ms;
   r.modeled_permute_ms = stages.permute_ms;
+  r.modeled_gen_bytes = stages.gen_bytes;
+  r.modeled_key_bytes = stages.key_bytes;
+  r.modeled_sort_bytes = stages.sort_bytes;
+  r.modeled_permute_bytes = stages.permute_bytes;
 }
 
 }  // namespace raycoh

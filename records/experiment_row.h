@@ -46,6 +46,9 @@ struct ExperimentRow {
   std::optional<double> modeled_l1_wavefronts_per_ray, modeled_l1_local_wavefronts_per_ray;
   // The modeled stages summed into modeled_e2e_ms (modelling tracers only), to set beside measured GPU stages.
   std::optional<double> modeled_gen_ms, modeled_key_ms, modeled_sort_ms, modeled_permute_ms;
+  // The DRAM bytes each of those stages is modeled to move: a measured stage's traffic bound is these bytes over
+  // the GPU's copy bandwidth (scripts/gpu-check's stage table).
+  std::optional<double> modeled_gen_bytes, modeled_key_bytes, modeled_sort_bytes, modeled_permute_bytes;
   // Where the batch was made, reordered and timed: "host" (generation, keys, sort and permutation on the CPU,
   // steady_clock; the trace by the tracer's clock) or "device" (tracers/device_pipeline.h: every stage on the
   // GPU, CUDA events; gen_ms .. trace_ms and e2e_ms are then measured GPU times). gpu_e2e_ms: on device rows of

@@ -26,29 +26,51 @@ size_t batch_bytes_per_ray() {
 
 double modeled_stream_ms(const GpuModelConfig& gpu, double bytes) { return bytes / (gpu.gpu.dram_gb_s * 1e6); }
 
+namespace {
+double window_bytes(size_t n, bool physical) {
+  if (n < 2) return 0.0;
+  return physical ? 2.0 * double(n) * batch_bytes_per_ray() : double(n) * (sizeof(Ray) + kIndexBytes);
+}
+}  // namespace
+
+double generation_bytes(size_t pixels, size_t rays) {
+  return double(pixels) * sizeof(ShadingPoint) + double(rays) * batch_bytes_per_ray();
+}
+
 double modeled_generation_ms(const GpuModelConfig& gpu, size_t pixels, size_t rays) {
-  return modeled_stream_ms(gpu, double(pixels) * sizeof(ShadingPoint) + double(rays) * batch_bytes_per_ray());
+  return modeled_stream_ms(gpu, generation_bytes(pixels, rays));
+}
+
+double key_bytes(size_t rays, int key_bits) {
+  if (key_bits == 0) return 0.0;
+  return double(rays) * (sizeof(Ray) + key_bits / 8 + kIndexBytes);
 }
 
 double modeled_key_ms(const GpuModelConfig& gpu, size_t rays, int key_bits) {
-  if (key_bits == 0) return 0.0;
-  return modeled_stream_ms(gpu, double(rays) * (sizeof(Ray) + key_bits / 8 + kIndexBytes));
+  return modeled_stream_ms(gpu, key_bytes(rays, key_bits));
+}
+
+double sort_bytes(size_t n, int key_bits) {
+  if (key_bits == 0 || n < 2) return 0.0;
+  const double key = key_bits / 8.0;
+  const int passes = (key_bits + 7) / 8;
+  return double(n) * (key + passes * 2.0 * (key + kIndexBytes));
 }
 
 double modeled_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits) {
-  if (key_bits == 0 || n < 2) return 0.0;
-  const double key_bytes = key_bits / 8.0;
-  const int passes = (key_bits + 7) / 8;
-  return modeled_stream_ms(gpu, double(n) * (key_bytes + passes * 2.0 * (key_bytes + kIndexBytes)));
+  return modeled_stream_ms(gpu, sort_bytes(n, key_bits));
 }
 
 double modeled_window_ms(const GpuModelConfig& gpu, size_t n, bool physical) {
   if (n < 2) return 0.0;
-  return physical ? modeled_stream_ms(gpu, 2.0 * double(n) * batch_bytes_per_ray())
-                  : modeled_stream_ms(gpu, double(n) * (sizeof(Ray) + kIndexBytes));
+  return modeled_stream_ms(gpu, window_bytes(n, physical));
 }
 
 double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size_t n) {
+  return modeled_stream_ms(gpu, permute_bytes(order, n));
+}
+
+double permute_bytes(const uint32_t* order, size_t n) {
   if (n == 0) return 0.0;
   double read_sectors = 0;
   uint64_t first[kWarp * 2], last[kWarp * 2];
@@ -72,21 +94,31 @@ double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size
       read_sectors += double(std::unique(all, all + k) - all);
     }
   }
-  return modeled_stream_ms(gpu, read_sectors * kSectorBytes + double(n) * batch_bytes_per_ray());
+  return read_sectors * kSectorBytes + double(n) * batch_bytes_per_ray();
+}
+
+ModeledStages stage_traffic(size_t pixels, int key_bits, int window, bool physical, size_t rays,
+                            const std::vector<uint32_t>& order, bool fused) {
+  ModeledStages m;
+  m.gen_bytes = fused ? double(pixels) * sizeof(ShadingPoint) : generation_bytes(pixels, rays);
+  if (key_bits == 0 || fused) return m;
+  if (window > 0) {
+    m.sort_bytes = window_bytes(rays, physical);
+    return m;
+  }
+  m.key_bytes = key_bytes(rays, key_bits);
+  m.sort_bytes = sort_bytes(rays, key_bits);
+  if (physical) m.permute_bytes = permute_bytes(order.data(), order.size());
+  return m;
 }
 
 ModeledStages modeled_stages(const GpuModelConfig& gpu, size_t pixels, int key_bits, int window, bool physical,
                              size_t rays, const std::vector<uint32_t>& order) {
-  ModeledStages m;
-  m.gen_ms = modeled_generation_ms(gpu, pixels, rays);
-  if (key_bits == 0) return m;
-  if (window > 0) {
-    m.sort_ms = modeled_window_ms(gpu, rays, physical);
-    return m;
-  }
-  m.key_ms = modeled_key_ms(gpu, rays, key_bits);
-  m.sort_ms = modeled_sort_ms(gpu, rays, key_bits);
-  if (physical) m.permute_ms = modeled_permute_ms(gpu, order.data(), order.size());
+  ModeledStages m = stage_traffic(pixels, key_bits, window, physical, rays, order);
+  m.gen_ms = modeled_stream_ms(gpu, m.gen_bytes);
+  m.key_ms = modeled_stream_ms(gpu, m.key_bytes);
+  m.sort_ms = modeled_stream_ms(gpu, m.sort_bytes);
+  m.permute_ms = modeled_stream_ms(gpu, m.permute_bytes);
   return m;
 }
 

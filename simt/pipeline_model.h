@@ -26,8 +26,12 @@
 
 namespace raycoh {
 
+// Each stage's modeled time and the DRAM bytes it is modeled to move (time = bytes / the preset's bandwidth): the
+// bytes are the traffic bound a measured stage is set beside (scripts/gpu-check's stage table divides them by the
+// copy bandwidth measured on the GPU).
 struct ModeledStages {
   double gen_ms = 0, key_ms = 0, sort_ms = 0, permute_ms = 0;
+  double gen_bytes = 0, key_bytes = 0, sort_bytes = 0, permute_bytes = 0;
   double reorder_ms() const { return key_ms + sort_ms + permute_ms; }
 };
 
@@ -36,10 +40,15 @@ size_t batch_bytes_per_ray();
 
 // Milliseconds to move `bytes` at the preset's DRAM bandwidth.
 double modeled_stream_ms(const GpuModelConfig& gpu, double bytes);
+// The bytes each stage moves; *_ms = modeled_stream_ms of them.
+double generation_bytes(size_t pixels, size_t rays);
+double key_bytes(size_t rays, int key_bits);
+double sort_bytes(size_t n, int key_bits);
+// `order[i]` is the source of output i.
+double permute_bytes(const uint32_t* order, size_t n);
 double modeled_generation_ms(const GpuModelConfig& gpu, size_t pixels, size_t rays);
 double modeled_key_ms(const GpuModelConfig& gpu, size_t rays, int key_bits);
 double modeled_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits);
-// `order[i]` is the source of output i.
 double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size_t n);
 // The windowed reordering (encoders/window.cpp) as one kernel: each block reads a window of rays, bins them on
 // chip (shared memory) and writes them back in bin order, so the batch is read and written once, contiguously
@@ -54,5 +63,9 @@ double modeled_window_ms(const GpuModelConfig& gpu, size_t n, bool physical);
 // (docs/simt-model.md, section 3).
 ModeledStages modeled_stages(const GpuModelConfig& gpu, size_t pixels, int key_bits, int window, bool physical,
                              size_t rays, const std::vector<uint32_t>& order);
+// The same stages' bytes alone (the *_ms fields 0): what a measured device pass moved, for its traffic bound. A
+// fused pass (generation and trace in one kernel, no batch) moves the G-buffer only.
+ModeledStages stage_traffic(size_t pixels, int key_bits, int window, bool physical, size_t rays,
+                            const std::vector<uint32_t>& order, bool fused = false);
 
 }  // namespace raycoh

@@ -1,0 +1,164 @@
+#!/usr/bin/env python3
+"""Each measured device stage beside what its bytes allow, and the materialized pipeline against the fused one.
+
+Usage: scripts/stage_bounds.py STAGE_BOUNDS.csv TABLE.csv... > stages.md
+
+STAGE_BOUNDS.csv is raycoh_bench_stages' output (bench/stage_bounds.cu: copy bandwidth, launch gap and CUB's own
+sort time, measured on the GPU of the run); the tables are `raycoh table` / `raycoh sweep` CSVs of the same run
+whose `cuda` rows carry measured stage times (gen_ms, key_ms, sort_ms, permute_ms, trace_ms, gpu_e2e_ms) and the
+bytes each stage moved (modeled_*_bytes: simt/pipeline_model.h's traffic of that pass).
+
+Printed (markdown, every figure computed from the rows):
+  1. the device facts;
+  2. per materialized pass (pipeline=device) and stage: measured ms, MB moved, bound = bytes / measured copy
+     bandwidth, and measured / bound (the goal: <= 2); the sort beside CUB's own time for the same key bits
+     (the goal: <= 1.2);
+  3. end to end per scene and method, materialized and fused (pipeline=fused): the measured span (gpu_e2e_ms) and
+     each ratio to noopt of the same pipeline, beside the trace-only ratio of the materialized pass; fused / trace
+     ratio is the share of the trace's coherence gain that survives end to end (the goal: >= 0.95).
+Rows read: pass = secondary, tracer = cuda, pipeline in (device, fused), rows run under a profiler excluded by
+name (files named ncu-*).
+"""
+import csv
+import os
+import sys
+from collections import defaultdict
+
+STAGES = (("gen", "gen_ms", "modeled_gen_bytes"), ("key", "key_ms", "modeled_key_bytes"),
+          ("sort", "sort_ms", "modeled_sort_bytes"), ("permute", "permute_ms", "modeled_permute_bytes"))
+
+
+def num(row, col):
+    v = row.get(col, "")
+    try:
+        return float(v) if v != "" else None
+    except ValueError:
+        return None
+
+
+def key_bits(row):
+    for part in row.get("encoder_params", "").split(","):
+        if part.startswith("bits="):
+            return int(part[5:])
+    return None
+
+
+def read_bounds(path):
+    facts = {"cub": {}}
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            if r["measure"] == "cub_sort":
+                facts["cub"][int(r["bits"])] = float(r["median_ms"])
+            else:
+                facts[r["measure"]] = r
+    return facts
+
+
+def read_rows(paths):
+    rows = []
+    for p in paths:
+        if os.path.basename(p).startswith("ncu-") or not os.path.exists(p):
+            continue
+        with open(p, newline="") as f:
+            for r in csv.DictReader(f):
+                if r.get("pass") == "secondary" and r.get("tracer") == "cuda" and r.get("pipeline") in (
+                        "device", "fused"):
+                    r["_file"] = os.path.basename(p)
+                    rows.append(r)
+    return rows
+
+
+def method_label(r):
+    m = r["method"]
+    if r.get("_file", "").startswith("stages-sweep"):
+        m = f"{r['generator']}:{r['generator_params'].split(',seed=')[0]}"
+    return m
+
+
+def stage_table(rows, facts, out):
+    bw = float(facts["copy"]["gb_s"])  # GB/s = bytes per ns... bytes / (ms * 1e6)
+    out.append("| scene | method | stage | measured ms | MB moved | bound ms | measured / bound |")
+    out.append("|---|---|---|---:|---:|---:|---:|")
+    worst = defaultdict(float)
+    for r in rows:
+        if r["pipeline"] != "device":
+            continue
+        for stage, ms_col, bytes_col in STAGES:
+            ms, b = num(r, ms_col), num(r, bytes_col)
+            if ms is None or b is None or b <= 0 or ms <= 0:
+                continue
+            bound = b / (bw * 1e6)
+            ratio = ms / bound
+            worst[stage] = max(worst[stage], ratio)
+            out.append(f"| {r['scene']} | {method_label(r)} | {stage} | {ms:.4f} | {b / 1e6:.1f} | {bound:.4f} | "
+                       f"{ratio:.2f} |")
+    out.append("")
+    out.append("Worst measured / bound per stage (goal <= 2): " +
+               ", ".join(f"{s} {v:.2f}" for s, v in sorted(worst.items())))
+    out.append("")
+    out.append("| scene | method | key bits | sort measured ms | CUB alone ms | measured / CUB |")
+    out.append("|---|---|---:|---:|---:|---:|")
+    for r in rows:
+        bits, ms = key_bits(r), num(r, "sort_ms")
+        if r["pipeline"] != "device" or not bits or not ms or bits not in facts["cub"]:
+            continue
+        cub = facts["cub"][bits]
+        out.append(f"| {r['scene']} | {method_label(r)} | {bits} | {ms:.4f} | {cub:.4f} | {ms / cub:.2f} |")
+    out.append("")
+
+
+def e2e_table(rows, out):
+    by = {}
+    for r in rows:
+        if r["_file"].startswith("stages-sweep"):
+            continue
+        by[(r["scene"], r["method"], r["pipeline"])] = r
+    out.append("| scene | method | trace-only ×noopt (materialized) | e2e ms materialized | ×noopt | e2e ms fused | "
+               "×noopt | fused ×noopt / trace ×noopt |")
+    out.append("|---|---|---:|---:|---:|---:|---:|---:|")
+    for (scene, method, pipeline), r in sorted(by.items()):
+        if pipeline != "device" or "+" in method:
+            continue
+        base, fused, fbase = by.get((scene, "noopt", "device")), by.get((scene, method, "fused")), by.get(
+            (scene, "noopt", "fused"))
+        if not base:
+            continue
+        trace = num(base, "trace_ms") / num(r, "trace_ms")
+        mat = num(r, "gpu_e2e_ms")
+        mat_ratio = num(base, "gpu_e2e_ms") / mat
+        cells = [f"{trace:.3f}", f"{mat:.4f}", f"{mat_ratio:.3f}"]
+        if fused and fbase:
+            f_ms = num(fused, "gpu_e2e_ms")
+            f_ratio = num(fbase, "gpu_e2e_ms") / f_ms
+            cells += [f"{f_ms:.4f}", f"{f_ratio:.3f}", f"{f_ratio / trace:.3f}"]
+        else:
+            cells += ["", "", ""]
+        out.append(f"| {scene} | {method} | " + " | ".join(cells) + " |")
+    out.append("")
+
+
+def main(argv):
+    if len(argv) < 3:
+        sys.exit("usage: stage_bounds.py STAGE_BOUNDS.csv TABLE.csv...")
+    facts = read_bounds(argv[1])
+    rows = read_rows(argv[2:])
+    out = ["## Device stages beside their bounds (measured)", ""]
+    copy, memcpy, launch = facts["copy"], facts.get("memcpy"), facts.get("launch")
+    out.append(f"Copy bandwidth (copy kernel, median of the bench's runs): {float(copy['gb_s']):.0f} GB/s"
+               + (f"; cudaMemcpy device to device: {float(memcpy['gb_s']):.0f} GB/s" if memcpy else "")
+               + (f"; back-to-back launch gap: {float(launch['median_ms']) * 1e3:.2f} us" if launch else "") + ".")
+    out.append("CUB SortPairs alone, " + ", ".join(f"{b} bits {ms:.4f} ms" for b, ms in sorted(facts["cub"].items()))
+               + ".")
+    out.append("")
+    if not rows:
+        out.append("(no measured device rows in the tables)")
+    else:
+        stage_table(rows, facts, out)
+        out.append("## End to end: materialized (pipeline=device) and fused (pipeline=fused), measured spans")
+        out.append("")
+        e2e_table(rows, out)
+    print("\n".join(out))
+
+
+if __name__ == "__main__":
+    main(sys.argv)
