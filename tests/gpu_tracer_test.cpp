@@ -188,7 +188,7 @@ TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
   EXPECT_NE(message("kernel=fast").find("persistent"), std::string::npos);
   EXPECT_NE(message("warp=16").find("warp"), std::string::npos);
   EXPECT_NE(message("bvh=bvh4").find("cwbvh"), std::string::npos);
-  EXPECT_NE(message("pipeline=gpu").find("device, host"), std::string::npos) << message("pipeline=gpu");
+  EXPECT_NE(message("pipeline=gpu").find("device, fused, host"), std::string::npos) << message("pipeline=gpu");
   EXPECT_NE(message("bvh=cwbvh,counters=on").find("counters=on has no CWBVH kernel"), std::string::npos)
       << message("bvh=cwbvh,counters=on");
   EXPECT_NE(message("traversal=fast").find("tuned, classic"), std::string::npos) << message("traversal=fast");
