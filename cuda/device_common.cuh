@@ -118,14 +118,15 @@ void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, con
                          const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
                          const BatchView& out, unsigned long long* stats);
 
-// The fused trace (cuda/fused_kernels.cu): one block per tile makes the tile's rays (noopt, or ours / contiguous
-// with `config`) and traces them with the launch's kernel form over `scene`; hits[pixel] for every ray's pixel.
+// The fused trace (cuda/fused_kernels.cu): persistent warps take tiles from `counter` (one word on the device,
+// zeroed here), make each tile's rays (noopt, or ours / contiguous with `config`) and trace them with the launch's
+// kernel form over `scene`; hits[pixel] for every ray's pixel.
 void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
                         const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid, Hit* hits,
-                        unsigned long long* stats);
+                        unsigned long long* stats, uint32_t* counter);
 void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, const GroupingConfig& config,
                            const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials, Hit* hits,
-                           unsigned long long* stats);
+                           unsigned long long* stats, uint32_t* counter);
 
 // Camera rays of make_primary_rays_gpu (cuda/device_primary.cu) into device arrays of width x height entries,
 // queued on the default stream (nothing waited for): d_rays[slot] and d_pixels[slot] in the batch order.

@@ -130,6 +130,7 @@ struct DeviceGenerator::Impl {
   DeviceBuffer<uint32_t> tile, group;
   DeviceBuffer<GroupType> group_type;
   DeviceBuffer<unsigned long long> stats{kStatCount};
+  DeviceBuffer<uint32_t> tile_counter{1};  // the fused trace's next tile
   EventTimer timer;
   float last_ms = -1.f;
   // The uploaded G-buffer's facts and the last launch's batch (device_batch()).
@@ -312,9 +313,11 @@ void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const De
   m.timer.start();
   if (p.tiles > 0 && m.hits > 0) {
     if (p.grouping)
-      launch_fused_grouping(scene, trace, p.config, p.grid, m.points.get(), m.point_materials, hits, m.stats.get());
+      launch_fused_grouping(scene, trace, p.config, p.grid, m.points.get(), m.point_materials, hits, m.stats.get(),
+                            m.tile_counter.get());
     else
-      launch_fused_noopt(scene, trace, m.points.get(), m.point_materials, seed, m.frame, p.grid, hits, m.stats.get());
+      launch_fused_noopt(scene, trace, m.points.get(), m.point_materials, seed, m.frame, p.grid, hits, m.stats.get(),
+                         m.tile_counter.get());
   }
   m.timer.stop();
   m.launched = true;
