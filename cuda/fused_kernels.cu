@@ -67,8 +67,7 @@ __device__ inline void tally_warp(bool emitted, uint32_t flags, const BlockStats
 
 // Traces staged slots [0, count) 32 at a time, each hit at its ray's pixel.
 template <class View, class Filter>
-__device__ void trace_staged(const View& view, const Filter& filter, const Staged& staged, uint32_t count,
-                             Hit* hits) {
+__device__ void trace_staged(const View& view, const Filter& filter, const Staged& staged, uint32_t count, Hit* hits) {
   for (uint32_t s = threadIdx.x & 31u; s < count; s += 32)
     store_hit(hits, staged.pixel[s], trace_ray(view, staged.rays[s], filter));
 }
@@ -76,9 +75,9 @@ __device__ void trace_staged(const View& view, const Filter& filter, const Stage
 // noopt: 32 pixel numbers of the tile at a time, the hit ones compacted into the warp's 32 slots and traced.
 template <class View, class Filter>
 __global__ void __launch_bounds__(kFusedBlock, 8)
-    fused_noopt_kernel(View view, Filter filter, const ShadingPoint* points, const BsdfParams* materials,
-                       uint32_t seed, uint32_t frame, TileGrid grid, size_t warp_size, Hit* hits,
-                       unsigned long long* stats, uint32_t* counter) {
+    fused_noopt_kernel(View view, Filter filter, const ShadingPoint* points, const BsdfParams* materials, uint32_t seed,
+                       uint32_t frame, TileGrid grid, size_t warp_size, Hit* hits, unsigned long long* stats,
+                       uint32_t* counter) {
   extern __shared__ unsigned char shared_bytes[];
   __shared__ uint32_t block_slots[kStatCount];
   const BlockStats block_stats{block_slots};
@@ -219,10 +218,13 @@ __global__ void __launch_bounds__(kFusedBlock, 8)
 
 // Warps a block of the fused kernel (at most 4): as many as the device's shared memory a block allows.
 int warps_per_block(size_t per_warp) {
-  int device = 0, limit = 0;
+  int device = 0;
   RAYCOH_CUDA_CHECK(cudaGetDevice(&device));
-  RAYCOH_CUDA_CHECK(cudaDeviceGetAttribute(&limit, cudaDevAttrMaxSharedMemoryPerBlockOptin, device));
-  const size_t fit = per_warp > 0 ? size_t(limit) / per_warp : 4;
+  cudaDeviceProp prop{};
+  RAYCOH_CUDA_CHECK(cudaGetDeviceProperties(&prop, device));
+  // The opt-in limit (GPGPU-Sim leaves it 0: then the default 48 KB).
+  const size_t limit = prop.sharedMemPerBlockOptin > 0 ? prop.sharedMemPerBlockOptin : prop.sharedMemPerBlock;
+  const size_t fit = per_warp > 0 ? limit / per_warp : 4;
   if (fit < 1)
     throw Error("cuda: the fused trace needs " + std::to_string(per_warp) + " bytes of shared memory a warp for this " +
                 "tile, over the " + std::to_string(limit) + " a block may have; use a smaller tile or " +
@@ -234,13 +236,15 @@ int warps_per_block(size_t per_warp) {
 template <class Kernel>
 unsigned persistent_grid(Kernel kernel, int warps, size_t shared, size_t tiles) {
   if (shared > 48 * 1024)
-    RAYCOH_CUDA_CHECK(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
+    RAYCOH_CUDA_CHECK(
+        cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));
   int per_sm = 0, device = 0, sms = 0;
   RAYCOH_CUDA_CHECK(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, kernel, warps * 32, shared));
   RAYCOH_CUDA_CHECK(cudaGetDevice(&device));
   RAYCOH_CUDA_CHECK(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
   const size_t wanted = (tiles + size_t(warps) - 1) / size_t(warps);
-  return static_cast<unsigned>(std::max<size_t>(1, std::min<size_t>(wanted, size_t(std::max(1, per_sm)) * size_t(sms))));
+  return static_cast<unsigned>(
+      std::max<size_t>(1, std::min<size_t>(wanted, size_t(std::max(1, per_sm)) * size_t(sms))));
 }
 
 }  // namespace
@@ -256,7 +260,7 @@ void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, con
     auto kernel = fused_noopt_kernel<decltype(view), decltype(filter)>;
     const unsigned blocks = persistent_grid(kernel, warps, shared, static_cast<size_t>(grid.count()));
     kernel<<<blocks, warps * 32, shared>>>(view, filter, points, materials, seed, frame, grid, per_warp, hits, stats,
-                                            counter);
+                                           counter);
   });
   RAYCOH_CUDA_CHECK_LAUNCH();
 }
@@ -277,8 +281,8 @@ void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, 
   with_trace_view(scene, launch, [&](auto view, auto filter) {
     auto kernel = fused_group_kernel<decltype(view), decltype(filter)>;
     const unsigned blocks = persistent_grid(kernel, warps, shared, static_cast<size_t>(grid.count()));
-    kernel<<<blocks, warps * 32, shared>>>(view, filter, config, grid, points, materials, state, per_warp, hits,
-                                            stats, counter);
+    kernel<<<blocks, warps * 32, shared>>>(view, filter, config, grid, points, materials, state, per_warp, hits, stats,
+                                           counter);
   });
   RAYCOH_CUDA_CHECK_LAUNCH();
 }

@@ -101,7 +101,7 @@ TEST(GpuFused, HitsEqualTheCpuTracerForEveryGeneratorAndOrder) {
                                                "ours",
                                                "ours:order=group",
                                                "ours:tile=16x8,k=5,order=group,hybrid=glossy",
-                                               "ours:tile=32x32,k=64",
+                                               "ours:tile=16x16,k=64",
                                                "contiguous",
                                                "contiguous:tile=3x5,k=4,order=group"};
   for (const std::string& spec : fused_scenes()) expect_fused_hits_equal_cpu(spec, "pipeline=fused", generators);
