@@ -74,6 +74,55 @@ inline __device__ uint32_t block_exclusive_sum(uint32_t value, uint32_t* warp_to
   return before + inclusive - value;
 }
 
+// Where a generation block's tile and the tile's first batch slot come from. Scanned (`offsets` set): tile t is
+// block t and its first slot offsets[t], scanned by an earlier kernel. Look-back (`status` set; status and counter
+// zeroed before the launch): a single-pass decoupled look-back (Merrill & Garland, "Single-pass Parallel Prefix
+// Scan with Decoupled Look-back", 2016): each block takes the next tile id from `counter` (so every lower id has
+// started and will publish), publishes its tile's hit count as soon as it knows it, and later sums its
+// predecessors' published counts back to the first inclusive prefix, then publishes its own inclusive prefix. The
+// count and its flag share one word, so a reader sees both or neither.
+struct TileOffsets {
+  const uint32_t* offsets = nullptr;
+  uint32_t* status = nullptr;  // per tile: 0 (nothing yet), kTileAggregate | count, or kTileInclusive | prefix
+  uint32_t* counter = nullptr;
+};
+constexpr uint32_t kTileAggregate = 1u << 30, kTileInclusive = 2u << 30, kTileCountMask = kTileAggregate - 1;
+
+// This block's tile (every thread; `word` is a __shared__ uint32_t).
+inline __device__ uint32_t block_tile(const TileOffsets& o, uint32_t* word) {
+  if (!o.status) return blockIdx.x;
+  if (threadIdx.x == 0) *word = atomicAdd(o.counter, 1u);
+  __syncthreads();
+  const uint32_t tile = *word;
+  __syncthreads();
+  return tile;
+}
+
+// Look-back: publishes the tile's hit count (thread 0; any thread may call it, the others do nothing).
+inline __device__ void publish_tile_count(const TileOffsets& o, uint32_t tile, uint32_t count) {
+  if (o.status && threadIdx.x == 0) atomicExch(o.status + tile, (tile == 0 ? kTileInclusive : kTileAggregate) | count);
+}
+
+// The tile's first batch slot (every thread; after publish_tile_count; `word` is a __shared__ uint32_t).
+inline __device__ uint32_t tile_first_slot(const TileOffsets& o, uint32_t tile, uint32_t count, uint32_t* word) {
+  if (!o.status) return o.offsets[tile];
+  if (threadIdx.x == 0) {
+    uint32_t prefix = 0;
+    for (uint32_t j = tile; j-- > 0;) {
+      uint32_t v;
+      do {
+        v = *reinterpret_cast<volatile const uint32_t*>(o.status + j);
+      } while (v == 0);
+      prefix += v & kTileCountMask;
+      if (v & kTileInclusive) break;
+    }
+    if (tile > 0) atomicExch(o.status + tile, kTileInclusive | (prefix + count));
+    *word = prefix;
+  }
+  __syncthreads();
+  return *word;
+}
+
 // Statistics of one block in shared memory (shared atomics), added to the global ones once per block.
 struct BlockStats {
   uint32_t* slots;  // __shared__ uint32_t[kStatCount]
@@ -104,6 +153,27 @@ inline __device__ void tally_block(bool emitted, uint32_t flags, const BlockStat
   }
 }
 
+// Copies the G-buffer points of the tile's pixel numbers [base, base + n) (row-major in `rect`) into dst[0, n),
+// word by word with the block's threads, then waits for the block: consecutive threads read consecutive words of
+// a row, so a warp's load is one contiguous span (a thread reading its own 60-byte point directly touches a
+// 32-byte sector per word). Reading dst[i] at thread i is free of bank conflicts (a point is 15 words, odd).
+inline __device__ void stage_points(const ShadingPoint* points, const TileRect& rect, int width, uint32_t base,
+                                    uint32_t n, ShadingPoint* dst) {
+  constexpr uint32_t kWords = sizeof(ShadingPoint) / sizeof(uint32_t);
+  static_assert(sizeof(ShadingPoint) % sizeof(uint32_t) == 0, "a point is whole words");
+  const auto tile_w = static_cast<uint32_t>(rect.w);
+  for (uint32_t i = base; i < base + n;) {  // one row segment at a time (the same for every thread)
+    const uint32_t row = i / tile_w, col = i - row * tile_w;
+    const uint32_t len = min(tile_w - col, base + n - i);
+    const auto* src = reinterpret_cast<const uint32_t*>(
+        points + static_cast<size_t>(rect.y0 + static_cast<int>(row)) * width + rect.x0 + col);
+    auto* out = reinterpret_cast<uint32_t*>(dst + (i - base));
+    for (uint32_t w = threadIdx.x; w < len * kWords; w += blockDim.x) out[w] = __ldg(src + w);
+    i += len;
+  }
+  __syncthreads();
+}
+
 inline unsigned blocks_for(size_t n, int block) {
   const size_t blocks = (n + static_cast<size_t>(block) - 1) / static_cast<size_t>(block);
   if (blocks > 0x7fffffffu) throw Error("cuda: " + std::to_string(n) + " threads are too many for one launch");
@@ -113,20 +183,20 @@ inline unsigned blocks_for(size_t n, int block) {
 inline int round_up_warp(int n) { return (n + 31) / 32 * 32; }
 
 // The grouping kernel (cuda/device_grouping.cu): one block per tile of `grid`, rays into `out`, statistics into
-// `stats` (kStatCount slots). offsets: first slot of each tile; scanline_slots: per pixel, for scanline order.
+// `stats` (kStatCount slots). offsets: each tile's first slot (tile order and group order); scanline_slots: per
+// pixel, for scanline order.
 void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
-                         const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
+                         const BsdfParams* materials, const TileOffsets& offsets, const uint32_t* scanline_slots,
                          const BatchView& out, unsigned long long* stats);
 
-// The fused trace (cuda/fused_kernels.cu): persistent warps take tiles from `counter` (one word on the device,
-// zeroed here), make each tile's rays (noopt, or ours / contiguous with `config`) and trace them with the launch's
-// kernel form over `scene`; hits[pixel] for every ray's pixel.
+// The fused trace (cuda/fused_kernels.cu): one block per tile makes the tile's rays (noopt, or ours / contiguous
+// with `config`) and traces them with the launch's kernel form over `scene`; hits[pixel] for every ray's pixel.
 void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
                         const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid, Hit* hits,
-                        unsigned long long* stats, uint32_t* counter);
+                        unsigned long long* stats);
 void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, const GroupingConfig& config,
                            const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials, Hit* hits,
-                           unsigned long long* stats, uint32_t* counter);
+                           unsigned long long* stats);
 
 // Camera rays of make_primary_rays_gpu (cuda/device_primary.cu) into device arrays of width x height entries,
 // queued on the default stream (nothing waited for): d_rays[slot] and d_pixels[slot] in the batch order.

@@ -16,7 +16,10 @@ __global__ void gather_batch_kernel(BatchView in, const uint32_t* order, size_t 
   const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
   if (i >= n) return;
   const uint32_t j = order[i];
-  out.rays[i] = in.rays[j];
+  const float4* src = reinterpret_cast<const float4*>(in.rays + j);  // rays as two 16-byte words
+  float4* dst = reinterpret_cast<float4*>(out.rays + i);
+  dst[0] = __ldg(src);
+  dst[1] = __ldg(src + 1);
   out.pixel[i] = in.pixel[j];
   out.pdf[i] = in.pdf[j];
   out.weight[i] = in.weight[j];
