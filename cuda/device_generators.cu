@@ -146,7 +146,6 @@ struct DeviceGenerator::Impl {
   uint32_t frame = 0;
   size_t hits = 0, tiles = 0;
   bool grouping = false, uploaded = false, launched = false;
-  bool fused = false;  // the last launch was launch_fused (no batch, no tile offsets)
   BatchView view{};
   struct Plan;
   Plan plan(uint32_t seed, const Generator& cpu) const;
@@ -282,7 +281,6 @@ void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
   m.view = m.reserve(n, p.pixels, p.tiles, p.grouping, p.scanline);
   m.grouping = p.grouping;
   m.tiles = p.tiles;
-  m.fused = false;
 
   const int noopt_block = std::min(256, round_up_warp(p.grid.tile_w * p.grid.tile_h));
   // One pass with a look-back for the tile offsets where a block makes a whole tile in one round (every grouping
@@ -327,7 +325,6 @@ void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const De
   m.stats.zero(kStatCount);
   m.grouping = p.grouping;
   m.tiles = p.tiles;
-  m.fused = true;
   m.view = BatchView{};
   const DeviceScene scene = tracer.device_scene();
   m.timer.start();
@@ -346,12 +343,7 @@ void DeviceGenerator::finish(GenerationStats& stats) {
   if (!m.launched) throw Error("cuda: DeviceGenerator::finish without a launch");
   m.last_ms = m.timer.elapsed_ms();
   stats = m.download_stats();
-  uint64_t total = stats.rays;  // the fused trace keeps no tile offsets: its ray count
-  if (!m.fused && m.tiles > 0 && m.hits > 0) {
-    uint32_t offsets_total = 0;
-    RAYCOH_CUDA_CHECK(cudaMemcpy(&offsets_total, m.offsets.get() + m.tiles, sizeof(uint32_t), cudaMemcpyDeviceToHost));
-    total = offsets_total;
-  }
+  const uint64_t total = stats.rays;  // every hit pixel makes one ray
   if (total != m.hits)
     throw Error("cuda: the device counted " + std::to_string(total) + " hit pixels, the G-buffer " +
                 std::to_string(m.hits));

@@ -53,7 +53,8 @@ void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, con
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);
   if (full_m > static_cast<uint32_t>(kMaxGroupTile) || config.k < 1)
     throw Error("cuda: GPU grouping needs tiles of at most 1024 pixels and k >= 1");
-  const size_t shared = tile_state_bytes(full_m, static_cast<uint32_t>(config.k));
+  const auto k = static_cast<uint32_t>(config.k);
+  const size_t shared = tile_state_bytes(full_m, k, stage_tile_points(full_m, k));
   if (shared > 48 * 1024)
     RAYCOH_CUDA_CHECK(
         cudaFuncSetAttribute(group_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));

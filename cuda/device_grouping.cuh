@@ -13,21 +13,28 @@ namespace raycoh::cuda {
 inline __host__ __device__ size_t tile_groups_offset(uint32_t full_m, uint32_t k) {
   return (tile_groups_bytes(full_m, (full_m + k - 1) / k, k) + 15) / 16 * 16;
 }
-inline __host__ __device__ size_t tile_state_bytes(uint32_t full_m, uint32_t k) {
-  return tile_groups_offset(full_m, k) + size_t{full_m} * sizeof(ShadingPoint);
+// staged: with the copy of the points (tiles whose state then fits the 48 KB every device gives a block).
+inline __host__ __device__ size_t tile_state_bytes(uint32_t full_m, uint32_t k, bool staged) {
+  return tile_groups_offset(full_m, k) + (staged ? size_t{full_m} * sizeof(ShadingPoint) : 0);
+}
+inline __host__ __device__ bool stage_tile_points(uint32_t full_m, uint32_t k) {
+  return tile_state_bytes(full_m, k, true) <= 48 * 1024;
 }
 
-// Tile `tile` and its state in dynamic shared memory (tile_state_bytes): every thread calls it; the tile's points
-// are copied in with coalesced loads (stage_points) and read from there by every phase.
+// Tile `tile` and its state in dynamic shared memory (tile_state_bytes): every thread calls it. Where the tile
+// is small enough (stage_tile_points), its points are copied in with coalesced loads (stage_points) and read from
+// there by every phase; else the phases read the G-buffer.
 inline __device__ TileBlock tile_block(const GroupingConfig& config, const TileGrid& grid, uint32_t tile,
                                        const ShadingPoint* points, const BsdfParams* materials,
                                        unsigned char* shared_bytes) {
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);
   const TileGroups sh = carve_tile_groups(shared_bytes, full_m, (full_m + config.k - 1) / config.k, config.k);
   TileBlock b = make_tile_block(config, grid, tile, points, materials, sh);
-  auto* tile_points = reinterpret_cast<ShadingPoint*>(shared_bytes + tile_groups_offset(full_m, config.k));
-  stage_points(points, b.rect, grid.width, 0, b.m, tile_points);
-  b.tile_points = tile_points;
+  if (stage_tile_points(full_m, config.k)) {
+    auto* tile_points = reinterpret_cast<ShadingPoint*>(shared_bytes + tile_groups_offset(full_m, config.k));
+    stage_points(points, b.rect, grid.width, 0, b.m, tile_points);
+    b.tile_points = tile_points;
+  }
   return b;
 }
 

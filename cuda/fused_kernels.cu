@@ -152,7 +152,8 @@ void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, 
     throw Error("cuda: the fused trace groups tiles of at most 1024 pixels with k >= 1");
   if (config.order == RayOrder::Scanline)
     throw Error("cuda: the fused trace makes each tile's rays in its block; order=scanline has no fused form");
-  const size_t state = tile_state_bytes(full_m, static_cast<uint32_t>(config.k));
+  const auto k = static_cast<uint32_t>(config.k);
+  const size_t state = tile_state_bytes(full_m, k, stage_tile_points(full_m, k));
   const auto block = static_cast<uint32_t>(round_up_warp(static_cast<int>(full_m)));
   const size_t shared = staged_bytes(state, block);
   with_trace_view(scene, launch, [&](auto view, auto filter) {
