@@ -103,21 +103,33 @@ inline __device__ void publish_tile_count(const TileOffsets& o, uint32_t tile, u
   if (o.status && threadIdx.x == 0) atomicExch(o.status + tile, (tile == 0 ? kTileInclusive : kTileAggregate) | count);
 }
 
-// The tile's first batch slot (every thread; after publish_tile_count; `word` is a __shared__ uint32_t).
+// The tile's first batch slot (every thread; after publish_tile_count; `word` is a __shared__ uint32_t). The
+// first warp looks back 32 predecessors at a time (each lane waits for its own tile's word), sums the counts down
+// to the nearest inclusive prefix, and publishes this tile's: one L2 round trip per 32 tiles, not per tile.
 inline __device__ uint32_t tile_first_slot(const TileOffsets& o, uint32_t tile, uint32_t count, uint32_t* word) {
   if (!o.status) return o.offsets[tile];
-  if (threadIdx.x == 0) {
+  if (threadIdx.x < 32) {
+    const uint32_t lane = threadIdx.x;
     uint32_t prefix = 0;
-    for (uint32_t j = tile; j-- > 0;) {
-      uint32_t v;
-      do {
-        v = *reinterpret_cast<volatile const uint32_t*>(o.status + j);
-      } while (v == 0);
-      prefix += v & kTileCountMask;
-      if (v & kTileInclusive) break;
+    for (int64_t end = tile; end > 0; end -= 32) {  // tiles [end - 32, end), lane l at end - 1 - l
+      const int64_t j = end - 1 - static_cast<int64_t>(lane);
+      uint32_t v = kTileInclusive;  // before tile 0: an inclusive prefix of 0
+      if (j >= 0) {
+        do {
+          v = *reinterpret_cast<volatile const uint32_t*>(o.status + j);
+        } while (v == 0);
+      }
+      const unsigned inclusive = __ballot_sync(kFullMask, (v & kTileInclusive) != 0);
+      const uint32_t nearest = inclusive ? static_cast<uint32_t>(__ffs(inclusive) - 1) : 31u;
+      uint32_t sum = lane <= nearest ? (v & kTileCountMask) : 0u;
+      for (int d = 16; d > 0; d >>= 1) sum += __shfl_down_sync(kFullMask, sum, d);
+      prefix += __shfl_sync(kFullMask, sum, 0);
+      if (inclusive) break;
     }
-    if (tile > 0) atomicExch(o.status + tile, kTileInclusive | (prefix + count));
-    *word = prefix;
+    if (lane == 0) {
+      if (tile > 0) atomicExch(o.status + tile, kTileInclusive | (prefix + count));
+      *word = prefix;
+    }
   }
   __syncthreads();
   return *word;

@@ -48,8 +48,9 @@ __global__ void hit_flags_kernel(const ShadingPoint* points, size_t n, uint32_t*
 // ---- noopt ------------------------------------------------------------------------------------------------------
 
 // offsets: scanned, or look-back when the host launched one round per tile (tiles of at most blockDim.x pixels).
-__global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame,
-                             TileGrid grid, TileOffsets offsets, BatchView out, unsigned long long* stats) {
+__global__ void __launch_bounds__(256, 4)
+    noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame, TileGrid grid,
+                 TileOffsets offsets, BatchView out, unsigned long long* stats) {
   __shared__ uint32_t warp_totals[32];
   __shared__ uint32_t word;
   extern __shared__ ShadingPoint staged_points[];  // blockDim.x points
