@@ -74,67 +74,6 @@ inline __device__ uint32_t block_exclusive_sum(uint32_t value, uint32_t* warp_to
   return before + inclusive - value;
 }
 
-// Where a generation block's tile and the tile's first batch slot come from. Scanned (`offsets` set): tile t is
-// block t and its first slot offsets[t], scanned by an earlier kernel. Look-back (`status` set; status and counter
-// zeroed before the launch): a single-pass decoupled look-back (Merrill & Garland, "Single-pass Parallel Prefix
-// Scan with Decoupled Look-back", 2016): each block takes the next tile id from `counter` (so every lower id has
-// started and will publish), publishes its tile's hit count as soon as it knows it, and later sums its
-// predecessors' published counts back to the first inclusive prefix, then publishes its own inclusive prefix. The
-// count and its flag share one word, so a reader sees both or neither.
-struct TileOffsets {
-  const uint32_t* offsets = nullptr;
-  uint32_t* status = nullptr;  // per tile: 0 (nothing yet), kTileAggregate | count, or kTileInclusive | prefix
-  uint32_t* counter = nullptr;
-};
-constexpr uint32_t kTileAggregate = 1u << 30, kTileInclusive = 2u << 30, kTileCountMask = kTileAggregate - 1;
-
-// This block's tile (every thread; `word` is a __shared__ uint32_t).
-inline __device__ uint32_t block_tile(const TileOffsets& o, uint32_t* word) {
-  if (!o.status) return blockIdx.x;
-  if (threadIdx.x == 0) *word = atomicAdd(o.counter, 1u);
-  __syncthreads();
-  const uint32_t tile = *word;
-  __syncthreads();
-  return tile;
-}
-
-// Look-back: publishes the tile's hit count (thread 0; any thread may call it, the others do nothing).
-inline __device__ void publish_tile_count(const TileOffsets& o, uint32_t tile, uint32_t count) {
-  if (o.status && threadIdx.x == 0) atomicExch(o.status + tile, (tile == 0 ? kTileInclusive : kTileAggregate) | count);
-}
-
-// The tile's first batch slot (every thread; after publish_tile_count; `word` is a __shared__ uint32_t). The
-// first warp looks back 32 predecessors at a time (each lane waits for its own tile's word), sums the counts down
-// to the nearest inclusive prefix, and publishes this tile's: one L2 round trip per 32 tiles, not per tile.
-inline __device__ uint32_t tile_first_slot(const TileOffsets& o, uint32_t tile, uint32_t count, uint32_t* word) {
-  if (!o.status) return o.offsets[tile];
-  if (threadIdx.x < 32) {
-    const uint32_t lane = threadIdx.x;
-    uint32_t prefix = 0;
-    for (int64_t end = tile; end > 0; end -= 32) {  // tiles [end - 32, end), lane l at end - 1 - l
-      const int64_t j = end - 1 - static_cast<int64_t>(lane);
-      uint32_t v = kTileInclusive;  // before tile 0: an inclusive prefix of 0
-      if (j >= 0) {
-        do {
-          v = *reinterpret_cast<volatile const uint32_t*>(o.status + j);
-        } while (v == 0);
-      }
-      const unsigned inclusive = __ballot_sync(kFullMask, (v & kTileInclusive) != 0);
-      const uint32_t nearest = inclusive ? static_cast<uint32_t>(__ffs(inclusive) - 1) : 31u;
-      uint32_t sum = lane <= nearest ? (v & kTileCountMask) : 0u;
-      for (int d = 16; d > 0; d >>= 1) sum += __shfl_down_sync(kFullMask, sum, d);
-      prefix += __shfl_sync(kFullMask, sum, 0);
-      if (inclusive) break;
-    }
-    if (lane == 0) {
-      if (tile > 0) atomicExch(o.status + tile, kTileInclusive | (prefix + count));
-      *word = prefix;
-    }
-  }
-  __syncthreads();
-  return *word;
-}
-
 // Statistics of one block in shared memory (shared atomics), added to the global ones once per block.
 struct BlockStats {
   uint32_t* slots;  // __shared__ uint32_t[kStatCount]
@@ -165,27 +104,6 @@ inline __device__ void tally_block(bool emitted, uint32_t flags, const BlockStat
   }
 }
 
-// Copies the G-buffer points of the tile's pixel numbers [base, base + n) (row-major in `rect`) into dst[0, n),
-// word by word with the block's threads, then waits for the block: consecutive threads read consecutive words of
-// a row, so a warp's load is one contiguous span (a thread reading its own 60-byte point directly touches a
-// 32-byte sector per word). Reading dst[i] at thread i is free of bank conflicts (a point is 15 words, odd).
-inline __device__ void stage_points(const ShadingPoint* points, const TileRect& rect, int width, uint32_t base,
-                                    uint32_t n, ShadingPoint* dst) {
-  constexpr uint32_t kWords = sizeof(ShadingPoint) / sizeof(uint32_t);
-  static_assert(sizeof(ShadingPoint) % sizeof(uint32_t) == 0, "a point is whole words");
-  const auto tile_w = static_cast<uint32_t>(rect.w);
-  for (uint32_t i = base; i < base + n;) {  // one row segment at a time (the same for every thread)
-    const uint32_t row = i / tile_w, col = i - row * tile_w;
-    const uint32_t len = min(tile_w - col, base + n - i);
-    const auto* src = reinterpret_cast<const uint32_t*>(
-        points + static_cast<size_t>(rect.y0 + static_cast<int>(row)) * width + rect.x0 + col);
-    auto* out = reinterpret_cast<uint32_t*>(dst + (i - base));
-    for (uint32_t w = threadIdx.x; w < len * kWords; w += blockDim.x) out[w] = __ldg(src + w);
-    i += len;
-  }
-  __syncthreads();
-}
-
 inline unsigned blocks_for(size_t n, int block) {
   const size_t blocks = (n + static_cast<size_t>(block) - 1) / static_cast<size_t>(block);
   if (blocks > 0x7fffffffu) throw Error("cuda: " + std::to_string(n) + " threads are too many for one launch");
@@ -195,10 +113,9 @@ inline unsigned blocks_for(size_t n, int block) {
 inline int round_up_warp(int n) { return (n + 31) / 32 * 32; }
 
 // The grouping kernel (cuda/device_grouping.cu): one block per tile of `grid`, rays into `out`, statistics into
-// `stats` (kStatCount slots). offsets: each tile's first slot (tile order and group order); scanline_slots: per
-// pixel, for scanline order.
+// `stats` (kStatCount slots). offsets: first slot of each tile; scanline_slots: per pixel, for scanline order.
 void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
-                         const BsdfParams* materials, const TileOffsets& offsets, const uint32_t* scanline_slots,
+                         const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
                          const BatchView& out, unsigned long long* stats);
 
 // The fused trace (cuda/fused_kernels.cu): one block per tile makes the tile's rays (noopt, or ours / contiguous

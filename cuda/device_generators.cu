@@ -47,32 +47,25 @@ __global__ void hit_flags_kernel(const ShadingPoint* points, size_t n, uint32_t*
 
 // ---- noopt ------------------------------------------------------------------------------------------------------
 
-// offsets: scanned, or look-back when the host launched one round per tile (tiles of at most blockDim.x pixels).
-__global__ void __launch_bounds__(256, 4)
-    noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame, TileGrid grid,
-                 TileOffsets offsets, BatchView out, unsigned long long* stats) {
+__global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame,
+                             TileGrid grid, const uint32_t* offsets, BatchView out, unsigned long long* stats) {
   __shared__ uint32_t warp_totals[32];
-  __shared__ uint32_t word;
-  extern __shared__ ShadingPoint staged_points[];  // blockDim.x points
-  const uint32_t tile = block_tile(offsets, &word);
-  const TileRect rect = grid.rect(static_cast<int>(tile));
-  const uint32_t m = rect.area();
-  uint32_t next = offsets.status ? 0u : offsets.offsets[tile];
+  const int t = blockIdx.x;
+  int x0, y0, w, h;
+  grid.rect(t, x0, y0, w, h);
+  const int m = w * h;
+  uint32_t next = offsets[t];
   // Tallies of this thread's rays (a thread may write several in a large tile).
   uint32_t rays = 0, below_geometric = 0, below_shading = 0, non_finite = 0;
-  for (uint32_t base = 0; base < m; base += blockDim.x) {
-    const uint32_t i = base + threadIdx.x;
-    stage_points(points, rect, grid.width, base, min(blockDim.x, m - base), staged_points);
-    const ShadingPoint& sp = staged_points[threadIdx.x];
-    const bool hit = i < m && has_hit(sp);
+  for (int base = 0; base < m; base += blockDim.x) {
+    const int i = base + static_cast<int>(threadIdx.x);
+    const auto p = static_cast<uint32_t>(i < m ? (y0 + i / w) * grid.width + x0 + i % w : 0);
+    const bool hit = i < m && has_hit(points[p]);
     uint32_t total;
-    const uint32_t rank = block_exclusive_count(hit, warp_totals, total);  // also keeps the staged points
-    publish_tile_count(offsets, tile, total);
-    const uint32_t p = hit ? rect.pixel(i, grid.width) : 0u;
-    DirectionSample s{};
-    if (hit) s = sample_own_lobe(materials[sp.material], sp, seed, frame, p);
-    if (offsets.status) next = tile_first_slot(offsets, tile, total, &word);  // the sampling overlapped the wait
+    const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
     if (hit) {
+      const ShadingPoint& sp = points[p];
+      const DirectionSample s = sample_own_lobe(materials[sp.material], sp, seed, frame, p);
       const uint32_t flags = write_ray(out, next + rank, sp, p, s);
       ++rays;
       below_geometric += (flags & kSampleBelowGeometric) != 0;
@@ -80,7 +73,6 @@ __global__ void __launch_bounds__(256, 4)
       non_finite += (flags & kSampleNonFinite) != 0;
     }
     next += total;
-    __syncthreads();  // the staged points are rewritten by the next round
   }
   // Few rays per block: shared-memory sums, then one global atomic per counter.
   __shared__ unsigned long long sums[4];
@@ -129,7 +121,6 @@ struct DeviceGenerator::Impl {
   DeviceBuffer<BsdfParams> hit_materials;  // a textured scene's G-buffer table (per frame)
   DeviceBuffer<ShadingPoint> points;
   DeviceBuffer<uint32_t> counts, offsets, flags, slots;
-  DeviceBuffer<uint32_t> tile_status;  // the look-back's per-tile words and (last) the tile counter
   DeviceBuffer<unsigned char> scan_temp;
   DeviceBuffer<Ray> rays;
   DeviceBuffer<uint32_t> pixel;
@@ -147,6 +138,7 @@ struct DeviceGenerator::Impl {
   uint32_t frame = 0;
   size_t hits = 0, tiles = 0;
   bool grouping = false, uploaded = false, launched = false;
+  bool fused = false;  // the last launch was launch_fused (no batch, no tile offsets)
   BatchView view{};
   struct Plan;
   Plan plan(uint32_t seed, const Generator& cpu) const;
@@ -164,7 +156,6 @@ struct DeviceGenerator::Impl {
   BatchView reserve(size_t n, size_t pixels, size_t tiles, bool grouping, bool scanline) {
     counts.zero(tiles + 1);  // counts[tiles] = 0, so that offsets[tiles] = the total
     offsets.reserve(tiles + 1);
-    tile_status.reserve(tiles + 1);
     rays.reserve(n);
     pixel.reserve(n);
     pdf.reserve(n);
@@ -282,36 +273,25 @@ void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
   m.view = m.reserve(n, p.pixels, p.tiles, p.grouping, p.scanline);
   m.grouping = p.grouping;
   m.tiles = p.tiles;
+  m.fused = false;
 
-  const int noopt_block = std::min(256, round_up_warp(p.grid.tile_w * p.grid.tile_h));
-  // One pass with a look-back for the tile offsets where a block makes a whole tile in one round (every grouping
-  // but scanline order; noopt tiles of at most 256 pixels); else the tile counts are scanned first.
-  const bool lookback = p.grouping ? !p.scanline : p.grid.tile_w * p.grid.tile_h <= noopt_block;
   m.timer.start();
   if (p.tiles > 0 && n > 0) {
-    TileOffsets offsets;
-    if (lookback) {
-      RAYCOH_CUDA_CHECK(cudaMemsetAsync(m.tile_status.get(), 0, sizeof(uint32_t) * (p.tiles + 1)));
-      offsets.status = m.tile_status.get();
-      offsets.counter = m.tile_status.get() + p.tiles;
-    } else {
-      tile_hits_kernel<<<static_cast<unsigned>(p.tiles), 128>>>(m.points.get(), p.grid, m.counts.get());
-      RAYCOH_CUDA_CHECK_LAUNCH();
-      m.exclusive_sum(m.counts.get(), m.offsets.get(), p.tiles + 1);
-      offsets.offsets = m.offsets.get();
-    }
+    tile_hits_kernel<<<static_cast<unsigned>(p.tiles), 128>>>(m.points.get(), p.grid, m.counts.get());
+    RAYCOH_CUDA_CHECK_LAUNCH();
+    m.exclusive_sum(m.counts.get(), m.offsets.get(), p.tiles + 1);
     if (p.scanline) {
       hit_flags_kernel<<<blocks_for(p.pixels, 256), 256>>>(m.points.get(), p.pixels, m.flags.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
       m.exclusive_sum(m.flags.get(), m.slots.get(), p.pixels);
     }
     if (p.grouping) {
-      launch_group_kernel(p.config, p.grid, m.points.get(), m.point_materials, offsets, m.slots.get(), m.view,
+      launch_group_kernel(p.config, p.grid, m.points.get(), m.point_materials, m.offsets.get(), m.slots.get(), m.view,
                           m.stats.get());
     } else {
-      const size_t staged = sizeof(ShadingPoint) * static_cast<size_t>(noopt_block);
-      noopt_kernel<<<static_cast<unsigned>(p.tiles), noopt_block, staged>>>(
-          m.points.get(), m.point_materials, seed, m.frame, p.grid, offsets, m.view, m.stats.get());
+      const int block = std::min(256, round_up_warp(p.grid.tile_w * p.grid.tile_h));
+      noopt_kernel<<<static_cast<unsigned>(p.tiles), block>>>(m.points.get(), m.point_materials, seed, m.frame, p.grid,
+                                                              m.offsets.get(), m.view, m.stats.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
     }
   }
@@ -326,6 +306,7 @@ void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const De
   m.stats.zero(kStatCount);
   m.grouping = p.grouping;
   m.tiles = p.tiles;
+  m.fused = true;
   m.view = BatchView{};
   const DeviceScene scene = tracer.device_scene();
   m.timer.start();
@@ -344,7 +325,12 @@ void DeviceGenerator::finish(GenerationStats& stats) {
   if (!m.launched) throw Error("cuda: DeviceGenerator::finish without a launch");
   m.last_ms = m.timer.elapsed_ms();
   stats = m.download_stats();
-  const uint64_t total = stats.rays;  // every hit pixel makes one ray
+  uint64_t total = stats.rays;  // the fused trace keeps no tile offsets: its ray count
+  if (!m.fused && m.tiles > 0 && m.hits > 0) {
+    uint32_t offsets_total = 0;
+    RAYCOH_CUDA_CHECK(cudaMemcpy(&offsets_total, m.offsets.get() + m.tiles, sizeof(uint32_t), cudaMemcpyDeviceToHost));
+    total = offsets_total;
+  }
   if (total != m.hits)
     throw Error("cuda: the device counted " + std::to_string(total) + " hit pixels, the G-buffer " +
                 std::to_string(m.hits));

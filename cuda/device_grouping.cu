@@ -19,27 +19,17 @@ namespace {
 // failed with "too many resources requested for launch" on an H100).
 __global__ void __launch_bounds__(kMaxGroupTile)
     group_kernel(GroupingConfig config, TileGrid grid, const ShadingPoint* points, const BsdfParams* materials,
-                 TileOffsets offsets, const uint32_t* scanline_slots, BatchView out, unsigned long long* stats) {
+                 const uint32_t* offsets, const uint32_t* scanline_slots, BatchView out, unsigned long long* stats) {
   extern __shared__ unsigned char shared_bytes[];
   __shared__ uint32_t warp_totals[32];
   __shared__ uint32_t block_slots[kStatCount];
-  __shared__ uint32_t word;
   const BlockStats block_stats{block_slots};
-  const uint32_t tile = block_tile(offsets, &word);
-  const TileBlock b = tile_block(config, grid, tile, points, materials, shared_bytes);
-  const TilePhases t =
-      group_phases(b, warp_totals, block_stats, [&](uint32_t hits) { publish_tile_count(offsets, tile, hits); });
-  // The tile's first slot, looked up once its rays are known (every tile publishes, even one without hits).
-  const bool scanline = config.order == RayOrder::Scanline;
-  const uint32_t first = scanline ? 0u : tile_first_slot(offsets, tile, t.hits, &word);
+  const TileBlock b = tile_block(config, grid, points, materials, shared_bytes);
+  const TilePhases t = group_phases(b, warp_totals, block_stats);
   if (t.hits == 0) return;  // the same for the whole block
   const uint32_t i = threadIdx.x;
   uint32_t flags = 0;
-  if (t.hit) {
-    const size_t slot = scanline ? scanline_slots[b.rect.pixel(i, b.image_width)]
-                                 : first + (config.order == RayOrder::Group ? b.sh.pos[i] : t.rank);
-    flags = write_pixel(b, out, i, slot, t.sample);
-  }
+  if (t.hit) flags = write_pixel(b, out, i, pixel_slot(b, i, t.rank, offsets, scanline_slots), t.sample);
   tally_block(t.hit, flags, block_stats);
   __syncthreads();
   block_stats.flush(stats);
@@ -48,13 +38,12 @@ __global__ void __launch_bounds__(kMaxGroupTile)
 }  // namespace
 
 void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
-                         const BsdfParams* materials, const TileOffsets& offsets, const uint32_t* scanline_slots,
+                         const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
                          const BatchView& out, unsigned long long* stats) {
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);
   if (full_m > static_cast<uint32_t>(kMaxGroupTile) || config.k < 1)
     throw Error("cuda: GPU grouping needs tiles of at most 1024 pixels and k >= 1");
-  const auto k = static_cast<uint32_t>(config.k);
-  const size_t shared = tile_state_bytes(full_m, k, stage_tile_points(full_m, k));
+  const size_t shared = tile_groups_bytes(full_m, (full_m + config.k - 1) / config.k, config.k);
   if (shared > 48 * 1024)
     RAYCOH_CUDA_CHECK(
         cudaFuncSetAttribute(group_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(shared)));

@@ -9,33 +9,12 @@
 
 namespace raycoh::cuda {
 
-// Bytes of a tile's state in dynamic shared memory: the groups' arrays, then a copy of the tile's G-buffer points.
-inline __host__ __device__ size_t tile_groups_offset(uint32_t full_m, uint32_t k) {
-  return (tile_groups_bytes(full_m, (full_m + k - 1) / k, k) + 15) / 16 * 16;
-}
-// staged: with the copy of the points (tiles whose state then fits the 48 KB every device gives a block).
-inline __host__ __device__ size_t tile_state_bytes(uint32_t full_m, uint32_t k, bool staged) {
-  return tile_groups_offset(full_m, k) + (staged ? size_t{full_m} * sizeof(ShadingPoint) : 0);
-}
-inline __host__ __device__ bool stage_tile_points(uint32_t full_m, uint32_t k) {
-  return tile_state_bytes(full_m, k, true) <= 48 * 1024;
-}
-
-// Tile `tile` and its state in dynamic shared memory (tile_state_bytes): every thread calls it. Where the tile
-// is small enough (stage_tile_points), its points are copied in with coalesced loads (stage_points) and read from
-// there by every phase; else the phases read the G-buffer.
-inline __device__ TileBlock tile_block(const GroupingConfig& config, const TileGrid& grid, uint32_t tile,
-                                       const ShadingPoint* points, const BsdfParams* materials,
-                                       unsigned char* shared_bytes) {
+// This block's tile and its state in dynamic shared memory (tile_groups_bytes(full tile, groups, k) bytes).
+inline __device__ TileBlock tile_block(const GroupingConfig& config, const TileGrid& grid, const ShadingPoint* points,
+                                       const BsdfParams* materials, unsigned char* shared_bytes) {
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);
   const TileGroups sh = carve_tile_groups(shared_bytes, full_m, (full_m + config.k - 1) / config.k, config.k);
-  TileBlock b = make_tile_block(config, grid, tile, points, materials, sh);
-  if (stage_tile_points(full_m, config.k)) {
-    auto* tile_points = reinterpret_cast<ShadingPoint*>(shared_bytes + tile_groups_offset(full_m, config.k));
-    stage_points(points, b.rect, grid.width, 0, b.m, tile_points);
-    b.tile_points = tile_points;
-  }
-  return b;
+  return make_tile_block(config, grid, blockIdx.x, points, materials, sh);
 }
 
 // What the phases leave to thread i: whether pixel i has a ray, its rank among the tile's hits in row-major
@@ -46,18 +25,14 @@ struct TilePhases {
   DirectionSample sample{};
 };
 
-// Every phase of the tile; group statistics (groups by type, hybrid fallbacks, reused rays) into `stats`;
-// on_count(hits) is called by every thread as soon as the tile's hit count is known. Returns with hits == 0 for
-// the whole block when the tile has no hit (the later phases are skipped).
-template <class OnCount>
-inline __device__ TilePhases group_phases(const TileBlock& b, uint32_t* warp_totals, const BlockStats& stats,
-                                          OnCount&& on_count) {
+// Every phase of the tile; group statistics (groups by type, hybrid fallbacks, reused rays) into `stats`.
+// Returns with hits == 0 for the whole block when the tile has no hit (the later phases are skipped).
+inline __device__ TilePhases group_phases(const TileBlock& b, uint32_t* warp_totals, const BlockStats& stats) {
   const uint32_t i = threadIdx.x, q = threadIdx.x;
   stats.clear();
   TilePhases t;
   t.hit = i < b.m && phase_assign(b, i);
   t.rank = block_exclusive_count(t.hit, warp_totals, t.hits);  // also publishes phase 1
-  on_count(t.hits);
   if (t.hits == 0) return t;
   // Phase 2: each member's rank in its group, each group's census.
   if (t.hit) phase_member_rank(b, i);

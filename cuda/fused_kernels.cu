@@ -52,19 +52,17 @@ __global__ void __launch_bounds__(256, 4)
   const BlockStats block_stats{block_slots};
   block_stats.clear();
   const Staged staged = carve_staged(shared_bytes, 0, blockDim.x);
-  auto* points_staged = reinterpret_cast<ShadingPoint*>(shared_bytes + staged_bytes(0, blockDim.x));
   const TileRect rect = grid.rect(static_cast<int>(blockIdx.x));
-  const auto m = rect.area();
-  for (uint32_t base = 0; base < m; base += blockDim.x) {
-    const uint32_t i = base + threadIdx.x;
-    stage_points(points, rect, grid.width, base, min(blockDim.x, m - base), points_staged);
-    const ShadingPoint& sp = points_staged[threadIdx.x];
-    const bool hit = i < m && has_hit(sp);
+  const auto m = static_cast<int>(rect.area());
+  for (int base = 0; base < m; base += blockDim.x) {
+    const int i = base + static_cast<int>(threadIdx.x);
+    const uint32_t p = i < m ? rect.pixel(static_cast<uint32_t>(i), grid.width) : 0u;
+    const bool hit = i < m && has_hit(points[p]);
     uint32_t total;
     const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
     uint32_t flags = 0;
     if (hit) {
-      const uint32_t p = rect.pixel(i, grid.width);
+      const ShadingPoint& sp = points[p];
       const DirectionSample s = sample_own_lobe(materials[sp.material], sp, seed, frame, p);
       const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, s);
       staged.rays[rank] = r.ray;
@@ -88,8 +86,8 @@ __global__ void __launch_bounds__(kMaxGroupTile)
   __shared__ uint32_t warp_totals[32];
   __shared__ uint32_t block_slots[kStatCount];
   const BlockStats block_stats{block_slots};
-  const TileBlock b = tile_block(config, grid, blockIdx.x, points, materials, shared_bytes);
-  const TilePhases t = group_phases(b, warp_totals, block_stats, [](uint32_t) {});
+  const TileBlock b = tile_block(config, grid, points, materials, shared_bytes);
+  const TilePhases t = group_phases(b, warp_totals, block_stats);
   if (t.hits == 0) return;  // the same for the whole block
   const Staged staged = carve_staged(shared_bytes, state_bytes, blockDim.x);
   const uint32_t i = threadIdx.x;
@@ -134,7 +132,7 @@ void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, con
                         const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid, Hit* hits,
                         unsigned long long* stats) {
   const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
-  const size_t shared = staged_bytes(0, static_cast<uint32_t>(block)) + sizeof(ShadingPoint) * size_t(block);
+  const size_t shared = staged_bytes(0, static_cast<uint32_t>(block));
   with_trace_view(scene, launch, [&](auto view, auto filter) {
     auto kernel = fused_noopt_kernel<decltype(view), decltype(filter)>;
     allow_shared(kernel, shared);
@@ -152,8 +150,7 @@ void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, 
     throw Error("cuda: the fused trace groups tiles of at most 1024 pixels with k >= 1");
   if (config.order == RayOrder::Scanline)
     throw Error("cuda: the fused trace makes each tile's rays in its block; order=scanline has no fused form");
-  const auto k = static_cast<uint32_t>(config.k);
-  const size_t state = tile_state_bytes(full_m, k, stage_tile_points(full_m, k));
+  const size_t state = tile_groups_bytes(full_m, (full_m + config.k - 1) / config.k, config.k);
   const auto block = static_cast<uint32_t>(round_up_warp(static_cast<int>(full_m)));
   const size_t shared = staged_bytes(state, block);
   with_trace_view(scene, launch, [&](auto view, auto filter) {

@@ -28,7 +28,6 @@ struct TileGroups {
   uint32_t* diffuse;   // [g] diffuse-like members
   uint32_t* start;     // [g] first position of the group
   uint32_t* donor;     // [g] pixel (image index) of the donor
-  uint32_t* donor_i;   // [g] pixel number of the donor in the tile
   uint32_t* type;      // [g] GroupType
   Vec3* shared_dir;    // [g] shared coordinates of the diffuse members' direction
   float* glossy_pdf;   // [g] hybrid=glossy: pdf of the reused glossy sample
@@ -40,7 +39,7 @@ struct TileGroups {
 // Bytes of a tile's state: m pixels of the full tile, g groups of at most k members.
 RAYCOH_HD RAYCOH_INLINE size_t tile_groups_bytes(uint32_t m, uint32_t g, uint32_t k) {
   return static_cast<size_t>(m) * (3 * sizeof(uint32_t) + sizeof(Vec3) + sizeof(MaterialClass)) +
-         static_cast<size_t>(g) * (6 * sizeof(uint32_t) + sizeof(Vec3) + sizeof(float)) +
+         static_cast<size_t>(g) * (5 * sizeof(uint32_t) + sizeof(Vec3) + sizeof(float)) +
          static_cast<size_t>(g) * k * 2 * sizeof(uint32_t);
 }
 
@@ -59,7 +58,6 @@ RAYCOH_HD RAYCOH_INLINE TileGroups carve_tile_groups(unsigned char* base, uint32
   s.diffuse = u32(g);
   s.start = u32(g);
   s.donor = u32(g);
-  s.donor_i = u32(g);
   s.type = u32(g);
   s.at_slot = u32(g * k);
   s.members = u32(g * k);
@@ -76,16 +74,10 @@ struct TileBlock {
   TileRect rect;
   uint32_t tile = 0, m = 0, groups = 0;
   int image_width = 0;
-  const ShadingPoint* points = nullptr;       // the G-buffer, by image index
-  const ShadingPoint* tile_points = nullptr;  // or (when set) a copy of the tile's points, by pixel number
+  const ShadingPoint* points = nullptr;
   const BsdfParams* materials = nullptr;
   TileGroups sh;
 };
-
-// The G-buffer point of pixel number i.
-RAYCOH_HD RAYCOH_INLINE const ShadingPoint& point_of(const TileBlock& b, uint32_t i) {
-  return b.tile_points ? b.tile_points[i] : b.points[b.rect.pixel(i, b.image_width)];
-}
 
 RAYCOH_HD RAYCOH_INLINE TileBlock make_tile_block(const GroupingConfig& c, const TileGrid& grid, uint32_t t,
                                                   const ShadingPoint* points, const BsdfParams* materials,
@@ -105,7 +97,7 @@ RAYCOH_HD RAYCOH_INLINE TileBlock make_tile_block(const GroupingConfig& c, const
 
 // Phase 1 (pixel i < m): group and flags. Returns whether the pixel has a hit.
 RAYCOH_HD RAYCOH_INLINE bool phase_assign(const TileBlock& b, uint32_t i) {
-  const ShadingPoint& sp = point_of(b, i);
+  const ShadingPoint& sp = b.points[b.rect.pixel(i, b.image_width)];
   const bool hit = has_hit(sp);
   const uint32_t slot = b.config.interleaved ? tile_shuffle(b.config, b.m, b.tile)(i) : i;
   b.sh.group_of[i] = slot / b.config.k;
@@ -163,16 +155,12 @@ RAYCOH_HD RAYCOH_INLINE void phase_starts(const TileBlock& b) {
 RAYCOH_HD RAYCOH_INLINE void phase_positions(const TileBlock& b, uint32_t q) {
   DonorSearch donor{donor_rank(b.config, group_id(b.config, b.tile, q), b.sh.diffuse[q])};
   const uint32_t* members = b.sh.members + q * b.config.k;
-  uint32_t donor_i = 0;
   for (uint32_t r = 0; r < b.sh.count[q]; ++r) {
     const uint32_t j = members[r];
     b.sh.pos[j] = b.sh.start[q] + r;
-    const bool before = donor.found;
     donor.offer(b.sh.cls[j], b.rect.pixel(j, b.image_width));
-    if (donor.found && !before) donor_i = j;
   }
   b.sh.donor[q] = donor.pixel;
-  b.sh.donor_i[q] = donor_i;
 }
 
 // Batch slot of hit pixel i; rank is its rank among the tile's hits in row-major order.
@@ -185,18 +173,18 @@ RAYCOH_HD RAYCOH_INLINE size_t pixel_slot(const TileBlock& b, uint32_t i, uint32
 RAYCOH_HD RAYCOH_INLINE uint32_t write_pixel(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot,
                                              const DirectionSample& s) {
   const uint32_t p = b.rect.pixel(i, b.image_width), q = b.sh.group_of[i];
-  return write_group_ray(out, slot, point_of(b, i), p, s, b.tile, group_id(b.config, b.tile, q),
+  return write_group_ray(out, slot, b.points[p], p, s, b.tile, group_id(b.config, b.tile, q),
                          static_cast<GroupType>(b.sh.type[q]));
 }
 
 // The reference normal of group q (its donor's; frame=rotate). Groups without a diffuse member have donor
-// pixel number 0 and never use it.
-RAYCOH_HD RAYCOH_INLINE Vec3 group_ref(const TileBlock& b, uint32_t q) { return point_of(b, b.sh.donor_i[q]).ns; }
+// pixel 0 and never read it.
+RAYCOH_HD RAYCOH_INLINE Vec3 group_ref(const TileBlock& b, uint32_t q) { return b.points[b.sh.donor[q]].ns; }
 
 // Phase 5 (hit pixel i that is not diffuse-like): its own lobe, and its mean vote.
 RAYCOH_HD RAYCOH_INLINE DirectionSample own_lobe_sample(const TileBlock& b, uint32_t i) {
   const uint32_t p = b.rect.pixel(i, b.image_width);
-  const ShadingPoint& sp = point_of(b, i);
+  const ShadingPoint& sp = b.points[p];
   const DirectionSample s = sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p);
   if (mean_vote(b.config, sp, s, group_ref(b, b.sh.group_of[i]), b.sh.local[i])) b.sh.flags[i] |= kPixelMeanVote;
   return s;
@@ -223,7 +211,7 @@ RAYCOH_HD RAYCOH_INLINE SharedDirection phase_shared_direction(const TileBlock& 
       const uint32_t j = members[r];
       if (!is_glossy_like(b.sh.cls[j]) || seen++ != pick) continue;
       const uint32_t p = b.rect.pixel(j, b.image_width);
-      const ShadingPoint& sp = point_of(b, j);
+      const ShadingPoint& sp = b.points[p];
       d = glossy_direction(b.config, sp,
                            sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p), ref);
     }
@@ -241,7 +229,7 @@ RAYCOH_HD RAYCOH_INLINE SharedDirection phase_shared_direction(const TileBlock& 
 // Phase 7 (diffuse-like hit pixel i): the group's direction carried to its frame.
 RAYCOH_HD RAYCOH_INLINE DirectionSample reuse_sample(const TileBlock& b, uint32_t i) {
   const uint32_t p = b.rect.pixel(i, b.image_width), q = b.sh.group_of[i];
-  const ShadingPoint& sp = point_of(b, i);
+  const ShadingPoint& sp = b.points[p];
   SharedDirection d;
   d.local = b.sh.shared_dir[q];
   d.glossy_pdf = b.sh.glossy_pdf[q];

@@ -87,11 +87,7 @@ RayBatch block_batch(const Scene& scene, const GBuffer& g, const GroupingConfig&
   const TileGroups sh = carve_tile_groups(reinterpret_cast<unsigned char*>(shared.data()), full_m, groups, c.k);
   stats = GenerationStats{};
   for (uint32_t t = 0; t < static_cast<uint32_t>(grid.count()); ++t) {
-    TileBlock b = make_tile_block(c, grid, t, g.points.data(), materials.data(), sh);
-    // The tile's points copied by pixel number, as the GPU kernels read them (cuda/device_grouping.cuh).
-    std::vector<ShadingPoint> tile_points(b.m);
-    for (uint32_t i = 0; i < b.m; ++i) tile_points[i] = g.points[b.rect.pixel(i, g.width)];
-    b.tile_points = tile_points.data();
+    const TileBlock b = make_tile_block(c, grid, t, g.points.data(), materials.data(), sh);
     std::vector<uint32_t> rank(b.m), hit(b.m);
     uint32_t hits = 0;
     for (uint32_t i = 0; i < b.m; ++i) {
