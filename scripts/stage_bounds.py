@@ -15,7 +15,9 @@ Printed (markdown, every figure computed from the rows):
      (the goal: <= 1.2);
   3. end to end per scene and method, materialized and fused (pipeline=fused): the measured span (gpu_e2e_ms) and
      each ratio to noopt of the same pipeline, beside the trace-only ratio of the materialized pass; fused / trace
-     ratio is the share of the trace's coherence gain that survives end to end (the goal: >= 0.95).
+     ratio is the share of the trace's coherence gain that survives end to end (the goal: >= 0.95); the
+     reorderings (noopt+encoder) have no fused form and show the materialized columns only;
+  4. the verdict per scene: the methods ordered by measured end-to-end time, materialized and fused together.
 Rows read: pass = secondary, tracer = cuda, pipeline in (device, fused), rows run under a profiler excluded by
 name (files named ncu-*).
 """
@@ -113,19 +115,18 @@ def stage_table(rows, facts, out):
 
 
 def e2e_table(rows, out):
-    by = {}
+    by = {}  # (scene, method, pipeline, file): each ratio is taken within one table (its own noopt row)
     for r in rows:
-        if r["_file"].startswith("stages-sweep"):
-            continue
-        by[(r["scene"], r["method"], r["pipeline"])] = r
+        if not r["_file"].startswith("stages-sweep"):
+            by[(r["scene"], r["method"], r["pipeline"], r["_file"])] = r
     out.append("| scene | method | trace-only ×noopt (materialized) | e2e ms materialized | ×noopt | e2e ms fused | "
                "×noopt | fused ×noopt / trace ×noopt |")
     out.append("|---|---|---:|---:|---:|---:|---:|---:|")
-    for (scene, method, pipeline), r in sorted(by.items()):
-        if pipeline != "device" or "+" in method:
+    for (scene, method, pipeline, f), r in sorted(by.items()):
+        if pipeline != "device" or (method == "noopt" and "encoders" in f):
             continue
-        base, fused, fbase = by.get((scene, "noopt", "device")), by.get((scene, method, "fused")), by.get(
-            (scene, "noopt", "fused"))
+        base, fused, fbase = (by.get((scene, "noopt", "device", f)), by.get((scene, method, "fused", f)),
+                              by.get((scene, "noopt", "fused", f)))
         if not base:
             continue
         trace = num(base, "trace_ms") / num(r, "trace_ms")
@@ -139,6 +140,25 @@ def e2e_table(rows, out):
         else:
             cells += ["", "", ""]
         out.append(f"| {scene} | {method} | " + " | ".join(cells) + " |")
+    out.append("")
+
+
+def verdict(rows, out):
+    by_scene, seen = defaultdict(list), set()
+    # The main tables first: their noopt row stands for noopt (the encoder tables measure it again).
+    for r in sorted(rows, key=lambda r: "encoders" in r["_file"]):
+        if r["_file"].startswith("stages-sweep") or num(r, "gpu_e2e_ms") is None:
+            continue
+        label = r["method"] + (" (fused)" if r["pipeline"] == "fused" else "")
+        if (r["scene"], label) in seen:
+            continue
+        seen.add((r["scene"], label))
+        by_scene[r["scene"]].append((num(r, "gpu_e2e_ms"), label))
+    out.append("## Verdict: fastest end to end per scene (measured spans, median of the run's repeats)")
+    out.append("")
+    for scene, entries in sorted(by_scene.items()):
+        entries.sort()
+        out.append(f"- {scene}: " + " < ".join(f"{label} {ms:.4f} ms" for ms, label in entries))
     out.append("")
 
 
@@ -162,6 +182,7 @@ def main(argv):
         out.append("## End to end: materialized (pipeline=device) and fused (pipeline=fused), measured spans")
         out.append("")
         e2e_table(rows, out)
+        verdict(rows, out)
     print("\n".join(out))
 
 
