@@ -33,12 +33,10 @@ enum StatSlot : int {
   kStatCount = 11,
 };
 
-// Exclusive count of `flag` over the block's threads in thread order, and the block's total. Every thread of the
-// block calls it (blockDim.x a multiple of 32); warp_totals is __shared__ uint32_t[32].
-inline __device__ uint32_t block_exclusive_count(bool flag, uint32_t* warp_totals, uint32_t& total) {
-  const unsigned lane = threadIdx.x & 31u, warp = threadIdx.x >> 5;
-  const unsigned bits = __ballot_sync(kFullMask, flag);
-  if (lane == 0) warp_totals[warp] = static_cast<uint32_t>(__popc(bits));
+// The block-wide combine of per-warp totals (each warp's lane wrote warp_totals[warp]): the sum over the warps
+// before this one, and the block's total. Two barriers: warp_totals may be rewritten after it returns.
+inline __device__ uint32_t warps_before(const uint32_t* warp_totals, uint32_t& total) {
+  const unsigned warp = threadIdx.x >> 5;
   __syncthreads();
   uint32_t before = 0;
   total = 0;
@@ -47,31 +45,31 @@ inline __device__ uint32_t block_exclusive_count(bool flag, uint32_t* warp_total
     if (w < warp) before += v;
     total += v;
   }
-  __syncthreads();  // warp_totals may be rewritten by the next call
-  return before + static_cast<uint32_t>(__popc(bits & ((1u << lane) - 1u)));
+  __syncthreads();
+  return before;
+}
+
+// Exclusive count of `flag` over the block's threads in thread order, and the block's total. Every thread of the
+// block calls it (blockDim.x a multiple of 32); warp_totals is __shared__ uint32_t[32].
+inline __device__ uint32_t block_exclusive_count(bool flag, uint32_t* warp_totals, uint32_t& total) {
+  const unsigned lane = threadIdx.x & 31u;
+  const unsigned bits = __ballot_sync(kFullMask, flag);
+  if (lane == 0) warp_totals[threadIdx.x >> 5] = static_cast<uint32_t>(__popc(bits));
+  return warps_before(warp_totals, total) + static_cast<uint32_t>(__popc(bits & ((1u << lane) - 1u)));
 }
 
 // Exclusive sum of `value` over the block's threads in thread order, and the block's total (warp shuffles, one
 // barrier pair). Every thread of the block calls it (blockDim.x a multiple of 32); warp_totals is
 // __shared__ uint32_t[32].
 inline __device__ uint32_t block_exclusive_sum(uint32_t value, uint32_t* warp_totals, uint32_t& total) {
-  const unsigned lane = threadIdx.x & 31u, warp = threadIdx.x >> 5;
+  const unsigned lane = threadIdx.x & 31u;
   uint32_t inclusive = value;
   for (unsigned d = 1; d < 32; d <<= 1) {
     const uint32_t v = __shfl_up_sync(kFullMask, inclusive, d);
     if (lane >= d) inclusive += v;
   }
-  if (lane == 31) warp_totals[warp] = inclusive;
-  __syncthreads();
-  uint32_t before = 0;
-  total = 0;
-  for (unsigned w = 0; w < (blockDim.x >> 5); ++w) {
-    const uint32_t v = warp_totals[w];
-    if (w < warp) before += v;
-    total += v;
-  }
-  __syncthreads();
-  return before + inclusive - value;
+  if (lane == 31) warp_totals[threadIdx.x >> 5] = inclusive;
+  return warps_before(warp_totals, total) + inclusive - value;
 }
 
 // Statistics of one block in shared memory (shared atomics), added to the global ones once per block.
