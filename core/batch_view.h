@@ -9,22 +9,21 @@
 
 namespace raycoh {
 
+// A pointer per column of RAYCOH_BATCH_COLUMNS (core/ray_batch.h); the group columns are null for generators
+// without groups.
 struct BatchView {
-  Ray* rays;
-  uint32_t* pixel;
-  float* pdf;
-  Vec3* weight;
-  Vec3* normal;
-  MaterialClass* material;
-  uint32_t* tile;  // null for generators without groups
-  uint32_t* group;
-  GroupType* group_type;
+#define RAYCOH_BATCH_POINTER(name, T, grouped) T* name = nullptr;
+  RAYCOH_BATCH_COLUMNS(RAYCOH_BATCH_POINTER)
+#undef RAYCOH_BATCH_POINTER
 };
 
 // The batch's storage (it must already have its size: RayBatch::resize).
 inline BatchView batch_view(RayBatch& b) {
-  return BatchView{b.rays.data(),     b.pixel.data(), b.pdf.data(),   b.weight.data(),    b.normal.data(),
-                   b.material.data(), b.tile.data(),  b.group.data(), b.group_type.data()};
+  BatchView v;
+#define RAYCOH_BATCH_DATA(name, T, grouped) v.name = b.name.data();
+  RAYCOH_BATCH_COLUMNS(RAYCOH_BATCH_DATA)
+#undef RAYCOH_BATCH_DATA
+  return v;
 }
 
 // Ray `slot` from a shading point and the direction chosen for it. The origin is offset along the geometric

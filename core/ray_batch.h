@@ -59,20 +59,37 @@ const char* to_string(GroupType t);
 
 // Structure-of-arrays batch; element i of every array belongs to ray i. The order of the batch is part of the
 // method (DESIGN.md section 1): warps are 32 consecutive rays.
+// The ray batch's columns, declared once: X(name, element type, group column). A group column is filled by
+// grouping generators only (empty otherwise). RayBatch holds a vector per column, BatchView (core/batch_view.h) a
+// pointer; RayBatch::resize, permute_batch (encoders/permute.cpp), the device batches, their gather and download
+// (cuda/device_batch.cuh) and the model's bytes per ray (simt/pipeline_model.cpp) expand this list, so a new ray
+// attribute is one line here, and its value where core/batch_view.h's write_ray makes a ray.
+//   rays        the ray
+//   pixel       y * width + x of the shading point the ray leaves
+//   pdf         solid-angle pdf of the direction (discrete probability for delta lobes)
+//   weight      BSDF x cos / pdf; zero for directions that were rejected
+//   normal      shading normal at the origin
+//   material    class of the material at the origin
+//   tile        tile index (row-major over the image's tiles)
+//   group       group id unique in the frame (tile * groups_per_tile + group in tile)
+//   group_type  the group's type
+#define RAYCOH_BATCH_COLUMNS(X)     \
+  X(rays, Ray, false)               \
+  X(pixel, uint32_t, false)         \
+  X(pdf, float, false)              \
+  X(weight, Vec3, false)            \
+  X(normal, Vec3, false)            \
+  X(material, MaterialClass, false) \
+  X(tile, uint32_t, true)           \
+  X(group, uint32_t, true)          \
+  X(group_type, GroupType, true)
+
 struct RayBatch {
   int width = 0, height = 0;
   uint32_t frame = 0;
-  std::vector<Ray> rays;
-  std::vector<uint32_t> pixel;          // y * width + x of the shading point the ray leaves
-  std::vector<float> pdf;               // solid-angle pdf of the direction (discrete probability for delta lobes)
-  std::vector<Vec3> weight;             // BSDF x cos / pdf; zero for directions that were rejected
-  std::vector<Vec3> normal;             // shading normal at the origin
-  std::vector<MaterialClass> material;  // class of the material at the origin
-  // Filled by grouping generators only (empty otherwise): tile index (row-major over the image's tiles), group
-  // id unique in the frame (tile * groups_per_tile + group in tile) and the group's type.
-  std::vector<uint32_t> tile;
-  std::vector<uint32_t> group;
-  std::vector<GroupType> group_type;
+#define RAYCOH_BATCH_VECTOR(name, T, grouped) std::vector<T> name;
+  RAYCOH_BATCH_COLUMNS(RAYCOH_BATCH_VECTOR)
+#undef RAYCOH_BATCH_VECTOR
 
   size_t size() const { return rays.size(); }
   bool has_groups() const { return !group.empty(); }

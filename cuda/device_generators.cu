@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/own_lobe.h"
 #include "cuda/cuda_check.cuh"
+#include "cuda/device_batch.cuh"
 #include "cuda/device_common.cuh"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"
@@ -122,13 +123,7 @@ struct DeviceGenerator::Impl {
   DeviceBuffer<ShadingPoint> points;
   DeviceBuffer<uint32_t> counts, offsets, flags, slots;
   DeviceBuffer<unsigned char> scan_temp;
-  DeviceBuffer<Ray> rays;
-  DeviceBuffer<uint32_t> pixel;
-  DeviceBuffer<float> pdf;
-  DeviceBuffer<Vec3> weight, normal;
-  DeviceBuffer<MaterialClass> material;
-  DeviceBuffer<uint32_t> tile, group;
-  DeviceBuffer<GroupType> group_type;
+  DeviceBatch batch;
   DeviceBuffer<unsigned long long> stats{kStatCount};
   EventTimer timer;
   float last_ms = -1.f;
@@ -152,48 +147,16 @@ struct DeviceGenerator::Impl {
     RAYCOH_CUDA_CHECK(cub::DeviceScan::ExclusiveSum(scan_temp.get(), bytes, in, out, static_cast<int>(n)));
   }
 
-  // Buffers for n rays over `tiles` tiles of `pixels` pixels; the batch's arrays as a view.
+  // Buffers for n rays over `tiles` tiles of `pixels` pixels; the batch's columns as a view.
   BatchView reserve(size_t n, size_t pixels, size_t tiles, bool grouping, bool scanline) {
     counts.zero(tiles + 1);  // counts[tiles] = 0, so that offsets[tiles] = the total
     offsets.reserve(tiles + 1);
-    rays.reserve(n);
-    pixel.reserve(n);
-    pdf.reserve(n);
-    weight.reserve(n);
-    normal.reserve(n);
-    material.reserve(n);
-    tile.reserve(n);
-    group.reserve(n);
-    group_type.reserve(n);
     stats.zero(kStatCount);
     if (scanline) {
       flags.reserve(pixels);
       slots.reserve(pixels);
     }
-    return BatchView{rays.get(),
-                     pixel.get(),
-                     pdf.get(),
-                     weight.get(),
-                     normal.get(),
-                     material.get(),
-                     grouping ? tile.get() : nullptr,
-                     grouping ? group.get() : nullptr,
-                     grouping ? group_type.get() : nullptr};
-  }
-
-  void download(RayBatch& out, size_t n, bool grouping) const {
-    out.resize(n, grouping);
-    rays.download(out.rays.data(), n);
-    pixel.download(out.pixel.data(), n);
-    pdf.download(out.pdf.data(), n);
-    weight.download(out.weight.data(), n);
-    normal.download(out.normal.data(), n);
-    material.download(out.material.data(), n);
-    if (grouping) {
-      tile.download(out.tile.data(), n);
-      group.download(out.group.data(), n);
-      group_type.download(out.group_type.data(), n);
-    }
+    return batch.reserve(n, grouping);
   }
 
   GenerationStats download_stats() const {
@@ -345,7 +308,7 @@ void DeviceGenerator::download(RayBatch& out) const {
   out.width = m.width;
   out.height = m.height;
   out.frame = m.frame;
-  m.download(out, m.hits, m.grouping);
+  m.batch.download(out, m.hits, m.grouping);
 }
 
 void DeviceGenerator::generate(const GBuffer& g, uint32_t seed, const Generator& cpu, RayBatch& out,

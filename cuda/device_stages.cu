@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "cuda/cuda_check.cuh"
+#include "cuda/device_batch.cuh"
 #include "cuda/device_common.cuh"
 #include "cuda/device_stages.h"
 
@@ -11,25 +12,10 @@ namespace raycoh::cuda {
 
 namespace {
 
-// One thread per slot of the permuted batch; the group arrays only where the batch has them.
+// One thread per slot of the permuted batch; the group columns only where the batch has them.
 __global__ void gather_batch_kernel(BatchView in, const uint32_t* order, size_t n, BatchView out) {
   const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
-  if (i >= n) return;
-  const uint32_t j = order[i];
-  const float4* src = reinterpret_cast<const float4*>(in.rays + j);  // rays as two 16-byte words
-  float4* dst = reinterpret_cast<float4*>(out.rays + i);
-  dst[0] = __ldg(src);
-  dst[1] = __ldg(src + 1);
-  out.pixel[i] = in.pixel[j];
-  out.pdf[i] = in.pdf[j];
-  out.weight[i] = in.weight[j];
-  out.normal[i] = in.normal[j];
-  out.material[i] = in.material[j];
-  if (in.tile) {
-    out.tile[i] = in.tile[j];
-    out.group[i] = in.group[j];
-    out.group_type[i] = in.group_type[j];
-  }
+  if (i < n) gather_columns(in, order[i], i, out);
 }
 
 }  // namespace
@@ -40,14 +26,7 @@ struct DeviceStages::Impl {
   int width = 0, height = 0;
   uint32_t frame = 0;
   size_t primary_count = 0;
-  // The permuted batch.
-  DeviceBuffer<Ray> rays;
-  DeviceBuffer<uint32_t> pixel;
-  DeviceBuffer<float> pdf;
-  DeviceBuffer<Vec3> weight, normal;
-  DeviceBuffer<MaterialClass> material;
-  DeviceBuffer<uint32_t> tile, group;
-  DeviceBuffer<GroupType> group_type;
+  DeviceBatch permuted;
   bool grouped = false;
   DeviceBuffer<Hit> hits;
   EventTimer primary_timer, permute_timer, span_timer;
@@ -94,26 +73,7 @@ void DeviceStages::download_primary(PixelRays& out) const {
 BatchView DeviceStages::launch_gather(const BatchView& in, const uint32_t* d_order, size_t n) {
   Impl& m = *impl_;
   m.grouped = in.tile != nullptr;
-  m.rays.reserve(n);
-  m.pixel.reserve(n);
-  m.pdf.reserve(n);
-  m.weight.reserve(n);
-  m.normal.reserve(n);
-  m.material.reserve(n);
-  if (m.grouped) {
-    m.tile.reserve(n);
-    m.group.reserve(n);
-    m.group_type.reserve(n);
-  }
-  const BatchView out{m.rays.get(),
-                      m.pixel.get(),
-                      m.pdf.get(),
-                      m.weight.get(),
-                      m.normal.get(),
-                      m.material.get(),
-                      m.grouped ? m.tile.get() : nullptr,
-                      m.grouped ? m.group.get() : nullptr,
-                      m.grouped ? m.group_type.get() : nullptr};
+  const BatchView out = m.permuted.reserve(n, m.grouped);
   m.permute_timer.start();
   if (n > 0) {
     gather_batch_kernel<<<blocks_for(n, 256), 256>>>(in, d_order, n, out);
@@ -126,19 +86,7 @@ BatchView DeviceStages::launch_gather(const BatchView& in, const uint32_t* d_ord
 float DeviceStages::wait_permute_ms() const { return impl_->permute_timer.elapsed_ms(); }
 
 void DeviceStages::download_permuted(RayBatch& out, size_t n) const {
-  const Impl& m = *impl_;
-  out.resize(n, m.grouped);
-  m.rays.download(out.rays.data(), n);
-  m.pixel.download(out.pixel.data(), n);
-  m.pdf.download(out.pdf.data(), n);
-  m.weight.download(out.weight.data(), n);
-  m.normal.download(out.normal.data(), n);
-  m.material.download(out.material.data(), n);
-  if (m.grouped) {
-    m.tile.download(out.tile.data(), n);
-    m.group.download(out.group.data(), n);
-    m.group_type.download(out.group_type.data(), n);
-  }
+  impl_->permuted.download(out, n, impl_->grouped);
 }
 
 Hit* DeviceStages::hits(size_t n) {

@@ -39,29 +39,18 @@ void permute_batch(const RayBatch& in, const std::vector<uint32_t>& order, RayBa
   out.width = in.width;
   out.height = in.height;
   out.frame = in.frame;
-  out.rays.resize(n);
-  const bool pixel = prepare(in.pixel, out.pixel, n, "pixel");
-  const bool pdf = prepare(in.pdf, out.pdf, n, "pdf");
-  const bool weight = prepare(in.weight, out.weight, n, "weight");
-  const bool normal = prepare(in.normal, out.normal, n, "normal");
-  const bool material = prepare(in.material, out.material, n, "material");
-  const bool groups = prepare(in.tile, out.tile, n, "tile") & prepare(in.group, out.group, n, "group") &
-                      prepare(in.group_type, out.group_type, n, "group_type");
-  // One pass gathers all arrays, so each index is read once.
+#define RAYCOH_PREPARE(name, T, grouped) const bool has_##name = prepare(in.name, out.name, n, #name);
+  RAYCOH_BATCH_COLUMNS(RAYCOH_PREPARE)
+#undef RAYCOH_PREPARE
+  RAYCOH_CHECK(has_rays || n == 0, std::string("permute_batch: the batch has no rays"));
+  // One pass gathers all columns, so each index is read once.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       const uint32_t j = order[i];
-      out.rays[i] = in.rays[j];
-      if (pixel) out.pixel[i] = in.pixel[j];
-      if (pdf) out.pdf[i] = in.pdf[j];
-      if (weight) out.weight[i] = in.weight[j];
-      if (normal) out.normal[i] = in.normal[j];
-      if (material) out.material[i] = in.material[j];
-      if (groups) {
-        out.tile[i] = in.tile[j];
-        out.group[i] = in.group[j];
-        out.group_type[i] = in.group_type[j];
-      }
+#define RAYCOH_GATHER(name, T, grouped) \
+  if (has_##name) out.name[i] = in.name[j];
+      RAYCOH_BATCH_COLUMNS(RAYCOH_GATHER)
+#undef RAYCOH_GATHER
     }
   });
 }

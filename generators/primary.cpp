@@ -14,15 +14,9 @@
 namespace raycoh {
 
 void RayBatch::resize(size_t n, bool with_groups) {
-  rays.resize(n);
-  pixel.resize(n);
-  pdf.resize(n);
-  weight.resize(n);
-  normal.resize(n);
-  material.resize(n);
-  tile.resize(with_groups ? n : 0);
-  group.resize(with_groups ? n : 0);
-  group_type.resize(with_groups ? n : 0);
+#define RAYCOH_RESIZE(name, T, grouped) name.resize(grouped && !with_groups ? 0 : n);
+  RAYCOH_BATCH_COLUMNS(RAYCOH_RESIZE)
+#undef RAYCOH_RESIZE
 }
 
 const char* to_string(GroupType t) {

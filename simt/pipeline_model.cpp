@@ -12,9 +12,13 @@ constexpr size_t kIndexBytes = 4;
 constexpr uint32_t kWarp = 32;
 constexpr uint32_t kSectorBytes = 32;
 
-// The batch arrays, element sizes in bytes (core/ray_batch.h).
-constexpr size_t kArrays[] = {sizeof(Ray),  sizeof(uint32_t), sizeof(float),
-                              sizeof(Vec3), sizeof(Vec3),     sizeof(MaterialClass)};
+// The batch columns a trace and shading need (RAYCOH_BATCH_COLUMNS without the group columns), element sizes in
+// bytes.
+constexpr size_t kArrays[] = {
+#define RAYCOH_COLUMN_SIZE(name, T, grouped) grouped ? size_t{0} : sizeof(T),
+    RAYCOH_BATCH_COLUMNS(RAYCOH_COLUMN_SIZE)
+#undef RAYCOH_COLUMN_SIZE
+};
 
 }  // namespace
 
@@ -75,6 +79,7 @@ double permute_bytes(const uint32_t* order, size_t n) {
   double read_sectors = 0;
   uint64_t first[kWarp * 2], last[kWarp * 2];
   for (size_t a : kArrays) {
+    if (a == 0) continue;  // a group column: not part of the traced batch
     for (size_t w = 0; w < n; w += kWarp) {
       const size_t lanes = std::min<size_t>(kWarp, n - w);
       size_t m = 0;
