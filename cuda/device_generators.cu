@@ -16,8 +16,6 @@
 #include "cuda/device_common.cuh"
 #include "cuda/device_generators.h"
 #include "generators/generator.h"
-#include "generators/noopt.h"
-#include "generators/tangent_reuse.h"
 
 namespace raycoh::cuda {
 
@@ -93,29 +91,21 @@ __global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* mater
 
 namespace {
 
-// What the GPU runs: exactly one of the two CPU generators it reproduces.
-struct GpuGenerator {
-  const NoOptGenerator* noopt = nullptr;
-  const TangentSpaceReuse* grouping = nullptr;
-};
-
-GpuGenerator gpu_generator(const Generator& cpu) {
-  GpuGenerator g{dynamic_cast<const NoOptGenerator*>(&cpu), dynamic_cast<const TangentSpaceReuse*>(&cpu)};
-  if (!g.noopt && !g.grouping)
+// What the GPU runs: the CPU generator's typed recipe (noopt, or the grouping of ours / contiguous).
+DeviceRecipe gpu_recipe(const Generator& cpu) {
+  const DeviceRecipe r = cpu.device_recipe();
+  if (r.kind == DeviceRecipe::Kind::None)
     throw Error("this generator has no GPU version; GPU generators: noopt, ours, contiguous");
-  if (g.grouping) {
-    const auto [w, h] = g.grouping->tile();
-    if (w * h > kMaxGroupTile)
-      throw Error("GPU generator: tile=" + std::to_string(w) + "x" + std::to_string(h) + " has " +
-                  std::to_string(w * h) + " pixels; the GPU version takes at most " + std::to_string(kMaxGroupTile) +
-                  " (one thread per pixel)");
-  }
-  return g;
+  if (r.kind == DeviceRecipe::Kind::Grouping && r.tile_w * r.tile_h > kMaxGroupTile)
+    throw Error("GPU generator: tile=" + std::to_string(r.tile_w) + "x" + std::to_string(r.tile_h) + " has " +
+                std::to_string(r.tile_w * r.tile_h) + " pixels; the GPU version takes at most " +
+                std::to_string(kMaxGroupTile) + " (one thread per pixel)");
+  return r;
 }
 
 }  // namespace
 
-void check_gpu_generator(const Generator& cpu) { gpu_generator(cpu); }
+void check_gpu_generator(const Generator& cpu) { gpu_recipe(cpu); }
 
 struct DeviceGenerator::Impl {
   DeviceBuffer<BsdfParams> materials;
@@ -206,7 +196,6 @@ void DeviceGenerator::upload(const GBuffer& g) {
 
 // What one launch generates: the CPU generator's typed configuration and the tile grid of its order.
 struct DeviceGenerator::Impl::Plan {
-  GpuGenerator gen;
   bool grouping = false, scanline = false;
   GroupingConfig config{};
   TileGrid grid;
@@ -216,13 +205,12 @@ struct DeviceGenerator::Impl::Plan {
 DeviceGenerator::Impl::Plan DeviceGenerator::Impl::plan(uint32_t seed, const Generator& cpu) const {
   if (!uploaded) throw Error("cuda: DeviceGenerator::launch before upload (no G-buffer on the device)");
   Plan p;
-  p.gen = gpu_generator(cpu);
-  p.grouping = p.gen.grouping != nullptr;
-  p.config = p.grouping ? p.gen.grouping->config(seed, frame) : GroupingConfig{};
-  const auto [tile_w, tile_h] = p.grouping ? p.gen.grouping->tile() : p.gen.noopt->tile();
+  const DeviceRecipe r = gpu_recipe(cpu);
+  p.grouping = r.kind == DeviceRecipe::Kind::Grouping;
+  p.config = p.grouping ? r.config(seed, frame) : GroupingConfig{};
   // NoOpt's scanline order is its tile order with one-row tiles, as on the CPU.
-  p.grid = !p.grouping && p.gen.noopt->order() == RayOrder::Scanline ? TileGrid(width, height, width, 1)
-                                                                     : TileGrid(width, height, tile_w, tile_h);
+  p.grid = !p.grouping && r.order == RayOrder::Scanline ? TileGrid(width, height, width, 1)
+                                                        : TileGrid(width, height, r.tile_w, r.tile_h);
   p.pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
   p.tiles = static_cast<size_t>(p.grid.count());
   p.scanline = p.grouping && p.config.order == RayOrder::Scanline;

@@ -17,11 +17,14 @@
 //            tile's first slot, then one block per tile ranks its hit pixels row-major with warp ballots and
 //            writes each ray.
 //   ours /   the same tile offsets; one block per tile (W H <= 1024: one thread per pixel) runs the phases of
-//   contig.  generators/grouping_block.h: per pixel, one thread shuffles and groups its pixel number; per group,
-//            one thread walks the tile's pixels in row-major order to count members, pick the donor and sum the
-//            glossy members' tangent-space directions in the CPU's order (a float sum is only bit-identical in
-//            the same order); per pixel, one thread samples or reuses and writes its ray. Every step is a
-//            function of generators/grouping.h, the one the CPU tile loop calls.
+//   contig.  generators/grouping_block.h: per pixel, one thread shuffles and groups its pixel number and ranks
+//            itself among its group's k slots; per group, one thread counts its members and, walking only them
+//            in row-major order, picks the donor and sums the glossy members' tangent-space directions in the
+//            CPU's order (a float sum is only bit-identical in the same order); per pixel, one thread samples or
+//            reuses and writes its ray. Every step is a function of generators/grouping.h, the one the CPU tile
+//            loop calls.
+// The GPU reads the CPU generator's typed Generator::device_recipe() (generators/grouping.h), never its class or
+// its parameter text.
 // Not on the GPU: the G-buffer itself (make_gbuffer runs on the host and is uploaded; it is not part of a
 // generator's overhead) and the `direct` ablation.
 #pragma once
@@ -53,9 +56,8 @@ void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder
 // the CPU and GPU results to the same bits.
 void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
 
-// The GPU runs the typed configuration the CPU generator built from its parameters (its tile and order; for ours /
-// contiguous the GroupingConfig its tile loop reads), never their text. Throws raycoh::Error unless cpu is noopt,
-// ours or contiguous, and for ours / contiguous tiles of more than 1024 pixels (one thread per pixel).
+// Throws raycoh::Error unless cpu's device_recipe() has a GPU version (noopt, ours, contiguous), and for ours /
+// contiguous tiles of more than 1024 pixels (one thread per pixel).
 void check_gpu_generator(const Generator& cpu);
 
 // The scene's materials on the device (uploaded once), the G-buffer (with its material table when the scene has

@@ -13,8 +13,6 @@
 #include "cuda/device_stages.h"
 #include "encoders/encoder.h"
 #include "generators/generator.h"
-#include "generators/noopt.h"
-#include "generators/tangent_reuse.h"
 #include "scenes/scene.h"
 
 namespace raycoh::cuda {
@@ -225,8 +223,8 @@ class CudaPipeline final : public DevicePipeline {
 std::string device_pipeline_refusal(const std::string& generator_name, const Generator& generator,
                                     const Encoder& encoder, bool fused) {
   const char* const host = "; cuda:pipeline=host traces host-made batches of it";
-  const auto* grouping = dynamic_cast<const TangentSpaceReuse*>(&generator);
-  if (!dynamic_cast<const NoOptGenerator*>(&generator) && !grouping)
+  const DeviceRecipe device = generator.device_recipe();
+  if (device.kind == DeviceRecipe::Kind::None)
     return fmt::format("generator '{}' has no device version; device generators: noopt, ours, contiguous{}",
                        generator_name, host);
   try {
@@ -240,7 +238,7 @@ std::string device_pipeline_refusal(const std::string& generator_name, const Gen
         "encoder '{}' sorts a batch, and cuda:pipeline=fused keeps none (it traces each ray where it "
         "is made): use encoder none, or cuda:pipeline=device",
         encoder.name());
-  if (fused && grouping && grouping->config(0, 0).order == RayOrder::Scanline)
+  if (fused && device.kind == DeviceRecipe::Kind::Grouping && device.order == RayOrder::Scanline)
     return fmt::format(
         "generator '{}': order=scanline has no fused form (a fused block makes one tile's rays); "
         "use order=tile or order=group, or cuda:pipeline=device",

@@ -10,6 +10,7 @@
 #include "core/params.h"
 #include "core/plugin.h"
 #include "core/ray_batch.h"
+#include "generators/grouping.h"
 #include "scenes/scene.h"
 
 namespace raycoh {
@@ -22,6 +23,8 @@ class Generator {
                         GenerationStats& stats) = 0;
   // Canonical, defaulted parameter set ("order=tile,tile=8x8").
   virtual std::string params() const = 0;
+  // The typed configuration a device version runs (generators/grouping.h); kind None where there is none.
+  virtual DeviceRecipe device_recipe() const { return {}; }
 };
 
 // Reads its values from a ParamSet over the record's table; throws raycoh::Error for bad ones.

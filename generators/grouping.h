@@ -43,6 +43,27 @@ struct GroupingConfig {
   ReuseFrame reuse_frame = ReuseFrame::Duff;
 };
 
+// What a device needs to make a generator's batch itself, typed (never its parameter text): Generator::
+// device_recipe(). NoOpt: its tile and order (scanline order: one-row tiles); Grouping (ours, contiguous): its tile
+// and its grouping, of which config() gives one frame's. Kind None: no device version (the device pipeline refuses
+// it in one line).
+struct DeviceRecipe {
+  enum class Kind { None, NoOpt, Grouping };
+  Kind kind = Kind::None;
+  int tile_w = 0, tile_h = 0;
+  RayOrder order = RayOrder::Tile;
+  GroupingConfig grouping{};  // seed, group_seed and frame are config()'s
+  uint32_t salt_hash = 0;     // group_seed = seed ^ salt_hash
+  // The grouping of one frame, as the CPU loop and the device kernels read it.
+  GroupingConfig config(uint32_t seed, uint32_t frame) const {
+    GroupingConfig c = grouping;
+    c.seed = seed;
+    c.group_seed = seed ^ salt_hash;
+    c.frame = frame;
+    return c;
+  }
+};
+
 // A group's shared coordinates of a direction. Duff: tangent-space coordinates in the member's own frame
 // (normal = +z). Rotate: the world direction rotated from the member's normal n to the reference normal ref
 // (the donor's), so the coordinates are world coordinates around ref. from_shared() is the inverse for a member.

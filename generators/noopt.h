@@ -17,8 +17,14 @@ class NoOptGenerator final : public Generator {
                 GenerationStats& stats) override;
   std::string params() const override { return params_; }
   // The typed configuration the GPU version runs (cuda/device_generators.h).
-  RayOrder order() const { return order_; }
-  std::pair<int, int> tile() const { return tile_; }
+  DeviceRecipe device_recipe() const override {
+    DeviceRecipe r;
+    r.kind = DeviceRecipe::Kind::NoOpt;
+    r.tile_w = tile_.first;
+    r.tile_h = tile_.second;
+    r.order = order_;
+    return r;
+  }
 
  private:
   RayOrder order_;

@@ -214,18 +214,21 @@ TangentSpaceReuse::TangentSpaceReuse(ParamSet& params, bool interleaved) : inter
   params_ = params.canonical();
 }
 
-GroupingConfig TangentSpaceReuse::config(uint32_t seed, uint32_t frame) const {
-  GroupingConfig c;
-  c.seed = seed;
-  c.group_seed = seed ^ hash32(salt_);
-  c.frame = frame;
+DeviceRecipe TangentSpaceReuse::device_recipe() const {
+  DeviceRecipe r;
+  r.kind = DeviceRecipe::Kind::Grouping;
+  r.tile_w = tile_.first;
+  r.tile_h = tile_.second;
+  r.order = order_;
+  r.salt_hash = hash32(salt_);
+  GroupingConfig& c = r.grouping;
   c.k = static_cast<uint32_t>(k_);
   c.groups_per_full_tile = static_cast<uint32_t>((tile_.first * tile_.second + k_ - 1) / k_);
   c.interleaved = interleaved_;
   c.order = order_;
   c.hybrid = hybrid_;
   c.reuse_frame = frame_;
-  return c;
+  return r;
 }
 
 void TangentSpaceReuse::generate(const Scene& scene, const GBuffer& g, uint32_t seed, RayBatch& out,

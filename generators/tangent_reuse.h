@@ -16,8 +16,9 @@ class TangentSpaceReuse final : public Generator {
   void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                 GenerationStats& stats) override;
   std::string params() const override { return params_; }
-  // The grouping of one frame, as the CPU loop and the CUDA block phases read it.
-  GroupingConfig config(uint32_t seed, uint32_t frame) const;
+  DeviceRecipe device_recipe() const override;
+  // The grouping of one frame, as the CPU loop and the CUDA block phases read it: device_recipe().config().
+  GroupingConfig config(uint32_t seed, uint32_t frame) const { return device_recipe().config(seed, frame); }
   std::pair<int, int> tile() const { return tile_; }
 
  private:
