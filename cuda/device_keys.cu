@@ -1,6 +1,6 @@
-// Sort keys, CUB radix sort and ray gather on the GPU (see cuda/device_keys.h). One thread per ray runs the same
-// encoders/keys.h code function the CPU encoder runs (origin_code, reis_code, costa_code, aila_code,
-// twopoint_code, mlhcc_code) and keeps the top `bits` bits; cub::DeviceRadixSort::SortPairs sorts (key, index)
+// Sort keys, CUB radix sort and ray gather on the GPU (see cuda/device_keys.h). One thread per ray runs the
+// recipe's key function, key_code<Kind> of encoders/key_code.h, the one the CPU encoder runs, and keeps the top
+// `bits` bits; cub::DeviceRadixSort::SortPairs sorts (key, index)
 // pairs over bits [0, bits) only, which is what encoders/radix_sort.h does on the CPU (Merrill & Grimshaw,
 // "High Performance and Scalable Radix Sorting", 2011, is CUB's onesweep predecessor; stable LSD either way).
 // (No fmt here: its consteval format strings do not compile under nvcc 13.)
@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_keys.h"
+#include "encoders/key_code.h"
 #include "encoders/keys.h"
 #include "encoders/mlhcc_cuts.h"
 
@@ -21,31 +22,12 @@ namespace raycoh::cuda {
 
 namespace {
 
-struct KeyParams {
-  int bits;
-  Bounds box;
-  float length_factor;
-  bool with_end;
-  MlhccCuts cuts;  // device pointers (mlhcc only)
-};
-
-template <KeyKind Kind>
-__device__ __forceinline__ uint64_t code_of(const KeyParams& kp, const Ray& r) {
-  if constexpr (Kind == KeyKind::Origin) return origin_code(r.org, kp.box);
-  if constexpr (Kind == KeyKind::Reis) return reis_code(r.org, r.dir, kp.box);
-  if constexpr (Kind == KeyKind::Costa) return costa_code(r.org, r.dir, kp.box);
-  if constexpr (Kind == KeyKind::Aila) return aila_code(r.org, r.dir, kp.box);
-  if constexpr (Kind == KeyKind::TwoPoint) return twopoint_code(r.org, r.dir, r.tmax, kp.box, kp.length_factor);
-  if constexpr (Kind == KeyKind::Mlhcc)
-    return mlhcc_code(r.org, r.dir, r.tmax, kp.box, kp.length_factor, kp.cuts, kp.with_end, kp.bits);
-  return 0;
-}
-
 // K: uint32_t for keys of at most 32 bits (half the bytes for the key kernel and every sort pass), else uint64_t.
+// The code is the recipe's key function (encoders/key_code.h), the one the CPU encoder runs.
 template <KeyKind Kind, class K>
-__global__ void key_kernel(KeyParams kp, const Ray* rays, size_t n, K* keys) {
+__global__ void key_kernel(KeyArgs args, const Ray* rays, size_t n, K* keys) {
   const size_t i = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
-  if (i < n) keys[i] = static_cast<K>(key_from_code(code_of<Kind>(kp, rays[i]), kp.bits));
+  if (i < n) keys[i] = static_cast<K>(key_from_code(key_code<Kind>(args, rays[i]), args.bits));
 }
 
 __global__ void iota_kernel(uint32_t* v, size_t n) {
@@ -70,7 +52,7 @@ unsigned blocks_for(size_t n) {
 
 struct DeviceKeys::Impl {
   KeyRecipe config;
-  KeyParams params{};
+  KeyArgs params{};
   DeviceBuffer<BvhNode> nodes;
   DeviceBuffer<MlhccNodeCut> cuts;
   DeviceBuffer<Ray> rays, sorted_rays;
@@ -87,28 +69,8 @@ struct DeviceKeys::Impl {
   template <class K>
   void launch_keys_as(const Ray* d_rays, size_t n, K* d_keys) {
     const unsigned blocks = blocks_for(n);
-    switch (config.kind) {
-      case KeyKind::None:
-        return;
-      case KeyKind::Origin:
-        key_kernel<KeyKind::Origin><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
-        break;
-      case KeyKind::Reis:
-        key_kernel<KeyKind::Reis><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
-        break;
-      case KeyKind::Costa:
-        key_kernel<KeyKind::Costa><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
-        break;
-      case KeyKind::Aila:
-        key_kernel<KeyKind::Aila><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
-        break;
-      case KeyKind::TwoPoint:
-        key_kernel<KeyKind::TwoPoint><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
-        break;
-      case KeyKind::Mlhcc:
-        key_kernel<KeyKind::Mlhcc><<<blocks, kBlock>>>(params, d_rays, n, d_keys);
-        break;
-    }
+    with_key_kind(config.kind,
+                  [&](auto kind) { key_kernel<decltype(kind)::value><<<blocks, kBlock>>>(params, d_rays, n, d_keys); });
     RAYCOH_CUDA_CHECK_LAUNCH();
   }
   void launch_keys(const Ray* d_rays, size_t n) {
@@ -185,10 +147,7 @@ DeviceKeys::DeviceKeys(const KeyRecipe& config, const Bvh* bvh) : impl_(std::mak
     throw Error("encoder 'none' makes no keys; GPU encoders: origin, reis, costa, aila, twopoint, mlhcc");
   Impl& m = *impl_;
   m.config = config;
-  m.params.bits = config.bits;
-  m.params.box = config.box;
-  m.params.length_factor = config.length_factor;
-  m.params.with_end = config.with_end;
+  m.params = key_args(config);
   if (config.kind == KeyKind::Mlhcc) {
     if (!bvh) throw Error("encoder 'mlhcc' (GPU): needs the scene's BVH, and none was given");
     const MlhccCutTable table =

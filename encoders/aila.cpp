@@ -19,8 +19,7 @@ const ParamTable& aila_params() {
 std::unique_ptr<Encoder> make_aila_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);
   const Bounds box = context.bounds;
-  return make_key_encoder("aila", KeyRecipe{KeyKind::Aila, bits, box}, finish_encoder_params(params, box),
-                          [box](const Ray& r) { return aila_code(r.org, r.dir, box); });
+  return make_recipe_encoder("aila", KeyRecipe{KeyKind::Aila, bits, box}, finish_encoder_params(params, box));
 }
 
 }  // namespace raycoh

@@ -18,8 +18,7 @@ const ParamTable& costa_params() {
 std::unique_ptr<Encoder> make_costa_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);
   const Bounds box = context.bounds;
-  return make_key_encoder("costa", KeyRecipe{KeyKind::Costa, bits, box}, finish_encoder_params(params, box),
-                          [box](const Ray& r) { return costa_code(r.org, r.dir, box); });
+  return make_recipe_encoder("costa", KeyRecipe{KeyKind::Costa, bits, box}, finish_encoder_params(params, box));
 }
 
 }  // namespace raycoh

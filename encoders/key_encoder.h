@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "encoders/encoder.h"
+#include "encoders/key_code.h"
 #include "encoders/keys.h"
 
 namespace raycoh {
@@ -50,6 +51,22 @@ std::unique_ptr<Encoder> make_key_encoder(std::string name, const KeyRecipe& rec
                                           std::string details = {}) {
   return std::make_unique<KeyEncoder<CodeFn>>(std::move(name), recipe, std::move(params), std::move(code),
                                               std::move(details));
+}
+
+// A key encoder whose code is its recipe's key function (encoders/key_code.h), the one the GPU's key kernel runs.
+// cuts: mlhcc's cut table view; keep: what that view points into (the encoder keeps it alive).
+inline std::unique_ptr<Encoder> make_recipe_encoder(std::string name, const KeyRecipe& recipe, std::string params,
+                                                    const MlhccCuts& cuts = {}, std::shared_ptr<const void> keep = {},
+                                                    std::string details = {}) {
+  const KeyArgs args = key_args(recipe, cuts);
+  std::unique_ptr<Encoder> out;
+  with_key_kind(recipe.kind, [&](auto kind) {
+    constexpr KeyKind K = decltype(kind)::value;
+    out = make_key_encoder(
+        std::move(name), recipe, std::move(params), [args, keep](const Ray& r) { return key_code<K>(args, r); },
+        std::move(details));
+  });
+  return out;  // null for KeyKind::None: such an encoder brings its own code function (make_key_encoder)
 }
 
 // The rows several encoders share: bits (the key is the code's top `bits` bits) and L (end-point distance).

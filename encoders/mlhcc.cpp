@@ -61,12 +61,9 @@ std::unique_ptr<Encoder> make_mlhcc_encoder(ParamSet& params, const EncoderConte
   // The table is shared with the code function, which keeps a view of it: the encoder owns both.
   auto table = std::make_shared<const MlhccCutTable>(build_mlhcc_cuts(*context.bvh, lambda, ranks));
   const std::string details = table->summary();
-  return make_key_encoder(
+  return make_recipe_encoder(
       "mlhcc", KeyRecipe{KeyKind::Mlhcc, bits, box, length, lambda, with_end, ranks == MlhccRanks::Global}, canonical,
-      [table, cuts = table->view(), box, length, with_end, bits](const Ray& r) {
-        return mlhcc_code(r.org, r.dir, r.tmax, box, length, cuts, with_end, bits);
-      },
-      details);
+      table->view(), table, details);
 }
 
 }  // namespace raycoh

@@ -17,8 +17,7 @@ const ParamTable& origin_params() {
 std::unique_ptr<Encoder> make_origin_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);
   const Bounds box = context.bounds;
-  return make_key_encoder("origin", KeyRecipe{KeyKind::Origin, bits, box}, finish_encoder_params(params, box),
-                          [box](const Ray& r) { return origin_code(r.org, box); });
+  return make_recipe_encoder("origin", KeyRecipe{KeyKind::Origin, bits, box}, finish_encoder_params(params, box));
 }
 
 }  // namespace raycoh

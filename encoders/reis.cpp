@@ -17,8 +17,7 @@ const ParamTable& reis_params() {
 std::unique_ptr<Encoder> make_reis_encoder(ParamSet& params, const EncoderContext& context) {
   const int bits = read_key_bits(params);
   const Bounds box = context.bounds;
-  return make_key_encoder("reis", KeyRecipe{KeyKind::Reis, bits, box}, finish_encoder_params(params, box),
-                          [box](const Ray& r) { return reis_code(r.org, r.dir, box); });
+  return make_recipe_encoder("reis", KeyRecipe{KeyKind::Reis, bits, box}, finish_encoder_params(params, box));
 }
 
 }  // namespace raycoh

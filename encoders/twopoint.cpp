@@ -20,9 +20,8 @@ std::unique_ptr<Encoder> make_twopoint_encoder(ParamSet& params, const EncoderCo
   const int bits = read_key_bits(params);
   const float length = params.get_float("L");
   const Bounds box = context.bounds;
-  return make_key_encoder("twopoint", KeyRecipe{KeyKind::TwoPoint, bits, box, length},
-                          finish_encoder_params(params, box),
-                          [box, length](const Ray& r) { return twopoint_code(r.org, r.dir, r.tmax, box, length); });
+  return make_recipe_encoder("twopoint", KeyRecipe{KeyKind::TwoPoint, bits, box, length},
+                             finish_encoder_params(params, box));
 }
 
 }  // namespace raycoh
