@@ -106,24 +106,16 @@ struct DeviceKeys::Impl {
       sort_pairs(keys.get(), sorted_keys.get(), n);
   }
 
-  // The first n sorted keys, as 64-bit words.
-  void download_sorted_keys(uint64_t* out, size_t n) const {
+  // The first n keys of `wide` (keys of more than 32 bits) or `narrow`, as 64-bit words.
+  void download_widened(const DeviceBuffer<uint64_t>& wide, const DeviceBuffer<uint32_t>& narrow_buffer, uint64_t* out,
+                        size_t n) const {
     if (!narrow()) {
-      sorted_keys.download(out, n);
+      wide.download(out, n);
       return;
     }
-    std::vector<uint32_t> narrow_keys(n);
-    sorted_keys32.download(narrow_keys.data(), n);
-    for (size_t i = 0; i < n; ++i) out[i] = narrow_keys[i];
-  }
-  void download_keys(uint64_t* out, size_t n) const {
-    if (!narrow()) {
-      keys.download(out, n);
-      return;
-    }
-    std::vector<uint32_t> narrow_keys(n);
-    keys32.download(narrow_keys.data(), n);
-    for (size_t i = 0; i < n; ++i) out[i] = narrow_keys[i];
+    std::vector<uint32_t> words(n);
+    narrow_buffer.download(words.data(), n);
+    for (size_t i = 0; i < n; ++i) out[i] = words[i];
   }
 
   // The key and sort buffers (the host-array calls upload their rays into `rays` themselves; sort_device reads the
@@ -169,7 +161,7 @@ void DeviceKeys::keys(const Ray* rays, size_t n, uint64_t* keys) {
   m.reserve(n);
   m.rays.upload(rays, n);
   m.launch_keys(m.rays.get(), n);
-  m.download_keys(keys, n);
+  m.download_widened(m.keys, m.keys32, keys, n);
 }
 
 void DeviceKeys::sort(const uint64_t* keys, size_t n, uint64_t* sorted_keys, uint32_t* order) {
@@ -182,7 +174,7 @@ void DeviceKeys::sort(const uint64_t* keys, size_t n, uint64_t* sorted_keys, uin
     m.keys.upload(keys, n);
   }
   m.launch_sort(n);
-  m.download_sorted_keys(sorted_keys, n);
+  m.download_widened(m.sorted_keys, m.sorted_keys32, sorted_keys, n);
   m.order.download(order, n);
 }
 
@@ -224,7 +216,7 @@ void DeviceKeys::reorder(const Ray* rays, size_t n, uint64_t* sorted_keys, uint3
   timings = wait_timings();
   const float permute_ms = m.permute_timer.elapsed_ms();
   timings.permute_ms = sorted_rays ? permute_ms : 0.f;
-  m.download_sorted_keys(sorted_keys, n);
+  m.download_widened(m.sorted_keys, m.sorted_keys32, sorted_keys, n);
   m.order.download(order, n);
   if (sorted_rays) m.sorted_rays.download(sorted_rays, n);
 }
