@@ -141,6 +141,15 @@ def e2e_table(rows, out):
             cells += ["", "", ""]
         out.append(f"| {scene} | {method} | " + " | ".join(cells) + " |")
     out.append("")
+    # Fused against materialized, method by method: medians of one run, no interval.
+    gaps = [(1 - num(by[(s, m, "fused", f)], "gpu_e2e_ms") / num(r, "gpu_e2e_ms"), s, m)
+            for (s, m, p, f), r in by.items() if p == "device" and (s, m, "fused", f) in by]
+    if gaps:
+        below = sum(g > 0 for g, _, _ in gaps)
+        g, s, m = min(gaps)
+        out.append(f"Fused span below the materialized span (medians of this run, no interval): {below} of "
+                   f"{len(gaps)} scene x method pairs; the smallest difference {g * 100:.1f}% ({s}, {m}).")
+        out.append("")
 
 
 def verdict(rows, out):
