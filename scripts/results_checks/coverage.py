@@ -1,0 +1,39 @@
+"""Which numeric figures of the hand-written results documents no check covers (a warning list, not a failure).
+
+A figure here is a decimal number (1.246), or a whole number followed by % or × (15%, 2×), in prose or a table:
+code blocks (indented four spaces or fenced) and `inline code` are commands and names, not figures. A figure is
+covered when it lies inside the text a Figure check quotes, or the README has no figure outside such text.
+"""
+import re
+
+from results_checks.core import squash
+
+FIGURE = re.compile(r"(?<![\w.\-/])[−+\-]?\d[\d,]*(?:\.\d+(?![.\d])|\s?[%×](?! ?\d))")
+VERSION = re.compile(r"\b(?:CUDA|nvcc|driver|version|Embree|GPGPU-Sim|Denoise|clang-format|g\+\+|Python) [\d.]+")
+
+
+def prose(text):
+    """The README without code blocks and inline code, whitespace collapsed."""
+    lines, fenced = [], False
+    for line in text.splitlines():
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+            continue
+        if fenced or line.startswith("    "):
+            continue
+        lines.append(line)
+    return squash(VERSION.sub(" ", re.sub(r"`[^`]*`", " ", "\n".join(lines))))
+
+
+def uncovered(text, quoted):
+    """The figures of `text` outside every one of the `quoted` texts (already rendered)."""
+    body = prose(text)
+    spans = []
+    for q in quoted:
+        q = squash(re.sub(r"`[^`]*`", " ", q)).strip()
+        start = body.find(q)
+        while start >= 0:
+            spans.append((start, start + len(q)))
+            start = body.find(q, start + 1)
+    return [m.group(0) for m in FIGURE.finditer(body)
+            if not any(a <= m.start() and m.end() <= b for a, b in spans)]

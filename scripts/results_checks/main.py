@@ -1,0 +1,133 @@
+"""scripts/check-results: run every check, print the mismatches and the coverage line; --self-test."""
+import pathlib
+import re
+import sys
+import time
+
+from results_checks import checks_generated, checks_gpu, checks_model, checks_top, checks_tune, coverage
+from results_checks.core import Figure, Generated, read_file, render, squash
+from results_checks.rows import ROOT
+
+MODULES = (checks_gpu, checks_model, checks_tune, checks_top, checks_generated)
+EXTRA_DOCS = ("results/shard-overhead.md",)  # hand-written documents that are not called README.md
+
+
+def all_checks():
+    return [c for m in MODULES for c in m.CHECKS]
+
+
+def documents():
+    found = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "results").rglob("README.md"))
+    return found + [d for d in EXTRA_DOCS if (ROOT / d).exists()]
+
+
+def coverage_line(checks, passed):
+    quoted = {}
+    for c in checks:
+        if isinstance(c, Figure) and c in passed:
+            quoted.setdefault(c.readme, []).append(c.expected())
+    figures = sum(1 for c in passed if isinstance(c, Figure))
+    generated = sum(1 for c in passed if isinstance(c, Generated))
+    docs = documents()
+    checked = [d for d in docs if d in quoted]
+    print(f"check-results: {len(checked)} of {len(docs)} hand-written results documents checked, {figures} quoted "
+          f"figure texts recomputed from their rows, {generated} generated files made again by their scripts")
+    open_docs = []
+    for d in docs:
+        left = coverage.uncovered(read_file(d), quoted.get(d, []))
+        if left:
+            open_docs.append((d, left))
+    if open_docs:
+        print("check-results: warning: figures that no check covers yet (count, first few):")
+        for d, left in open_docs:
+            print(f"  {d}: {len(left)} ({', '.join(left[:6])})")
+
+
+def run(checks):
+    failures, passed = [], []
+    for c in checks:
+        message = c.run(read_file)
+        if message:
+            failures.append(message)
+        else:
+            passed.append(c)
+    return failures, passed
+
+
+def alter_digit(text):
+    """`text` with its last digit changed (the edit the self-test makes to a quoted figure)."""
+    m = list(re.finditer(r"\d", text))
+    if not m:
+        return None
+    i = m[-1].start()
+    return text[:i] + str((int(text[i]) + 1) % 10) + text[i + 1:]
+
+
+def self_test_figure(check):
+    """The README with `check`'s figure edited in every place it is quoted; True when the check then fails."""
+    values = check.value()
+    values = values if isinstance(values, (tuple, list)) else (values,)
+    want = render(check.text, values, check.minus)
+    first = next((k for k, v in enumerate(values) if not isinstance(v, str)), 0)
+    edited_values = list(values)
+    edited_values[first] = alter_digit(render("{" + _spec(check.text, first) + "}", (values[first],), check.minus))
+    edited = render(check.text, edited_values, check.minus)
+    if edited == want:
+        return True
+    text = squash(read_file(check.readme)).replace(want, edited)
+    return check.run(lambda path: text if path == check.readme else read_file(path)) is not None
+
+
+def _spec(template, index):
+    import string
+    specs = [spec for _, name, spec, _ in string.Formatter().parse(template) if name is not None]
+    return ":" + specs[index] if specs[index] else ""
+
+
+def self_test_generated(check):
+    text = read_file(check.output)
+    lines = text.splitlines()
+    k = next(i for i, line in enumerate(lines) if re.search(r"\d", line))
+    lines[k] = alter_digit(lines[k])
+    edited = "\n".join(lines) + "\n"
+    return check.run(lambda path: edited if path == check.output else read_file(path)) is not None
+
+
+def self_test(checks):
+    """Every Figure check must fail on its README with the figure edited, and one generated file of each mode on
+    its output with a digit edited."""
+    bad = []
+    for c in checks:
+        if isinstance(c, Figure) and not self_test_figure(c):
+            bad.append(c.describe())
+    generated = [c for c in checks if isinstance(c, Generated)]
+    for mode in ("equal", "lines"):
+        c = next((g for g in generated if g.mode == mode), None)
+        if c and not self_test_generated(c):
+            bad.append(c.describe())
+    for b in bad:
+        print(f"check-results --self-test: an edited figure passed: {b}")
+    n = sum(isinstance(c, Figure) for c in checks)
+    print(f"check-results --self-test: {n} figure checks and {min(2, len(generated))} generated files fail when "
+          f"edited" if not bad else f"check-results --self-test: {len(bad)} checks do not notice an edit")
+    return 1 if bad else 0
+
+
+def main(argv):
+    start = time.time()
+    checks = all_checks()
+    if argv and argv[0] == "--self-test":
+        failures, _ = run(checks)
+        if failures:
+            print("check-results --self-test: the checks must pass first (run scripts/check-results)")
+            return 1
+        return self_test(checks)
+    if argv:
+        print("usage: scripts/check-results [--self-test]", file=sys.stderr)
+        return 2
+    failures, passed = run(checks)
+    for f in failures:
+        print(f"check-results: MISMATCH {f}")
+    coverage_line(checks, passed)
+    print(f"check-results: {len(failures)} mismatches ({time.time() - start:.1f} s)")
+    return 1 if failures else 0
