@@ -145,3 +145,36 @@ def e2e_row(readme, path, method):
 
 
 CHECKS = run_41d9445()
+
+
+def run_c3eba59():
+    readme, final = "results/gpu/h100-c3eba59/README.md", "results/gpu/h100-c3eba59/table-final.csv"
+    before = {m: "results/gpu/h100-6f75752/table-comparison.csv" for m in ("noopt", "ours", "contiguous")}
+    before["ours:order=group"] = "results/gpu/h100-6f75752/table-group.csv"
+    order = ("noopt", "ours", "ours:order=group", "contiguous")
+    kernels = ("cuda", "cuda:cwbvh")
+
+    def ms(path, method, tracer):
+        return total(path, "trace_ms", "sibenik", method, tracer)
+
+    def diff(method, tracer):
+        return abs(pct(ms(final, method, tracer), ms(before[method], method, tracer)))
+
+    cells = [(m, t) for m in order for t in kernels]
+    second_noopt = "results/gpu/h100-6f75752/table-group.csv"
+    return [
+        Figure(readme, "trace times (median of 5, ms) BVH2 / CWBVH — noopt {:.3f} / {:.3f}, ours {:.3f} / {:.3f}, group "
+               "{:.3f} / {:.3f}, contiguous {:.3f} / {:.3f}, against", lambda: tuple(ms(final, m, t) for m, t in cells)),
+        Figure(readme, "({:.3f} / {:.3f}, {:.3f} / {:.3f}, {:.3f} / {:.3f}, {:.3f} / {:.3f}; the group order from its",
+               lambda: tuple(ms(before[m], m, t) for m, t in cells)),
+        Figure(readme, "the group order's CWBVH time differs by {:.1%}, the other seven by at most {:.1%}", lambda: (
+            diff("ours:order=group", "cuda:cwbvh"),
+            max(diff(m, t) for m, t in cells if (m, t) != ("ours:order=group", "cuda:cwbvh")))),
+        Figure(readme, "second noopt row ({:.3f} ms, `table-group.csv`) this run's noopt differs by {:.1%}, and that "
+               "run's two noopt rows differ by {:.1%}", lambda: (
+                   ms(second_noopt, "noopt", "cuda"), pct(ms(final, "noopt", "cuda"), ms(second_noopt, "noopt", "cuda")),
+                   pct(ms(before["noopt"], "noopt", "cuda"), ms(second_noopt, "noopt", "cuda")))),
+    ]
+
+
+CHECKS += run_c3eba59()
