@@ -178,3 +178,30 @@ def run_c3eba59():
 
 
 CHECKS += run_c3eba59()
+
+
+def run_6f75752():
+    readme, comp, group, scenes = files("h100-6f75752")
+    cells = sibenik_cells("h100-6f75752")
+    cwbvh_rows = [("sibenik", m, p) for m, p in (("primary", group), ("noopt", group), ("ours", comp),
+                                                 ("ours:order=group", group), ("contiguous", comp))]
+    cwbvh_rows += [(s, m, scenes) for s in ("conference", "country_kitchen") for m in ("noopt", "ours")]
+
+    def row(scene, method, path):
+        def values():
+            b, c = (total(path, "trace_ms", scene, method, t) for t in ("cuda", "cuda:cwbvh"))
+            b_r, c_r = (rate(path, scene, method, t) for t in ("cuda", "cuda:cwbvh"))
+            return b, b_r, c, c_r, b / c
+        bold = "**{:.2f}×**" if (scene, method) == ("sibenik", "noopt") else "{:.2f}×"
+        return Figure(readme, f"| {scene} | {method} | {{:.3f}} ({{:.0f}}) | {{:.3f}} ({{:.0f}}) | {bold} |", values)
+    return [row(*c) for c in cwbvh_rows] + [
+        Figure(readme, "is {:.2f}–{:.2f}× the measured speed ({:.2f} the camera rays), ratios to noopt within {:+.1%} … "
+               "{:+.1%} (camera rays the {:+.1%};", lambda: (
+                   *lo_hi(too_fast(f, "sibenik", m) for f, m in cells), too_fast(comp, "sibenik", "primary"),
+                   *lo_hi(trace_miss(f, "sibenik", m) for f, m in cells), trace_miss(comp, "sibenik", "primary"))),
+        Figure(readme, "(sibenik camera rays and noopt BVH2 from `table-group.csv`, {:.3f} ms; `table-comparison.csv` has {:.3f} ms",
+               lambda: (total(group, "trace_ms", "sibenik", "noopt"), total(comp, "trace_ms", "sibenik", "noopt"))),
+    ]
+
+
+CHECKS += run_6f75752()
