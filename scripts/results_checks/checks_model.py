@@ -1,6 +1,6 @@
 """results/model/*/README.md: the `simt` model (MODELED) beside measured and simulated runs."""
 from results_checks.core import Figure
-from results_checks.rows import ROOT, lo_hi, pct, rate, select, speedup, total
+from results_checks.rows import ROOT, lo_hi, pct, rate, speedup, total
 
 L1 = "results/model/h100-l1-rule/"
 MEASURED = "results/gpu/h100-6f75752/"

@@ -133,3 +133,37 @@ class Generated:
 def read_file(path):
     with open(ROOT / path, encoding="utf-8") as f:
         return f.read()
+
+
+class Embedded(Figure):
+    """A table copied into a README from a generated file (which a Generated check makes again from its rows):
+    the README's table lines after the line holding `after`, up to the first line that is not part of the table,
+    must each be a line of `source`. Counted and self-tested as figures, one per table line."""
+
+    def __init__(self, readme, source, after):
+        super().__init__(readme, "{}", self.lines, "-")
+        self.source, self.after = source, after
+
+    def lines(self):
+        text = read_file(self.readme).splitlines()
+        start = next(i for i, line in enumerate(text) if self.after in line)
+        table = []
+        for line in text[start + 1:]:
+            if table and not line.startswith("|"):
+                break
+            if line.startswith("|"):
+                table.append(line)
+        return table
+
+    def expected(self):
+        return "\n".join(self.lines())
+
+    def run(self, read):
+        source = set(read_file(self.source).splitlines())
+        readme = read(self.readme)
+        for line in self.lines():
+            if squash(line) not in squash(readme):
+                return f"{self.readme}: the table line {line[:100]!r} is gone"
+            if line not in source:
+                return f"{self.readme}: the table line {line[:100]!r} is not in {self.source}"
+        return None

@@ -1,11 +1,10 @@
 """scripts/check-results: run every check, print the mismatches and the coverage line; --self-test."""
-import pathlib
 import re
 import sys
 import time
 
 from results_checks import checks_generated, checks_gpu, checks_model, checks_top, checks_tune, coverage
-from results_checks.core import Figure, Generated, read_file, render, squash
+from results_checks.core import Embedded, Figure, Generated, read_file, render, squash
 from results_checks.rows import ROOT
 
 MODULES = (checks_gpu, checks_model, checks_tune, checks_top, checks_generated)
@@ -63,8 +62,17 @@ def alter_digit(text):
     return text[:i] + str((int(text[i]) + 1) % 10) + text[i + 1:]
 
 
+def self_test_embedded(check):
+    """The README with a digit of its first copied table row edited; True when the check then fails."""
+    line = next(line for line in check.lines() if re.search(r"\d", line))
+    text = read_file(check.readme).replace(line, alter_digit(line))
+    return check.run(lambda path: text if path == check.readme else read_file(path)) is not None
+
+
 def self_test_figure(check):
     """The README with `check`'s figure edited in every place it is quoted; True when the check then fails."""
+    if isinstance(check, Embedded):
+        return self_test_embedded(check)
     values = check.value()
     values = values if isinstance(values, (tuple, list)) else (values,)
     want = render(check.text, values, check.minus)
