@@ -2,7 +2,7 @@
 // rays in 8x8 tile order through the `cpu` tracer, G-buffer, batches made by the registered generators), so the
 // benchmarks measure the batches the harness measures.
 //   RAYCOH_BENCH_SIZE=WxH   image size (each program has its own default)
-//   RAYCOH_SCENES=DIR       folder of the shared scenes (default: ../shared/scenes beside the project)
+//   RAYCOH_SCENES=DIR       folder of the shared scenes (default: shared/scenes beside the repository)
 #pragma once
 
 #include <algorithm>

@@ -3,8 +3,8 @@
 //
 //   build/bench/raycoh_bench_generate [--benchmark_min_time=0.5]
 //   RAYCOH_BENCH_SIZE=WxH   image size (default 1920x1080)
-//   RAYCOH_SCENES=DIR       folder of the shared scenes (default ../shared/scenes); sibenik and country_kitchen
-//                           are used when present, the built-in voxels scene always
+//   RAYCOH_SCENES=DIR       folder of the shared scenes (default: shared/scenes beside the repository); sibenik
+//                           and country_kitchen are used when present, the built-in voxels scene always
 //
 // Benchmarks: generate/<scene>/<generator> (one frame's batch from a fixed G-buffer) and
 // trace/<scene>/<generator>/cpu (that batch traced by the `cpu` tracer). After the run a summary prints, per

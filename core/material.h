@@ -5,7 +5,7 @@
 
 namespace raycoh {
 
-// The classes the generators and the path tracer dispatch on (DESIGN.md section 6).
+// The classes the generators and the path tracer dispatch on (docs/design.md section 6).
 enum class MaterialClass : uint8_t { Diffuse = 0, Glossy = 1, Specular = 2, Transmissive = 3, Emissive = 4 };
 constexpr int kMaterialClassCount = 5;
 

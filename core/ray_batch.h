@@ -58,7 +58,7 @@ enum class GroupType : uint8_t { Independent = 0, Diffuse = 1, Glossy = 2, Hybri
 const char* to_string(GroupType t);
 
 // Structure-of-arrays batch; element i of every array belongs to ray i. The order of the batch is part of the
-// method (DESIGN.md section 1): warps are 32 consecutive rays.
+// method (docs/design.md section 1): warps are 32 consecutive rays.
 // The ray batch's columns, declared once: X(name, element type, group column). A group column is filled by
 // grouping generators only (empty otherwise). RayBatch holds a vector per column, BatchView (core/batch_view.h) a
 // pointer; RayBatch::resize, permute_batch (encoders/permute.cpp), the device batches, their gather and download

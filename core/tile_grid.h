@@ -8,7 +8,7 @@
 
 namespace raycoh {
 
-// The order in which a generator writes its rays into the batch (DESIGN.md section 1), one enum for every
+// The order in which a generator writes its rays into the batch (docs/design.md section 1), one enum for every
 // generator and the CUDA block phases: scanline (the image's rows), tile (W x H tiles in row-major tile order,
 // row-major inside a tile), group (tiles as in tile order, whole groups one after the other inside a tile; only
 // the grouping generators have groups, so for a pixel order it is tile order).

@@ -5,7 +5,7 @@
 // section 3): launch only as many warps as the GPU holds at once; lane 0 of a warp takes 32 ray indices with one
 // atomicAdd on a global counter and broadcasts the base with __shfl_sync, every lane traces its ray with the
 // while-while loop of core/traverse.h, and the warp fetches again. Fetching whole warps of consecutive rays keeps
-// the batch order's warp composition (DESIGN.md section 1), which is what the generators and encoders shape.
+// the batch order's warp composition (docs/design.md section 1), which is what the generators and encoders shape.
 //
 // The warp-synchronous counting kernel that reproduces simt/simt.h is cuda/counting_kernel.cu.
 //

@@ -7,7 +7,7 @@
 //   persistent  Aila & Laine's persistent threads: as many blocks as fit on the GPU at once; each warp takes the
 //               next 32 consecutive rays of the batch from a global atomic counter, traces them (one ray per
 //               lane, while-while loop), and fetches again until the batch is exhausted. A warp always holds 32
-//               consecutive rays, the batch order's unit (DESIGN.md section 1), and load balancing is dynamic.
+//               consecutive rays, the batch order's unit (docs/design.md section 1), and load balancing is dynamic.
 //   simple      one thread per ray, ceil(count / block) blocks: the baseline the persistent kernel must beat.
 //   counting    one warp per 32 consecutive rays running the while-while loop warp-synchronously under the rules
 //               of simt/simt.h, with __ballot_sync / __reduce_*_sync / __shfl_sync, and writing each warp's step

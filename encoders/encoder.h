@@ -1,4 +1,4 @@
-// Ray-reordering encoders: RayBatch -> keys -> stable radix sort -> permutation (DESIGN.md section 3).
+// Ray-reordering encoders: RayBatch -> keys -> stable radix sort -> permutation (docs/design.md section 3).
 //
 // An Encoder turns every ray of a batch into a k-bit sort key (k = key_bits(), 32 or 64) with one virtual call
 // per batch; the per-ray codes are the host/device functions of encoders/keys.h. `none` makes no keys

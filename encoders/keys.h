@@ -1,4 +1,4 @@
-// Sort keys of the ray-reordering encoders, one function per encoder, for host and device (DESIGN.md section 3).
+// Sort keys of the ray-reordering encoders, one function per encoder, for host and device (docs/design.md section 3).
 //
 // Every encoder builds a 64-bit code, most significant bit first; a k-bit key is its top k bits
 // (key_from_code). Positions are normalised per axis in a box (the scene's bounds),

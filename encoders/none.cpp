@@ -1,4 +1,4 @@
-// None: no reordering. Rays are traced in the order the generator wrote them (tile-major by default, DESIGN.md
+// None: no reordering. Rays are traced in the order the generator wrote them (tile-major by default, docs/design.md
 // section 1), so every reordering method is measured against the free coherence of compact pixel blocks.
 // It makes no keys (key_bits() = 0) and reorder() leaves the batch alone at zero cost.
 //

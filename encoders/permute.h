@@ -1,4 +1,4 @@
-// Applying a sorted order to a ray batch (DESIGN.md section 3). Two modes, reported with every result:
+// Applying a sorted order to a ray batch (docs/design.md section 3). Two modes, reported with every result:
 //   physical  gather every array of the RayBatch into a new batch in the sorted order (timed as "permute"), so
 //             the tracer reads rays contiguously;
 //   indirect  no copy: the tracer fetches ray order[i] for lane i, paying the scattered reads inside the trace.

@@ -1,5 +1,5 @@
 // Stable LSD radix sort of (key, value) pairs on the CPU, parallel with oneTBB; the sort step of every
-// reordering encoder (DESIGN.md section 3; CUB's radix sort takes its place on the GPU).
+// reordering encoder (docs/design.md section 3; CUB's radix sort takes its place on the GPU).
 //
 // Parameters
 //   key_bits    int  -  [0, 64]: only the low key_bits bits of each key are sorted on; higher bits are carried

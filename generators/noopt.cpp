@@ -3,7 +3,7 @@
 // numbers rng(seed, frame, pixel, kDimSecondary0/1, kDimSecondaryLobe), and the ray leaves from the hit point
 // offset along the geometric normal (Waechter & Binder) on the side the direction goes.
 //
-// Parameters: noopt_params() below. NoOpt gets the same compact tile order as every generator (DESIGN.md
+// Parameters: noopt_params() below. NoOpt gets the same compact tile order as every generator (docs/design.md
 // section 1), so no speedup is inflated by a scanline baseline.
 #include "generators/noopt.h"
 

@@ -1,4 +1,4 @@
-// The order in which pixels (and so their rays) are written into a batch (DESIGN.md section 1).
+// The order in which pixels (and so their rays) are written into a batch (docs/design.md section 1).
 //   scanline: row by row.
 //   tile:     W x H tiles in row-major tile order, row-major inside a tile; partial tiles at the right and
 //             bottom borders are clipped to the image and keep the same inner order.

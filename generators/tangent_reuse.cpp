@@ -1,5 +1,5 @@
 // `ours` and `contiguous`: tangent-space direction reuse in groups of K pixels (Liu et al., "Generate Coherent Rays
-// Directly", Eurographics 2024, sections 3.2 and 3.3; DESIGN.md section 2).
+// Directly", Eurographics 2024, sections 3.2 and 3.3; docs/design.md section 2).
 //
 // Per frame the image is split into W x H tiles (partial tiles at the right and bottom borders keep their
 // clipped size m = w' h'). Inside a tile the pixels are numbered row-major, i = 0..m-1, and

@@ -1,4 +1,4 @@
-// The options and runners of the rendering and image-quality commands (DESIGN.md section 5): `render`, `quality`
+// The options and runners of the rendering and image-quality commands (docs/design.md section 5): `render`, `quality`
 // (the paper's Table 2 layout), `converge` (error against time, equal-time error and equal-error time) and
 // `compare`, each in its own .cpp with its CLI binding; shared checks and the reference in render_common.h. CSV
 // schemas are in results/README.md; methods in quality.cpp's and converge.cpp's doc blocks.

@@ -28,9 +28,9 @@
 namespace raycoh {
 namespace {
 
-// Liu et al., "Generate Coherent Rays Directly", Eurographics 2024, measured on an RTX 3060 at 1920x1080
-// (../shared/paper/generate_coherent_rays_directly.tex): Table 1's Sibenik column (MRay/s, trace of the
-// secondary rays) and Table 3 (ours on Sibenik, tile W x H, group size K).
+// Liu et al., "Generate Coherent Rays Directly", Eurographics 2024, measured on an RTX 3060 at 1920x1080 (the
+// paper's own tables): Table 1's Sibenik column (MRay/s, trace of the secondary rays) and Table 3 (ours on
+// Sibenik, tile W x H, group size K).
 struct PaperCell {
   const char* row;    // our method label
   const char* paper;  // the paper's row name
@@ -57,7 +57,7 @@ struct ValidateOptions {
   std::string scene = "../shared/scenes/sibenik";
   std::string preset = "rtx3060";
   std::string tracer_params;   // extra simt parameters, e.g. kernel=simple (what-if runs)
-  std::string order = "tile";  // batch order of `ours` (DESIGN.md section 1): tile | group | scanline
+  std::string order = "tile";  // batch order of `ours` (docs/design.md section 1): tile | group | scanline
   int width = 1920, height = 1080, frames = 1;
   uint32_t seed = 1;
   std::string out = "raycoh-validate.csv";

@@ -1,5 +1,5 @@
 // The one file that includes OpenImageIO (oiio/image_codec.h). OIIO bundles its own fmt and defines
-// FMT_EXCEPTIONS 0 when its headers come first, so nothing of fmt is included here (ECOSYSTEM.md).
+// FMT_EXCEPTIONS 0 when its headers come first, so nothing of fmt is included here (the two would clash).
 #include "oiio/image_codec.h"
 
 #include <algorithm>

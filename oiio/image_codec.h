@@ -1,7 +1,8 @@
-// Image files encoded and decoded in memory: the one OpenImageIO adapter (STYLE.md: one adapter per third-party
-// API). It sits low, beside core/, so that both of its users can reach it: scenes/ decodes glTF textures with it,
-// and shading/image_io.cpp reads and writes EXR and PNG files through it. Plain pixel buffers only: the Image type,
-// tone mapping and the file-path rules (extensions, atomic writes) are shading's (shading/image.h).
+// Image files encoded and decoded in memory: the one OpenImageIO adapter (each third-party API is confined to one
+// adapter, so an upgrade touches one place). It sits low, beside core/, so that both of its users can reach it:
+// scenes/ decodes glTF textures with it, and shading/image_io.cpp reads and writes EXR and PNG files through it.
+// Plain pixel buffers only: the Image type, tone mapping and the file-path rules (extensions, atomic writes) are
+// shading's (shading/image.h).
 //
 // Built with RAYCOH_IMAGE_IO=1 (CMake option RAYCOH_IMAGE_IO, default ON). Without it OpenImageIO is not linked:
 // image_io_available() is false, decode_rgba8 says why it cannot decode, and the encode and read functions throw

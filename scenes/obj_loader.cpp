@@ -6,8 +6,8 @@
 // Vertices are shared per material on (position, normal) pairs, as in that converter's GLB primitives.
 // Corners without a `vn` get area-weighted normals (finalize_scene). A missing .mtl gives default materials.
 //
-// MTL -> material mapping, the same as the converter of ../shared/scenes (see its SOURCE.md files), so the OBJ
-// and GLB of a scene classify the same:
+// MTL -> material mapping, the same as the converter that made the GLB test scenes from the McGuire archive's OBJ
+// files (README.md, "Real scenes"), so the OBJ and GLB of a scene classify the same:
 //   base colour   Kd; mirror-like materials (max Kd < 0.05, max Ks > 0.5) are metallic with base colour Ks;
 //                 transmissive ones with Kd ~ 0 take Tf
 //   roughness     1 when Ks = 0 (no highlight), else (2 / (Ns + 2))^(1/4): the Phong exponent's Beckmann

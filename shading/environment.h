@@ -1,4 +1,4 @@
-// The environment light of scenes without emitters (DESIGN.md section 6): a sky gradient and a sun disc.
+// The environment light of scenes without emitters (docs/design.md section 6): a sky gradient and a sun disc.
 // Radiance lookups for rays that miss the scene, and the sun's cone as a light that next-event estimation samples
 // (directions uniform in the cone, as pbrt-v4's SampleUniformCone). The sky is not sampled by NEE: it is smooth
 // and dim, and BSDF sampling (cosine-weighted for diffuse surfaces) is already close to ideal for it, so a second

@@ -1,5 +1,5 @@
 // Image files by extension: .pfm here through image.cpp, .exr and .png encoded and decoded by the OpenImageIO
-// adapter (oiio/image_codec.h; STYLE.md: one adapter per third-party API), written here.
+// adapter (oiio/image_codec.h; one adapter per third-party API), written here.
 //
 // Built with RAYCOH_IMAGE_IO=1 (CMake option RAYCOH_IMAGE_IO, default ON). Without it OIIO is not linked, .pfm
 // still works, and .exr/.png are a raycoh::Error naming the option.

@@ -1,4 +1,4 @@
-// Image error metrics of a test image against a reference (DESIGN.md section 5).
+// Image error metrics of a test image against a reference (docs/design.md section 5).
 //
 //   mse, rmse   on the LINEAR (HDR) RGB values, mean over pixels and the three channels.
 //   rel_mse     relative MSE, mean over pixels and channels of (t - r)^2 / (r^2 + eps), eps = kRelMseEpsilon

@@ -1,4 +1,4 @@
-// Wavefront path tracer on the benchmark's pipeline (DESIGN.md sections 1 and 5): the frame loop. One path per
+// Wavefront path tracer on the benchmark's pipeline (docs/design.md sections 1 and 5): the frame loop. One path per
 // pixel, frame index = the rng's frame argument; each step is one stage of path_stages.h in its own file:
 //   1. Camera pass (camera_pass.cpp): camera rays in 8x8 tile order, traced; the G-buffer of their hits; emitters
 //      and the environment seen directly.

@@ -1,5 +1,5 @@
 // Reference images: many frames of NoOpt, cached on disk and never reused when anything that decides the image
-// differs (DESIGN.md section 5).
+// differs (docs/design.md section 5).
 //
 // A cache entry is two files in the cache folder (default $RAYCOH_CACHE, else results/cache):
 //   <scene>-<digest>.exr (or .pfm in a build without image I/O)  the mean image, 32-bit float

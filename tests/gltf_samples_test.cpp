@@ -1,10 +1,10 @@
-// Conformance of the glTF loader on ../shared/gltf-samples (42 Khronos sample files; skipped where absent). The
-// folder's README is the reference: its table gives each file's true triangle count (from an independent reader),
-// the triangles EXT_mesh_gpu_instancing adds, zero-area triangles and the extensions it requires. Every file must
-// load with exactly that count (less the triangles an alpha MASK cuts out, which the loader counts) or, for the
-// Draco variants, be refused with an error naming the extension. Textured materials must be classified from
-// their texels: DamagedHelmet emits from a few hundred triangles, not all 15,452. Punctual lights and alpha MASK
-// cut-outs are read (LightsPunctualLamp, GlassVaseFlowers).
+// Conformance of the glTF loader on the glTF sample folder (tests/test_util.h gltf_samples_dir: 42 Khronos sample
+// files; skipped where absent). The folder's README is the reference: its table gives each file's true triangle
+// count (from an independent reader), the triangles EXT_mesh_gpu_instancing adds, zero-area triangles and the
+// extensions it requires. Every file must load with exactly that count (less the triangles an alpha MASK cuts
+// out, which the loader counts) or, for the Draco variants, be refused with an error naming the extension.
+// Textured materials must be classified from their texels: DamagedHelmet emits from a few hundred triangles, not
+// all 15,452. Punctual lights and alpha MASK cut-outs are read (LightsPunctualLamp, GlassVaseFlowers).
 #include <gtest/gtest.h>
 
 #include <cstdlib>

@@ -1,7 +1,7 @@
 // Alpha MASK cut-outs on the GPU (cuda/trace_kernels.cu): the `cuda` tracer uploads a masked scene's alpha arrays
 // and every kernel (persistent, simple, counting; BVH2 and CWBVH) runs core/alpha_mask.h's AlphaTest, so its hits
 // equal the `cpu` tracer's bit for bit: on the card with a cut-out half of alpha_mask_test (rays through the hole
-// hit the wall), and, where ../shared/gltf-samples is present, on AlphaBlendModeTest and GlassVaseFlowers
+// hit the wall), and, where the glTF sample folder is present, on AlphaBlendModeTest and GlassVaseFlowers
 // (primary and NoOpt secondary rays, direct and shuffled indirect). Each scene must have rays whose hit the mask
 // changes, so a kernel that ignored the mask fails. The counting kernel's counters equal the `simt` tracer's on
 // the masked scenes too. Skips cleanly (GTEST_SKIP) without a CUDA device. Label `gpu`.

@@ -1,4 +1,4 @@
-// The slow bit-by-bit reference of the ray-reordering keys, written from the recipes in DESIGN.md section 3
+// The slow bit-by-bit reference of the ray-reordering keys, written from the recipes in docs/design.md section 3
 // independently of encoders/keys.h: RefBits appends fields one bit at a time, and ref_origin, ref_reis,
 // ref_costa, ref_aila and ref_twopoint build each 64-bit code from quantised coordinates. Shared by keys_test,
 // encoder_registry_test and mlhcc_test.

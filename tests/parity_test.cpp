@@ -1,5 +1,5 @@
 // Parity of our traversal (tracer `cpu`) with Embree (tracer `embree`, every mode), the correctness oracle
-// (DESIGN.md section 4): on the built-in scenes and every shared scene, primary rays from the scene camera and
+// (docs/design.md section 4): on the built-in scenes and every shared scene, primary rays from the scene camera and
 // cosine-distributed diffuse rays from their hits must agree on hit/miss, and hits on primitive id or, for
 // ties (shared edges, coplanar duplicates), on t. Also: rejected and axis-aligned rays, thread-count
 // determinism, and the registry's errors.

@@ -1,6 +1,6 @@
 // The paper's generator (`ours`) and its ablations (`tile`, `direct`): grouping structure, the per-pixel
 // cosine distribution (goodness of fit with a fixed seed), shared tangent-space directions, and the stiff and
-// extreme cases of DESIGN.md section 7. G-buffers are built by hand so every case is exactly what it says.
+// extreme cases of docs/design.md section 7. G-buffers are built by hand so every case is exactly what it says.
 #include <gtest/gtest.h>
 
 #include <cmath>

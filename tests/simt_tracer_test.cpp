@@ -229,7 +229,7 @@ TEST(SimtTracer, CountersAreTheSameForAnyThreadCount) {
 }
 
 TEST(SimtTracer, CoherentOrderBeatsScanlineOrder) {
-  // The same rays, tile-major vs scanline (DESIGN.md section 1): compact pixel blocks share more of each warp's
+  // The same rays, tile-major vs scanline (docs/design.md section 1): compact pixel blocks share more of each warp's
   // path, so they cannot be less efficient or touch more lines on a scene with locality.
   const Batch tile = make_batch("voxels", 128, 96, "noopt");
   const Batch scan = make_batch("voxels", 128, 96, "noopt:order=scanline");

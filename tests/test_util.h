@@ -10,14 +10,15 @@
 
 namespace raycoh::test {
 
-// ../shared/scenes (or $RAYCOH_SCENES); empty when absent.
+// $RAYCOH_SCENES, else RAYCOH_SHARED_SCENES (CMake; default: shared/scenes beside the repository); empty when
+// absent.
 inline std::filesystem::path shared_scenes_dir() {
   if (const char* env = std::getenv("RAYCOH_SCENES")) return env;
   std::filesystem::path p = RAYCOH_SHARED_SCENES;
   return std::filesystem::exists(p) ? p : std::filesystem::path{};
 }
 
-// ../shared/gltf-samples (or $RAYCOH_GLTF_SAMPLES); empty when absent.
+// $RAYCOH_GLTF_SAMPLES, else gltf-samples beside the shared scenes folder; empty when absent.
 inline std::filesystem::path gltf_samples_dir() {
   if (const char* env = std::getenv("RAYCOH_GLTF_SAMPLES")) return env;
   const std::filesystem::path p = std::filesystem::path(RAYCOH_SHARED_SCENES).parent_path() / "gltf-samples";

@@ -1,4 +1,4 @@
-// Fuzz targets of the CSV readers: an earlier run's rows read back for resume (harness/csv.cpp through
+// Fuzz targets of the CSV readers: an earlier run's rows read back for resume (records/csv.cpp through
 // record_csv.h, the table/sweep schema), and the shard files `raycoh merge` joins (records/merge.h).
 #include <string>
 #include <vector>

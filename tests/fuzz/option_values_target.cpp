@@ -1,5 +1,5 @@
 // Fuzz target of the option values the commands parse themselves: --res, --shard, --crop, --time, --scenes lists,
-// --tone-map, --metrics, --permute and integer options (harness/cli.h, harness/shard.h, shading/, core/params.h).
+// --tone-map, --metrics, --permute and integer options (harness/cli.h, records/shard.h, shading/, core/params.h).
 #include <string>
 
 #include "core/params.h"
