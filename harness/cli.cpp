@@ -48,7 +48,10 @@ void bind_experiment(CLI::App* cmd, ExperimentOptions& o, ExperimentText& t) {
   cmd->add_option("--res", t.res, "resolution WxH")->capture_default_str();
   cmd->add_option("--frames", o.frames, "frames per scene")->capture_default_str();
   cmd->add_option("--seed", o.seed, "random seed")->capture_default_str();
-  cmd->add_option("--repeat", o.repeats, "timed traces per batch (median reported)")->capture_default_str();
+  cmd->add_option("--repeat", o.repeats,
+                  "timed repeats per batch, the median and its 95% interval reported (0: 9 on a GPU, 7 on the CPU, "
+                  "1 for models and simulators)")
+      ->capture_default_str();
   cmd->add_option("--out", o.out, "CSV file to write")->capture_default_str();
   cmd->add_flag("--force", o.force,
                 "replace what --out (and its .partial) holds instead of resuming it or refusing other parameters");

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "harness/repeat_timing.h"
 #include "simt/pipeline_model.h"
 
 namespace raycoh {
@@ -21,6 +22,7 @@ DeviceMeasurement measure_device(const std::function<DeviceStageTimes()>& pass, 
     for (int r = 0; r < repeats; ++r) passes.push_back(pass());
   }
   DeviceMeasurement m;
+  m.passes = passes;
   m.median = median_stage_times(std::move(passes), &m.trace_min_ms);
   return m;
 }
@@ -40,6 +42,14 @@ void set_device_times(ExperimentRow& row, const DeviceMeasurement& m, bool count
   if (counting) return;  // the counting kernel's time is no traversal time: no end-to-end span
   row.gpu_e2e_ms = t.span_ms;
   row.gpu_e2e_mray_s = mray_s(row.rays, t.span_ms);
+  row.trace_samples_ms.clear();
+  row.e2e_samples_ms.clear();
+  if (m.passes.size() < 2) return;
+  for (const DeviceStageTimes& p : m.passes) {
+    row.trace_samples_ms.push_back(p.trace_ms);
+    row.e2e_samples_ms.push_back(p.span_ms);
+  }
+  set_intervals(row);
 }
 
 void set_stage_traffic(ExperimentRow& row, const DevicePipeline& pipeline, const Encoder& encoder, PermuteMode mode,

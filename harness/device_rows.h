@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <vector>
 
 #include "encoders/encoder.h"
 #include "records/experiment_row.h"
@@ -12,8 +13,9 @@
 namespace raycoh {
 
 struct DeviceMeasurement {
-  DeviceStageTimes median;  // each stage's median over the timed passes
-  double trace_min_ms = 0;  // the fastest trace
+  DeviceStageTimes median;               // each stage's median over the timed passes
+  double trace_min_ms = 0;               // the fastest trace
+  std::vector<DeviceStageTimes> passes;  // every timed pass, in order
 };
 
 // Timing runs: one untimed pass (buffers grown, kernels loaded), then `repeats` timed passes. Counting runs
@@ -22,7 +24,8 @@ DeviceMeasurement measure_device(const std::function<DeviceStageTimes()>& pass, 
 
 // pipeline = device and the measured GPU times: gen_ms, key_ms, sort_ms, permute_ms, trace_ms (+ trace_ms_min),
 // mray_s, e2e_ms = the sum of the stages and e2e_mray_s; for timing runs also gpu_e2e_ms (the measured span) and
-// gpu_e2e_mray_s. row.rays must be set.
+// gpu_e2e_mray_s, and from two timed passes on the intervals and every pass's trace and end to end (the span)
+// (harness/repeat_timing.h). row.rays must be set.
 void set_device_times(ExperimentRow& row, const DeviceMeasurement& m, bool counting);
 
 // The bytes the last secondary pass of `pipeline` moved in each stage (simt/pipeline_model.h stage_traffic; the

@@ -16,6 +16,7 @@
 #include "harness/device_rows.h"
 #include "harness/experiment_setup.h"
 #include "harness/progress.h"
+#include "harness/repeat_timing.h"
 #include "pipeline/first_hits.h"
 #include "records/record_csv.h"
 #include "simt/pipeline_model.h"
@@ -30,19 +31,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-struct Timing {
-  double median = 0, min = 0;
-};
-
-// Times `repeats` calls of fn (fn returns its own time in seconds); reports the median and the fastest.
-template <class Fn>
-Timing time_repeats(Fn&& fn, int repeats) {
-  std::vector<double> t;
-  for (int r = 0; r < repeats; ++r) t.push_back(fn());
-  std::sort(t.begin(), t.end());
-  return {t[t.size() / 2], t.front()};
-}
 
 // One run of the loop: the CSV, the rows an interrupted run left, and the sums of the scene being measured.
 class ExperimentRun {
@@ -186,7 +174,7 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
   r.height = o_.height;
   r.frame = frame;
   r.seed = o_.seed;
-  r.repeats = setup_->models[ti] ? 1 : o_.repeats;
+  r.repeats = setup_->repeats[ti];
   r.encoder = enc ? enc->name() : "";
   r.encoder_params = enc ? enc->params() : "";
   // Reorderings record how they were applied; `none` and the primary pass have nothing to apply.
@@ -240,24 +228,18 @@ Timing ExperimentRun::measure(size_t ti, Fn&& trace_once) {
     trace_once();
     return tracer.last_device_ms() * 1e-3;
   };
-  if (tracer.last_device_ms() >= 0.0) return time_repeats(device, o_.repeats);
-  return time_repeats(wall, o_.repeats);
+  if (tracer.last_device_ms() >= 0.0) return time_repeats(device, setup_->repeats[ti]);
+  return time_repeats(wall, setup_->repeats[ti]);
 }
 
 void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timing& t, const GenerationStats* gs,
                            const ReorderTimings& rt, const ModeledStages& stages) {
-  const double rays = static_cast<double>(r.rays);
-  const double e2e_s = gen_s + rt.total_ms() * 1e-3 + t.median;
   r.gen_ms = gen_s * 1e3;
-  r.trace_ms = t.median * 1e3;
-  r.trace_ms_min = t.min * 1e3;
-  r.mray_s = t.median > 0 ? rays / t.median * 1e-6 : 0.0;
   if (gs) set_generation(r, *gs);
   r.key_ms = rt.key_ms;
   r.sort_ms = rt.sort_ms;
   r.permute_ms = rt.permute_ms;
-  r.e2e_ms = e2e_s * 1e3;
-  r.e2e_mray_s = e2e_s > 0 ? rays / e2e_s * 1e-6 : 0.0;
+  set_host_times(r, t, r.gen_ms + rt.total_ms());
   finish_row(std::move(r), ti, stages);
 }
 
@@ -352,7 +334,7 @@ void ExperimentRun::run_device_primary(int frame) {
     ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
     if (owns(si_, frame, o_.methods.size()) && !resumed(r, ti)) {
       r.rays = size_t(o_.width) * size_t(o_.height);
-      set_device_times(r, measure_device(pass, o_.repeats, setup_->models[ti]), setup_->models[ti]);
+      set_device_times(r, measure_device(pass, setup_->repeats[ti], setup_->models[ti]), setup_->models[ti]);
       finish_row(std::move(r), ti, ModeledStages{});
     } else {
       pass();
@@ -365,7 +347,7 @@ void ExperimentRun::run_device_row(ExperimentRow r, size_t ti, size_t mi) {
   GenerationStats gs;
   DevicePipeline& p = *setup_->pipelines[ti];
   auto pass = [&] { return p.secondary(*generators_[mi], *setup_->encoders[mi], permute_, o_.seed, gs); };
-  const DeviceMeasurement m = measure_device(pass, o_.repeats, setup_->models[ti]);
+  const DeviceMeasurement m = measure_device(pass, setup_->repeats[ti], setup_->models[ti]);
   r.rays = gs.rays;
   set_device_times(r, m, setup_->models[ti]);
   set_generation(r, gs);

@@ -30,7 +30,9 @@ struct ExperimentOptions {
   int width = 320, height = 240;                 // --res, each in [1, 16384]
   int frames = 4;                                // --frames [1, 100000]
   uint32_t seed = 1;                             // --seed
-  int repeats = 3;                               // --repeat [1, 1000]: timed traces per batch; the median is reported
+  // --repeat [1, 1000]: timed traces (device passes) per batch, the median and its interval reported; 0: each
+  // tracer's default (tracer_repeats, harness/experiment_setup.h).
+  int repeats = 0;
   std::string permute = "physical";  // physical | indirect: how a reordering is applied (encoders/permute.h)
   std::string out;
   bool force = false;  // --force: replace what --out and <out>.partial hold instead of resuming or refusing

@@ -33,11 +33,20 @@ void check_scene_names(const std::vector<std::string>& specs) {
   }
 }
 
+// The repeats a row of this run may carry: --repeat, or every tracer's default; counting tracers run once.
+std::set<std::string> repeat_values(const ExperimentOptions& o) {
+  std::set<std::string> v = {"1"};
+  if (o.repeats > 0) v.insert(std::to_string(o.repeats));
+  for (const PluginSpec& t : o.tracers) v.insert(std::to_string(tracer_repeats(o, t, false)));
+  return v;
+}
+
 void check_options(const ExperimentOptions& o) {
   if (o.width < 1 || o.width > 16384 || o.height < 1 || o.height > 16384)
     throw Error(fmt::format("--res {}x{}: width and height must be in [1, 16384]", o.width, o.height));
   if (o.frames < 1 || o.frames > 100000) throw Error(fmt::format("--frames {}: must be in [1, 100000]", o.frames));
-  if (o.repeats < 1 || o.repeats > 1000) throw Error(fmt::format("--repeat {}: must be in [1, 1000]", o.repeats));
+  if (o.repeats < 0 || o.repeats > 1000)
+    throw Error(fmt::format("--repeat {}: must be in [1, 1000] (or 0: each tracer's default)", o.repeats));
   if (o.shard.count < 1 || o.shard.count > kMaxShards || o.shard.index < 0 || o.shard.index >= o.shard.count)
     throw Error(fmt::format("--shard {}: expected I/N with N in [1, {}] and I in [0, N)", o.shard.text(), kMaxShards));
   if (o.scenes.empty()) throw Error("--scenes: empty list");
@@ -92,9 +101,16 @@ ResumeRule experiment_rule(const ExperimentOptions& o, const std::vector<std::un
       .require("height", {std::to_string(o.height)})
       .require("frame", frames)
       .require("seed", {std::to_string(o.seed)})
-      .require("repeats", {std::to_string(o.repeats), "1"})  // counting tracers run once
+      .require("repeats", repeat_values(o))
       .require("permute", {o.permute, ""});
   return require_provenance(rule, p);
+}
+
+int tracer_repeats(const ExperimentOptions& o, const PluginSpec& tracer, bool model) {
+  if (model) return 1;
+  if (o.repeats > 0) return o.repeats;
+  if (device_of(tracer) == "cpu") return kHostRepeats;
+  return simulated_device(tracer) ? 1 : kDeviceRepeats;
 }
 
 SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o,
@@ -116,6 +132,7 @@ SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o,
     const std::string p = tracers.back()->params();
     labels.push_back(p.empty() ? t.name : t.name + "[" + p + "]");
     models.push_back(tracers.back()->last_counters() != nullptr);
+    repeats.push_back(tracer_repeats(o, t, models.back()));
     pipelines.push_back(tracers.back()->device_pipeline());
   }
   warmed.assign(tracers.size(), false);

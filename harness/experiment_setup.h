@@ -30,6 +30,12 @@ std::vector<std::unique_ptr<Generator>> checked_generators(const ExperimentOptio
 ResumeRule experiment_rule(const ExperimentOptions& o, const std::vector<std::unique_ptr<Generator>>& generators,
                            const Provenance& p);
 
+// The defaults of --repeat: a GPU's times from 9 repeats (a 96% median interval), the CPU's from 7 (98%); one run
+// of a tracer whose figure is deterministic: counting and modelling tracers and simulated GPUs.
+inline constexpr int kDeviceRepeats = 9, kHostRepeats = 7;
+// Timed repeats of `tracer` in this run: --repeat when given, else the default above (`model`: the tracer counts).
+int tracer_repeats(const ExperimentOptions& o, const PluginSpec& tracer, bool model);
+
 // One scene with its BVH, tracers and encoders; tracers keep references to scene and BVH, so it never moves.
 struct SceneSetup {
   std::string fingerprint;
@@ -39,6 +45,7 @@ struct SceneSetup {
   std::vector<std::unique_ptr<Encoder>> encoders;  // one per method
   std::unique_ptr<Tracer> gbuffer_tracer;
   std::vector<bool> warmed, models;        // models: tracers with coherence counters (deterministic, run once)
+  std::vector<int> repeats;                // per tracer: tracer_repeats
   std::vector<DevicePipeline*> pipelines;  // per tracer: its device pipeline, or null (it traces host-made batches)
   // Loads and builds; labels receives each tracer's label. Throws raycoh::Error when a tracer's device pipeline
   // has no device version of a method's generator or encoder (DevicePipeline::refusal).

@@ -17,11 +17,17 @@
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "records/provenance.h"
+#include "records/speed_interval.h"
 
 namespace raycoh {
 
 std::string ratio_cell(double value, double base) {
   return fmt::format("{:.2f} ({:.2f}x)", value, base > 0 ? value / base : 0.0);
+}
+
+// A measured speed with its ratio to noopt and the ratio's interval; noopt's own row is the base (no interval).
+std::string ratio_cell(double value, const SpeedRatio& r, bool base = false) {
+  return base ? ratio_cell(value, value) : fmt::format("{:.2f} ({})", value, ratio_text(r));
 }
 
 namespace {
@@ -57,14 +63,18 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
 }
 
 // The rows of an end-to-end table: methods down, scenes across; speed and share pick measured or modeled figures.
+// `interval`: the measured end to end's ratio interval (host pipelines; a device pipeline's is on its span).
 void print_e2e_rows(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
-                    double (Accumulated::*speed)() const, double (Accumulated::*share)() const) {
+                    double (Accumulated::*speed)() const, double (Accumulated::*share)() const, bool interval) {
   for (const Method& method : methods) {
     std::string line = "| " + method.label + " |";
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
       const Accumulated& a = m.at(method.label);
-      line += fmt::format(" {}, {:.0f}% |", ratio_cell((a.*speed)(), (m.at("noopt").*speed)()), 100 * (a.*share)());
+      const std::string cell =
+          interval ? ratio_cell((a.*speed)(), measured_ratio(m.at("noopt"), a, true), method.label == "noopt")
+                   : ratio_cell((a.*speed)(), (m.at("noopt").*speed)());
+      line += fmt::format(" {}, {:.0f}% |", cell, 100 * (a.*share)());
     }
     std::printf("%s\n", line.c_str());
   }
@@ -96,7 +106,7 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
       "\n### %s: MODELED end to end (generation + key + sort + permute + trace, each modeled on the same GPU), "
       "modeled MRay/s (ratio to noopt), overhead share\n\n%s\n",
       name.c_str(), header.c_str());
-  print_e2e_rows(results, methods, tl, &Accumulated::modeled_e2e_mray_s, &Accumulated::modeled_overhead_share);
+  print_e2e_rows(results, methods, tl, &Accumulated::modeled_e2e_mray_s, &Accumulated::modeled_overhead_share, false);
 }
 
 // What a device pipeline's times are: measured on a GPU, or simulated (a simulator build: GPGPU-Sim's times are a
@@ -110,17 +120,21 @@ std::string device_times(const std::string& tl) {
 void print_speeds(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
                   const std::string& name, const std::string& header, const ExperimentOptions& o) {
   const bool device = results.front().by_tracer.at(tl).at("noopt").on_device;
+  const int repeats = results.front().by_tracer.at(tl).at("noopt").repeats;
   const std::string where =
       device ? " (" + device_times(tl) + " on the GPU: every stage on the device, CUDA events)" : "";
   std::printf(
-      "\n### %s%s: secondary rays traced, MRay/s (ratio to noopt); %dx%d, %d frame(s), seed %u, median of "
-      "%d traces\n\n%s\n",
-      name.c_str(), where.c_str(), o.width, o.height, o.frames, o.seed, o.repeats, header.c_str());
+      "\n### %s%s: secondary rays traced, MRay/s (ratio to noopt [%.0f%% interval]); %dx%d, %d frame(s), seed %u, "
+      "median of %d traces\n\n%s\n",
+      name.c_str(), where.c_str(), 100 * kSpeedConfidence, o.width, o.height, o.frames, o.seed, repeats,
+      header.c_str());
   for (const std::string& label : row_labels(methods)) {
     std::string line = row_name(label);
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
-      line += " " + ratio_cell(m.at(label).mray_s(), m.at("noopt").mray_s()) + " |";
+      line += " " +
+              ratio_cell(m.at(label).mray_s(), measured_ratio(m.at("noopt"), m.at(label), false), label == "noopt") +
+              " |";
     }
     std::printf("%s\n", line.c_str());
   }
@@ -128,7 +142,7 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
       "\n### %s%s: end to end (generation + key + sort + permute + trace), MRay/s (ratio to noopt), "
       "overhead share\n\n%s\n",
       name.c_str(), where.c_str(), header.c_str());
-  print_e2e_rows(results, methods, tl, &Accumulated::e2e_mray_s, &Accumulated::overhead_share);
+  print_e2e_rows(results, methods, tl, &Accumulated::e2e_mray_s, &Accumulated::overhead_share, !device);
   if (!device) return;
   std::printf(
       "\n### %s: %s GPU end to end as one span (CUDA events from the first generation kernel to the end of "
@@ -138,7 +152,9 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
     std::string line = "| " + method.label + " |";
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
-      line += " " + ratio_cell(m.at(method.label).gpu_span_mray_s(), m.at("noopt").gpu_span_mray_s()) + " |";
+      const Accumulated& a = m.at(method.label);
+      line +=
+          " " + ratio_cell(a.gpu_span_mray_s(), measured_ratio(m.at("noopt"), a, true), method.label == "noopt") + " |";
     }
     std::printf("%s\n", line.c_str());
   }
@@ -226,31 +242,60 @@ void print_tracers(const SceneResult& first, const std::map<std::string, std::st
   }
 }
 
-// One closing line: per tracer and scene, the method with the highest end-to-end MRay/s (generation + keys +
-// sort + permute + trace; modeled for a GPU model) and its ratio to noopt.
+// The top of one scene's measured end-to-end ranking (device pipelines: the measured span): the highest method
+// alone when every other is slower by its paired interval, else every method the interval cannot tell from it.
+std::string measured_winner(const std::map<std::string, Accumulated>& m, const std::vector<Method>& methods,
+                            bool span) {
+  auto speed = [&](const std::string& label) {
+    return span ? m.at(label).gpu_span_mray_s() : m.at(label).e2e_mray_s();
+  };
+  const Method* best = &methods.front();
+  for (const Method& method : methods)
+    if (speed(method.label) > speed(best->label)) best = &method;
+  const Accumulated& top = m.at(best->label);
+  const SpeedRatio to_noopt = measured_ratio(m.at("noopt"), top, true);
+  if (!to_noopt.has_interval)
+    return fmt::format("{} highest, {} (one repeat: no interval, not called fastest)", best->label,
+                       ratio_text(to_noopt));
+  std::string tied;
+  for (const Method& method : methods)
+    if (&method != best && measured_ratio(m.at(method.label), top, true).lo <= 1.0)
+      tied += fmt::format(", {} {}", method.label, ratio_text(measured_ratio(m.at("noopt"), m.at(method.label), true)));
+  if (tied.empty()) return fmt::format("{} fastest, {}", best->label, ratio_text(to_noopt));
+  return fmt::format("indistinguishable at the top: {} {}{}", best->label, ratio_text(to_noopt), tied);
+}
+
+// The closing lines: per tracer and scene, the method with the highest end-to-end MRay/s (generation + keys +
+// sort + permute + trace; modeled for a GPU model, the measured span for a device pipeline) and its ratio to
+// noopt. A measured winner is called fastest only where its paired interval over every other method excludes 1.
 void print_winners(const std::vector<SceneResult>& results, const std::vector<Method>& methods,
                    const std::map<std::string, std::string>& names) {
-  std::string line;
+  std::string lines;
   for (const std::string& tl : results.front().tracer_labels) {
     const Accumulated& first = results.front().by_tracer.at(tl).at("noopt");
     if (first.has_counters && !first.has_model) continue;  // counters only: no time
-    double (Accumulated::*speed)() const =
-        first.has_model ? &Accumulated::modeled_e2e_mray_s : &Accumulated::e2e_mray_s;
-    line += fmt::format("{}{} ({}):", line.empty() ? "" : "; ", names.at(tl),
-                        first.has_model   ? "modeled"
-                        : first.on_device ? (device_times(tl) == "SIMULATED" ? "simulated GPU" : "measured on the GPU")
-                                          : "measured");
+    const std::string kind = first.has_model ? "modeled"
+                             : first.on_device
+                                 ? (device_times(tl) == "SIMULATED" ? "simulated GPU" : "measured on the GPU")
+                                 : "measured";
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
-      const Method* best = &methods.front();
-      for (const Method& method : methods)
-        if ((m.at(method.label).*speed)() > (m.at(best->label).*speed)()) best = &method;
-      line += fmt::format(" {} {} {:.2f}x,", r.scene, best->label,
-                          (m.at(best->label).*speed)() / std::max((m.at("noopt").*speed)(), 1e-30));
+      std::string verdict;
+      if (first.has_model) {
+        const Method* best = &methods.front();
+        for (const Method& method : methods)
+          if (m.at(method.label).modeled_e2e_mray_s() > m.at(best->label).modeled_e2e_mray_s()) best = &method;
+        verdict =
+            fmt::format("{} {:.2f}x", best->label,
+                        m.at(best->label).modeled_e2e_mray_s() / std::max(m.at("noopt").modeled_e2e_mray_s(), 1e-30));
+      } else {
+        verdict = measured_winner(m, methods, first.on_device);
+      }
+      lines += fmt::format("- {} ({}), {}: {}\n", names.at(tl), kind, r.scene, verdict);
     }
-    line.pop_back();
   }
-  if (!line.empty()) std::printf("\nFastest end to end (ratio to noopt): %s\n", line.c_str());
+  if (!lines.empty())
+    std::printf("\nFastest end to end (ratio to noopt [%.0f%% interval]):\n%s", 100 * kSpeedConfidence, lines.c_str());
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ struct TuneOptions {
   PluginSpec render_tracer{"cpu", ""};  // --render-tracer: the quality renders' (cpu | embree)
   int width = 480, height = 270;        // --res, each in [11, 16384]
   int speed_frames = 2;                 // --speed-frames [1, 1000]
-  int repeats = 3;                      // --repeat [1, 1000]: timed traces per batch (measured tracers)
+  int repeats = 0;                      // --repeat [0, 1000]: timed traces per batch (0: the tracer's default)
   int frames = 16;                      // --frames [1, 1 << 20]: frames per render
   int seeds = 4;                        // --seeds [2, 256]: renders per setting (the spread needs two)
   int ref_frames = 512;                 // --ref-frames [1, 1 << 20]

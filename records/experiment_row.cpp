@@ -72,6 +72,13 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("pipeline", &R::pipeline, Text{}),
         column("gpu_e2e_ms", &R::gpu_e2e_ms, Optional<General>{}),
         column("gpu_e2e_mray_s", &R::gpu_e2e_mray_s, Optional<General>{}),
+        column("trace_ms_lo", &R::trace_ms_lo, Optional<General>{}),
+        column("trace_ms_hi", &R::trace_ms_hi, Optional<General>{}),
+        column("e2e_ms_lo", &R::e2e_ms_lo, Optional<General>{}),
+        column("e2e_ms_hi", &R::e2e_ms_hi, Optional<General>{}),
+        column("interval_level", &R::interval_level, Optional<General>{}),
+        column("trace_samples_ms", &R::trace_samples_ms, Numbers{}),
+        column("e2e_samples_ms", &R::e2e_samples_ms, Numbers{}),
         column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
@@ -114,6 +121,30 @@ GenerationStats generation_of(const ExperimentRow& row) {
   return g;
 }
 
+namespace {
+
+void add_frame_times(const ExperimentRow& row, Accumulated& acc) {
+  const double rays = static_cast<double>(row.rays);
+  const double e2e = row.gpu_e2e_ms.value_or(row.e2e_ms);
+  acc.trace_times[row.frame] = {row.trace_samples_ms.empty() ? std::vector<double>{row.trace_ms} : row.trace_samples_ms,
+                                rays};
+  acc.e2e_times[row.frame] = {row.e2e_samples_ms.empty() ? std::vector<double>{e2e} : row.e2e_samples_ms, rays};
+}
+
+}  // namespace
+
+SpeedRatio measured_ratio(const Accumulated& base, const Accumulated& method, bool e2e) {
+  const std::map<int, FrameTimes>& b = e2e ? base.e2e_times : base.trace_times;
+  const std::map<int, FrameTimes>& m = e2e ? method.e2e_times : method.trace_times;
+  std::vector<FrameTimes> bs, ms;
+  for (const auto& [frame, times] : b)
+    if (const auto it = m.find(frame); it != m.end()) {
+      bs.push_back(times);
+      ms.push_back(it->second);
+    }
+  return speed_ratio(bs, ms);
+}
+
 void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,
                 SceneResult& res) {
   Accumulated& acc = res.by_tracer[tracer_label][row.method];
@@ -125,6 +156,7 @@ void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool 
   acc.gen_s += row.gen_ms * 1e-3;
   acc.reorder_s += (row.key_ms + row.sort_ms + row.permute_ms) * 1e-3;
   ++acc.frames;
+  acc.repeats = row.repeats;
   if (row.simt_efficiency) {
     acc.has_counters = true;
     acc.simt_eff_w += rays * *row.simt_efficiency;
@@ -142,10 +174,11 @@ void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool 
     acc.modeled_reorder_s +=
         (row.modeled_key_ms.value_or(0) + row.modeled_sort_ms.value_or(0) + row.modeled_permute_ms.value_or(0)) * 1e-3;
   }
-  if (row.pipeline == "device") {
+  if (row.pipeline != "host") {  // device or fused: every stage on the device
     acc.on_device = true;
     acc.gpu_span_s += row.gpu_e2e_ms.value_or(0) * 1e-3;
   }
+  add_frame_times(row, acc);
   if (row.pass != "secondary" || !first_tracer) return;
   res.rays_per_frame = rays;
   res.gen_ms[row.method] += row.gen_ms / frames;

@@ -11,6 +11,7 @@
 #include "records/provenance.h"
 #include "records/recorded_columns.h"
 #include "records/schema.h"
+#include "records/speed_interval.h"
 #include "simt/pipeline_model.h"
 #include "tracers/tracer.h"
 
@@ -55,6 +56,12 @@ struct ExperimentRow {
   // timing runs, one event pair around the whole pass, measured (not the sum of the stages).
   std::string pipeline = "host";
   std::optional<double> gpu_e2e_ms, gpu_e2e_mray_s;
+  // Measured times' intervals (records/speed_interval.h), on rows of timing tracers with two or more repeats: the
+  // trace's and the end to end's median interval at coverage interval_level, and every repeat's times (ms). End to
+  // end per repeat is the measured span on device rows (gpu_e2e_ms), else generation + reordering (timed once) +
+  // that repeat's trace. The table's ratio intervals are computed from the repeats.
+  std::optional<double> trace_ms_lo, trace_ms_hi, e2e_ms_lo, e2e_ms_hi, interval_level;
+  std::vector<double> trace_samples_ms, e2e_samples_ms;
   std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
   Provenance provenance;
   RecordedColumns recorded;  // tile_w .. mode, the last columns (records/recorded_columns.h)
@@ -77,6 +84,7 @@ GenerationStats generation_of(const ExperimentRow& row);
 struct Accumulated {
   double rays = 0, trace_s = 0, gen_s = 0, reorder_s = 0;  // reorder = key + sort + permute
   int frames = 0;
+  int repeats = 0;  // timed repeats per frame (of the last row)
   double mray_s() const { return trace_s > 0 ? rays / trace_s * 1e-6 : 0.0; }
   // End to end: generation + reordering + trace.
   double e2e_s() const { return gen_s + reorder_s + trace_s; }
@@ -99,7 +107,14 @@ struct Accumulated {
   double modeled_e2e_mray_s() const { return modeled_e2e_s > 0 ? rays / modeled_e2e_s * 1e-6 : 0.0; }
   double modeled_overhead_share() const { return modeled_e2e_s > 0 ? 1.0 - modeled_s / modeled_e2e_s : 0.0; }
   double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
+  // Measured times of every repeat by frame (a row without repeats: its median alone), for the ratio intervals:
+  // the trace, and end to end (device pipelines: the measured span).
+  std::map<int, FrameTimes> trace_times, e2e_times;
 };
+
+// Speed of `method` over `base` with its paired interval (records/speed_interval.h), over the frames both hold:
+// the trace, or end to end (e2e; device pipelines: the measured span).
+SpeedRatio measured_ratio(const Accumulated& base, const Accumulated& method, bool e2e);
 
 struct SceneResult {
   std::string scene;

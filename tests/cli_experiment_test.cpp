@@ -55,7 +55,8 @@ TEST(CliExperiment, TheDefaultTableShowsTheComparison) {
   for (const char* s :
        {"| primary (coherent bound) |", "- simt[preset=rtx3060]: MODELED GPU figures",
         "### simt[preset=rtx3060]: MODELED end to end", "### cpu: end to end",
-        "Fastest end to end (ratio to noopt): cpu (measured): cornell ", "; simt[preset=rtx3060] (modeled): cornell "})
+        "Fastest end to end (ratio to noopt [95% interval]):\n- cpu (measured), cornell: ",
+        "(one repeat: no interval, not called fastest)", "- simt[preset=rtx3060] (modeled), cornell: "})
     EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
   EXPECT_EQ(r.output.find("### simt[preset=rtx3060,kernel"), std::string::npos) << "the full parameters once only";
   // 2 scenes x 2 tracers (cpu, simt) x (primary + 10 methods), and the header
@@ -68,6 +69,44 @@ TEST(CliExperiment, TheDefaultTableShowsTheComparison) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(count_lines(out2), 1 + 1 + 2);  // header, primary, noopt (the baseline), noopt+origin
   EXPECT_EQ(r.output.find("| ours |"), std::string::npos) << r.output;
+}
+
+// Timing tracers repeat each trace (7 on the CPU by default): every row carries its repeats, the median's
+// order-statistic interval and its coverage; the console prints each ratio to noopt with its paired interval, and
+// the closing line calls a method fastest only when the interval says so.
+TEST(CliExperiment, MeasuredSpeedsCarryIntervals) {
+  const auto out = temp_dir("cli_intervals") / "t.csv";
+  CommandResult r = run_raycoh("table --scenes cornell --generators noopt,contiguous --tracers cpu,simt --res 48x32 "
+                               "--frames 2 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int timed = 0;
+  for (const auto& row : read_rows(out)) {
+    if (row.at("tracer") == "simt") {  // a model: one run, no interval
+      EXPECT_EQ(row.at("repeats"), "1");
+      EXPECT_EQ(row.at("trace_samples_ms"), "");
+      EXPECT_EQ(row.at("interval_level"), "");
+      continue;
+    }
+    ++timed;
+    EXPECT_EQ(row.at("repeats"), "7");
+    const std::string samples = row.at("trace_samples_ms");
+    EXPECT_EQ(std::count(samples.begin(), samples.end(), ';'), 6) << samples;
+    EXPECT_NEAR(std::stod(row.at("interval_level")), 1.0 - 2.0 / 128.0, 1e-6);
+    EXPECT_LE(std::stod(row.at("trace_ms_lo")), std::stod(row.at("trace_ms")) + 1e-4);
+    EXPECT_GE(std::stod(row.at("trace_ms_hi")), std::stod(row.at("trace_ms")) - 1e-4);
+    EXPECT_LE(std::stod(row.at("e2e_ms_lo")), std::stod(row.at("e2e_ms")) + 1e-4);
+  }
+  EXPECT_EQ(timed, 2 * 3);  // 2 frames x (primary, noopt, contiguous)
+  for (const char* s : {"ratio to noopt [95% interval]); 48x32, 2 frame(s), seed 1, median of 7 traces",
+                        "| noopt | ", "(1.00x), ", "Fastest end to end (ratio to noopt [95% interval]):"})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+  // contiguous' cell has an interval; the verdict line either names one method fastest or says what it cannot tell.
+  EXPECT_NE(r.output.find("| contiguous | "), std::string::npos);
+  const size_t cell = r.output.find("| contiguous | ");
+  EXPECT_NE(r.output.find("x [", cell), std::string::npos) << r.output;
+  const bool named = r.output.find(" fastest, ") != std::string::npos;
+  const bool tied = r.output.find("indistinguishable at the top: ") != std::string::npos;
+  EXPECT_TRUE(named != tied) << r.output;
 }
 
 // Not on a terminal (a log): plain progress lines with the time left, throttled (RAYCOH_PROGRESS_SECONDS).

@@ -5,9 +5,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "records/csv.h"
 #include "records/provenance.h"
 #include "tests/test_util.h"
 
@@ -19,6 +21,22 @@ inline std::vector<std::string> read_lines(const std::filesystem::path& p) {
   std::string line;
   while (std::getline(in, line)) lines.push_back(line);
   return lines;
+}
+
+// Rows of a CSV file as column -> text (rows whose field count differs from the header's are skipped).
+inline std::vector<std::map<std::string, std::string>> read_rows(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> header, fields;
+  std::vector<std::map<std::string, std::string>> rows;
+  if (!std::getline(in, line) || !csv_parse_line(line, header)) return rows;
+  while (std::getline(in, line)) {
+    if (!csv_parse_line(line, fields) || fields.size() != header.size()) continue;
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = fields[i];
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 inline int count_lines(const std::filesystem::path& p) { return static_cast<int>(read_lines(p).size()); }

@@ -12,28 +12,14 @@
 #include "plugins/tracer_registry.h"
 #include "records/csv.h"
 #include "scenes/scene.h"
+#include "tests/cli_util.h"
 #include "tests/test_util.h"
 
 namespace raycoh {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Rows of a CSV file as column -> text.
-std::vector<std::map<std::string, std::string>> read_rows(const fs::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::vector<std::string> header, fields;
-  std::vector<std::map<std::string, std::string>> rows;
-  if (!std::getline(in, line) || !csv_parse_line(line, header)) return rows;
-  while (std::getline(in, line)) {
-    if (!csv_parse_line(line, fields) || fields.size() != header.size()) continue;
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = fields[i];
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
+using test::read_rows;
 
 // Power-law curves: error A / frames after each of n frames, each frame `dt` long on the clock.
 std::vector<CurvePoint> power_law(double a, double dt, int n) {

@@ -1,0 +1,102 @@
+// Intervals for measured speed (records/speed_interval.h): the order-statistic ranks and their coverage, the
+// paired bootstrap ratio and the words a table may say of it.
+#include "records/speed_interval.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace raycoh::test {
+namespace {
+
+TEST(SpeedInterval, MedianRanksAndCoverage) {
+  // n = 9: [x(2), x(8)] covers the median with 1 - 2 * 10/512 = 0.961; [x(3), x(7)] would be 0.820.
+  const MedianInterval nine = median_interval({9, 1, 8, 2, 7, 3, 6, 4, 5});
+  EXPECT_EQ(nine.median, 5);
+  EXPECT_EQ(nine.lo, 2);
+  EXPECT_EQ(nine.hi, 8);
+  EXPECT_NEAR(nine.level, 1.0 - 20.0 / 512.0, 1e-12);
+  // n = 5 cannot reach 95%: [min, max] at 1 - 2/32.
+  const MedianInterval five = median_interval({5, 4, 3, 2, 1});
+  EXPECT_EQ(five.lo, 1);
+  EXPECT_EQ(five.hi, 5);
+  EXPECT_NEAR(five.level, 0.9375, 1e-12);
+  // n = 6: the median is the mean of the middle two; [min, max] at 1 - 2/64.
+  const MedianInterval six = median_interval({1, 2, 3, 4, 5, 6});
+  EXPECT_EQ(six.median, 3.5);
+  EXPECT_NEAR(six.level, 1.0 - 2.0 / 64.0, 1e-12);
+  // One sample: no interval.
+  const MedianInterval one = median_interval({2.5});
+  EXPECT_EQ(one.median, 2.5);
+  EXPECT_EQ(one.level, 0);
+}
+
+TEST(SpeedInterval, OrderStatisticCoverageHoldsOnSimulatedTimes) {
+  // 2000 runs of 9 skewed times whose true median is known: the interval holds it at least at its level (less a
+  // sampling margin of 3 standard errors).
+  std::mt19937_64 rng(7);
+  std::exponential_distribution<double> tail(1.0);
+  const double true_median = 1.0 + std::log(2.0);
+  int hits = 0;
+  const int runs = 2000;
+  double level = 0;
+  for (int r = 0; r < runs; ++r) {
+    std::vector<double> t;
+    for (int i = 0; i < 9; ++i) t.push_back(1.0 + tail(rng));
+    const MedianInterval m = median_interval(t);
+    hits += m.lo <= true_median && true_median <= m.hi;
+    level = m.level;
+  }
+  const double se = std::sqrt(level * (1 - level) / runs);
+  EXPECT_GE(double(hits) / runs, level - 3 * se);
+}
+
+std::vector<FrameTimes> frames(std::vector<std::vector<double>> times, double rays = 1000) {
+  std::vector<FrameTimes> out;
+  for (auto& t : times) out.push_back({std::move(t), rays});
+  return out;
+}
+
+TEST(SpeedInterval, RatioPointEstimateIsTheMediansRatio) {
+  const SpeedRatio r =
+      speed_ratio(frames({{2.0, 2.1, 1.9}, {4.0, 4.2, 3.8}}), frames({{1.0, 1.1, 0.9}, {2.0, 2.1, 1.9}}));
+  EXPECT_NEAR(r.ratio, 6.0 / 3.0, 1e-12);  // base medians 2 + 4, method 1 + 2
+  EXPECT_TRUE(r.has_interval);
+  EXPECT_LE(r.lo, r.ratio);
+  EXPECT_GE(r.hi, r.ratio);
+  EXPECT_EQ(speed_verdict(r), "faster");
+  // Reproducible: a fixed bootstrap seed.
+  const SpeedRatio again =
+      speed_ratio(frames({{2.0, 2.1, 1.9}, {4.0, 4.2, 3.8}}), frames({{1.0, 1.1, 0.9}, {2.0, 2.1, 1.9}}));
+  EXPECT_EQ(r.lo, again.lo);
+  EXPECT_EQ(r.hi, again.hi);
+}
+
+TEST(SpeedInterval, OverlappingTimesAreIndistinguishableAndSeparatedOnesAreNot) {
+  const auto base = frames({{1.00, 1.04, 0.97, 1.02, 0.99, 1.05, 0.96}});
+  const SpeedRatio same = speed_ratio(base, frames({{1.01, 0.98, 1.03, 0.99, 1.02, 0.97, 1.04}}));
+  EXPECT_LE(same.lo, 1.0);
+  EXPECT_GE(same.hi, 1.0);
+  EXPECT_EQ(speed_verdict(same), "indistinguishable");
+  const SpeedRatio slower = speed_ratio(base, frames({{1.20, 1.22, 1.19, 1.25, 1.21, 1.23, 1.18}}));
+  EXPECT_LT(slower.hi, 1.0);
+  EXPECT_EQ(speed_verdict(slower), "slower");
+}
+
+TEST(SpeedInterval, OneRepeatHasNoInterval) {
+  const SpeedRatio r = speed_ratio(frames({{2.0}}), frames({{1.0}}));
+  EXPECT_NEAR(r.ratio, 2.0, 1e-12);
+  EXPECT_FALSE(r.has_interval);
+  EXPECT_EQ(speed_verdict(r), "no interval");
+  EXPECT_EQ(ratio_text(r), "2.00x");
+}
+
+TEST(SpeedInterval, FramesMissingOnEitherSideAreSkipped) {
+  const SpeedRatio r = speed_ratio(frames({{2.0, 2.0}, {}}), frames({{1.0, 1.0}, {5.0, 5.0}}));
+  EXPECT_NEAR(r.ratio, 2.0, 1e-12);
+  EXPECT_EQ(speed_ratio({}, {}).ratio, 0.0);
+}
+
+}  // namespace
+}  // namespace raycoh::test
