@@ -242,29 +242,6 @@ void print_tracers(const SceneResult& first, const std::map<std::string, std::st
   }
 }
 
-// The top of one scene's measured end-to-end ranking (device pipelines: the measured span): the highest method
-// alone when every other is slower by its paired interval, else every method the interval cannot tell from it.
-std::string measured_winner(const std::map<std::string, Accumulated>& m, const std::vector<Method>& methods,
-                            bool span) {
-  auto speed = [&](const std::string& label) {
-    return span ? m.at(label).gpu_span_mray_s() : m.at(label).e2e_mray_s();
-  };
-  const Method* best = &methods.front();
-  for (const Method& method : methods)
-    if (speed(method.label) > speed(best->label)) best = &method;
-  const Accumulated& top = m.at(best->label);
-  const SpeedRatio to_noopt = measured_ratio(m.at("noopt"), top, true);
-  if (!to_noopt.has_interval)
-    return fmt::format("{} highest, {} (one repeat: no interval, not called fastest)", best->label,
-                       ratio_text(to_noopt));
-  std::string tied;
-  for (const Method& method : methods)
-    if (&method != best && measured_ratio(m.at(method.label), top, true).lo <= 1.0)
-      tied += fmt::format(", {} {}", method.label, ratio_text(measured_ratio(m.at("noopt"), m.at(method.label), true)));
-  if (tied.empty()) return fmt::format("{} fastest, {}", best->label, ratio_text(to_noopt));
-  return fmt::format("indistinguishable at the top: {} {}{}", best->label, ratio_text(to_noopt), tied);
-}
-
 // The closing lines: per tracer and scene, the method with the highest end-to-end MRay/s (generation + keys +
 // sort + permute + trace; modeled for a GPU model, the measured span for a device pipeline) and its ratio to
 // noopt. A measured winner is called fastest only where its paired interval over every other method excludes 1.
@@ -289,7 +266,9 @@ void print_winners(const std::vector<SceneResult>& results, const std::vector<Me
             fmt::format("{} {:.2f}x", best->label,
                         m.at(best->label).modeled_e2e_mray_s() / std::max(m.at("noopt").modeled_e2e_mray_s(), 1e-30));
       } else {
-        verdict = measured_winner(m, methods, first.on_device);
+        std::vector<std::pair<std::string, const FrameSeries*>> ranked;
+        for (const Method& method : methods) ranked.emplace_back(method.label, &m.at(method.label).e2e_times);
+        verdict = top_of_ranking(ranked, m.at("noopt").e2e_times);
       }
       lines += fmt::format("- {} ({}), {}: {}\n", names.at(tl), kind, r.scene, verdict);
     }

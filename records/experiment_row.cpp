@@ -134,15 +134,7 @@ void add_frame_times(const ExperimentRow& row, Accumulated& acc) {
 }  // namespace
 
 SpeedRatio measured_ratio(const Accumulated& base, const Accumulated& method, bool e2e) {
-  const std::map<int, FrameTimes>& b = e2e ? base.e2e_times : base.trace_times;
-  const std::map<int, FrameTimes>& m = e2e ? method.e2e_times : method.trace_times;
-  std::vector<FrameTimes> bs, ms;
-  for (const auto& [frame, times] : b)
-    if (const auto it = m.find(frame); it != m.end()) {
-      bs.push_back(times);
-      ms.push_back(it->second);
-    }
-  return speed_ratio(bs, ms);
+  return e2e ? paired_ratio(base.e2e_times, method.e2e_times) : paired_ratio(base.trace_times, method.trace_times);
 }
 
 void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,

@@ -109,7 +109,7 @@ struct Accumulated {
   double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
   // Measured times of every repeat by frame (a row without repeats: its median alone), for the ratio intervals:
   // the trace, and end to end (device pipelines: the measured span).
-  std::map<int, FrameTimes> trace_times, e2e_times;
+  FrameSeries trace_times, e2e_times;
 };
 
 // Speed of `method` over `base` with its paired interval (records/speed_interval.h), over the frames both hold:

@@ -1,6 +1,29 @@
 #include "records/experiment_sums.h"
 
+#include <cmath>
+
+#include "records/schema.h"
+
 namespace raycoh {
+
+namespace {
+
+// A row's repeats from its samples column, or its median alone (older rows, one repeat).
+std::vector<double> repeats_of(const ResultCsv& c, const std::vector<std::string>& r, const char* samples,
+                               double median) {
+  if (c.has(samples) && !c.get(r, samples).empty()) return csv_format::Numbers::read(c.get(r, samples));
+  return {median};
+}
+
+void add_times(const ResultCsv& c, const std::vector<std::string>& r, Sums& s) {
+  const int frame = static_cast<int>(c.num(r, "frame"));
+  const double rays = c.num(r, "rays");
+  const double gpu_e2e = c.has("gpu_e2e_ms") ? c.num(r, "gpu_e2e_ms") : std::nan("");
+  s.trace_times[frame] = {repeats_of(c, r, "trace_samples_ms", c.num(r, "trace_ms")), rays};
+  s.e2e_times[frame] = {repeats_of(c, r, "e2e_samples_ms", std::isnan(gpu_e2e) ? c.num(r, "e2e_ms") : gpu_e2e), rays};
+}
+
+}  // namespace
 
 Experiment read_experiment(const ResultCsv& c) {
   Experiment e;
@@ -22,6 +45,7 @@ Experiment read_experiment(const ResultCsv& c) {
     s.trace_ms += c.num(r, "trace_ms");
     s.e2e_ms += c.num(r, "e2e_ms");
     if (!std::isnan(c.num(r, "gpu_e2e_ms"))) s.gpu_e2e_ms += c.num(r, "gpu_e2e_ms");
+    add_times(c, r, s);
     if (modeled) {
       s.modeled_ms += c.num(r, "modeled_ms");
       s.modeled_e2e_ms += c.num(r, "modeled_e2e_ms");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "records/result_csv.h"
+#include "records/speed_interval.h"
 
 namespace raycoh {
 
@@ -15,6 +16,9 @@ struct Sums {
   double rays = 0, trace_ms = 0, e2e_ms = 0, modeled_ms = 0, modeled_e2e_ms = 0;
   double gpu_e2e_ms = 0;  // device pipelines (cuda): the pass's measured span on the device, 0 elsewhere
   std::string generator, encoder;
+  // Every repeat by frame, for the ratio intervals (records/speed_interval.h): the trace, and end to end (device
+  // pipelines: the measured span). Rows written before repeats were kept give their median alone.
+  FrameSeries trace_times, e2e_times;
   RecordedColumns recorded;  // of the method's rows (the same in each)
   double speed(bool modeled, bool e2e) const {
     const double ms = modeled ? (e2e ? modeled_e2e_ms : modeled_ms) : (e2e ? e2e_ms : trace_ms);

@@ -108,6 +108,45 @@ SpeedRatio speed_ratio(const std::vector<FrameTimes>& base, const std::vector<Fr
   return r;
 }
 
+SpeedRatio paired_ratio(const FrameSeries& base, const FrameSeries& method) {
+  std::vector<FrameTimes> bs, ms;
+  for (const auto& [frame, times] : base)
+    if (const auto it = method.find(frame); it != method.end()) {
+      bs.push_back(times);
+      ms.push_back(it->second);
+    }
+  return speed_ratio(bs, ms);
+}
+
+double series_speed(const FrameSeries& s) {
+  double rays = 0, t = 0;
+  for (const auto& [frame, f] : s) {
+    if (f.times.empty()) continue;
+    std::vector<double> v = f.times;
+    rays += f.rays;
+    t += median_of(v);
+  }
+  return t > 0 ? rays / t : 0.0;
+}
+
+std::string top_of_ranking(const std::vector<std::pair<std::string, const FrameSeries*>>& methods,
+                           const FrameSeries& base) {
+  if (methods.empty()) return "";
+  size_t best = 0;
+  for (size_t i = 1; i < methods.size(); ++i)
+    if (series_speed(*methods[i].second) > series_speed(*methods[best].second)) best = i;
+  const auto& [label, top] = methods[best];
+  const SpeedRatio to_base = paired_ratio(base, *top);
+  if (!to_base.has_interval)
+    return fmt::format("{} highest, {} (one repeat: no interval, not called fastest)", label, ratio_text(to_base));
+  std::string tied;
+  for (size_t i = 0; i < methods.size(); ++i)
+    if (i != best && paired_ratio(*methods[i].second, *top).lo <= 1.0)
+      tied += fmt::format(", {} {}", methods[i].first, ratio_text(paired_ratio(base, *methods[i].second)));
+  if (tied.empty()) return fmt::format("{} fastest, {}", label, ratio_text(to_base));
+  return fmt::format("indistinguishable at the top: {} {}{}", label, ratio_text(to_base), tied);
+}
+
 std::string speed_verdict(const SpeedRatio& r) {
   if (!r.has_interval) return "no interval";
   if (r.lo > 1.0) return "faster";

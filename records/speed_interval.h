@@ -13,6 +13,7 @@
 // rows. docs/statistics.md states the method and its limits.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,23 @@ struct SpeedRatio {
 // paired bootstrap interval (above). Frames where either side has no time are skipped.
 SpeedRatio speed_ratio(const std::vector<FrameTimes>& base, const std::vector<FrameTimes>& method,
                        double confidence = kSpeedConfidence);
+
+// One method's times by frame (frame index -> that frame's repeats and rays), as the table and the report hold them.
+using FrameSeries = std::map<int, FrameTimes>;
+
+// speed_ratio over the frames both series hold.
+SpeedRatio paired_ratio(const FrameSeries& base, const FrameSeries& method);
+
+// A series' speed from its medians: rays / sum of the frames' median times (rays per time unit).
+double series_speed(const FrameSeries& s);
+
+// The top of a measured ranking, as a table line may state it: the method with the highest series_speed is
+// "<label> fastest, <ratio to base>" only when its paired interval over every other method excludes 1; otherwise
+// "indistinguishable at the top: <label> <ratio>, <label> <ratio>..." lists every method the interval cannot tell
+// from it; with one repeat, "<label> highest, <ratio> (one repeat: no interval, not called fastest)". Ratios are to
+// `base` (noopt) with their intervals.
+std::string top_of_ranking(const std::vector<std::pair<std::string, const FrameSeries*>>& methods,
+                           const FrameSeries& base);
 
 // What a ratio's interval allows a reader to say: "faster" (the interval lies above 1), "slower" (below 1),
 // "indistinguishable" (it holds 1) or "no interval" (one repeat: a model's or simulator's deterministic figure, or
