@@ -40,6 +40,13 @@ std::string device_name() {
          std::to_string(prop.multiProcessorCount) + " SMs)";
 }
 
+long long device_resident_threads() {
+  if (device_count() == 0) return 0;
+  cudaDeviceProp prop{};
+  if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) return 0;
+  return static_cast<long long>(prop.multiProcessorCount) * prop.maxThreadsPerMultiProcessor;
+}
+
 void trace_closest(const BvhView& bvh, const Ray* rays, size_t count, Hit* hits, float* kernel_ms) {
   DeviceTracer tracer(bvh);
   TraceLaunch launch;

@@ -16,6 +16,10 @@ int device_count();
 // Name and compute capability of device 0, or "" without a GPU.
 std::string device_name();
 
+// Threads device 0 keeps resident at most: SMs x the SM's resident thread limit (maxThreadsPerMultiProcessor), the
+// size of one wave of a batch at full occupancy; 0 without a GPU.
+long long device_resident_threads();
+
 // Uploads the BVH and rays, traces every ray with one thread each (the `simple` kernel), downloads the hits.
 // kernel_ms receives the kernel time measured with CUDA events (transfers excluded). Throws raycoh::Error on any
 // CUDA error.

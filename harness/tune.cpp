@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "harness/cli.h"
 #include "harness/command.h"
+#include "harness/tune_confirm.h"
 #include "harness/tune_run.h"
 #include "oiio/image_codec.h"
 #include "records/record_csv.h"
@@ -34,6 +35,12 @@ void check_tune(const TuneOptions& o, const TuneBudget& b) {
   if (!o.shard.whole() && o.search != "grid")
     throw Error(
         fmt::format("--shard {}: needs --search grid (the fastest search depends on every speed)", o.shard.text()));
+  if (o.confirm < 0 || o.confirm > kMaxConfirmSeeds)
+    throw Error(fmt::format("--confirm {}: must be in [1, {}] (fresh seeds to re-measure the speed call on)", o.confirm,
+                            kMaxConfirmSeeds));
+  if (o.confirm > 0 && (!o.speed_csv.empty() || !o.shard.whole()))
+    throw Error(
+        fmt::format("--confirm {}: needs this run's own speed stage (not --speed-csv, not --shard)", o.confirm));
   if (b.flip > 0 && (flip_program().empty() || !image_io_available()))
     throw Error(fmt::format(
         "--budget flip={}: HDR-FLIP needs the flip program ($RAYCOH_FLIP or .venv/bin/flip: scripts/setup) and a "
@@ -47,9 +54,9 @@ void refuse_foreign_out(const TuneOptions& o) {
   std::ifstream in(o.out);
   std::string header;
   if (!in || o.force || !std::getline(in, header)) return;
-  std::string expected;
-  for (const std::string& c : column_names(tune_schema())) expected += (expected.empty() ? "" : ",") + c;
-  if (header != expected)
+  // A tune CSV of an earlier revision (fewer columns) is still a tune CSV.
+  const std::string start = "scene,scene_spec,setting,generator,";
+  if (header.rfind(start, 0) != 0 || header.find(",meets_budget,") == std::string::npos)
     throw Error(fmt::format("--out {}: exists and is not a tune CSV; choose another path or --force", o.out));
 }
 
@@ -73,6 +80,15 @@ TuneRow row_of(const TuneOptions& o, const TuneBudget& b, const TuneMeasured& m,
   r.trace_mray_s = c.trace_speed;
   r.e2e_mray_s = o.rank == "e2e" ? c.speed : std::nan("");
   r.noopt_mray_s = m.noopt_speed;
+  r.speedup_lo = c.to_noopt.has_interval ? c.to_noopt.lo : std::nan("");
+  r.speedup_hi = c.to_noopt.has_interval ? c.to_noopt.hi : std::nan("");
+  r.vs_paper = c.to_paper.ratio > 0 ? c.to_paper.ratio : std::nan("");
+  r.vs_paper_lo = c.to_paper.has_interval ? c.to_paper.lo : std::nan("");
+  r.vs_paper_hi = c.to_paper.has_interval ? c.to_paper.hi : std::nan("");
+  r.vs_paper_verdict = c.to_paper.ratio > 0 ? speed_verdict(c.to_paper) : "";
+  r.speed_repeats = m.repeats;
+  r.waves = c.waves;
+  r.fastest_passing = ch.fastest_passing == static_cast<int>(i);
   r.render_tracer = o.render_tracer.text();
   r.width = o.width, r.height = o.height, r.frames = o.frames, r.ref_frames = o.ref_frames, r.seeds = o.seeds;
   r.seed = o.seed;
@@ -97,14 +113,24 @@ std::string ratio_text(double mean, double lo, double hi) {
   return std::isnan(mean) ? "—" : fmt::format("{:.3f} [{:.3f}, {:.3f}]", mean, lo, hi);
 }
 
+// A speed ratio as the table prints it: "1.23x [1.18, 1.30]", or "1.23x" without an interval.
+std::string speed_text(double ratio, double lo, double hi) {
+  if (std::isnan(ratio)) return "—";
+  return std::isnan(lo) ? fmt::format("{:.2f}x", ratio) : fmt::format("{:.2f}x [{:.2f}, {:.2f}]", ratio, lo, hi);
+}
+
 void print_row(const TuneRow& r) {
   std::string marks;
   if (r.recommended) marks += " **recommended**";
+  if (r.fastest_passing && !r.recommended) marks += " fastest within budget";
   if (r.closest_miss) marks += " closest miss";
   if (r.paper_default) marks += " paper default";
   if (r.front) marks += " front";
-  std::printf("| %dx%d | %d | %s | %s | %s | %.1f | %.2fx | %s | %s | %s | %s | %s |%s |\n", r.tile_w, r.tile_h, r.k,
-              r.order.c_str(), r.hybrid.c_str(), r.frame.c_str(), r.mray_s, r.speedup,
+  std::printf("| %dx%d | %d | %s | %s | %s | %.1f | %s | %s | %s | %s | %s | %s | %s | %s |%s |\n", r.tile_w, r.tile_h,
+              r.k, r.order.c_str(), r.hybrid.c_str(), r.frame.c_str(), r.mray_s,
+              speed_text(r.speedup, r.speedup_lo, r.speedup_hi).c_str(),
+              speed_text(r.vs_paper, r.vs_paper_lo, r.vs_paper_hi).c_str(),
+              std::isnan(r.waves) ? "—" : fmt::format("{:.2f}", r.waves).c_str(),
               ratio_text(r.ds8, r.ds8_lo, r.ds8_hi).c_str(), ratio_text(r.rel, r.rel_lo, r.rel_hi).c_str(),
               ratio_text(r.flip, r.flip_lo, r.flip_hi).c_str(), r.bias_verdict.empty() ? "—" : r.bias_verdict.c_str(),
               !r.error_measured ? "—"
@@ -113,18 +139,70 @@ void print_row(const TuneRow& r) {
               marks.c_str());
 }
 
+// How full the GPU is: one line, a warning below two waves (a batch that does not fill the GPU twice over is
+// timed in its ramp and tail, and its ranks may not carry to a full frame).
+void print_waves(const TuneMeasured& m, const std::vector<TuneRow>& rows) {
+  if (m.wave_rays <= 0) {
+    if (m.tracer_label.rfind("cuda", 0) == 0)
+      std::printf("\nWaves: unknown (the GPU that measured these speeds is not this machine's, or none is here).\n");
+    return;
+  }
+  double least = INFINITY;
+  for (const TuneRow& r : rows) least = std::min(least, r.waves);
+  if (least < 2)
+    std::printf(
+        "\nWarning: the batch fills %.2f waves of the GPU (%s), fewer than 2: too small to fill the GPU: speed ranks "
+        "may not carry to a full frame.\n",
+        least, m.wave_basis.c_str());
+  else
+    std::printf("\nWaves: the batch fills %.1f waves of the GPU (%s).\n", least, m.wave_basis.c_str());
+}
+
+// The speed call on the recommendation (harness/tune_select.h settle_speed).
+void print_speed_call(const TuneOptions& o, const TuneMeasured& m, const TuneRow& rec, const TuneRow* fastest,
+                      const TuneRow* paper) {
+  const char* speed = o.rank == "e2e" ? "end-to-end" : "trace";
+  if (fastest && fastest != &rec) {
+    std::printf(
+        "\nFastest within the budget: %s — %s the paper's default (8x8, K = 8): %s at %.0f%%, so the paper's "
+        "default is kept.\n",
+        fastest->setting.c_str(), speed_text(fastest->vs_paper, fastest->vs_paper_lo, fastest->vs_paper_hi).c_str(),
+        fastest->vs_paper_verdict.c_str(), 100 * kSpeedConfidence);
+  }
+  std::printf("\nRecommended: %s — %s noopt's %s speed%s", rec.setting.c_str(),
+              speed_text(rec.speedup, rec.speedup_lo, rec.speedup_hi).c_str(), speed, m.modeled ? " (MODELED)" : "");
+  if (paper && !rec.paper_default) {
+    const std::string call = rec.vs_paper_verdict == "no interval"
+                                 ? "no interval (one modeled run: its point figure)"
+                                 : fmt::format("{} at {:.0f}%", rec.vs_paper_verdict, 100 * kSpeedConfidence);
+    std::printf(", %s the paper's default (8x8, K = 8), which %s; against it: %s",
+                speed_text(rec.vs_paper, rec.vs_paper_lo, rec.vs_paper_hi).c_str(),
+                paper->meets_budget ? "meets the budget too" : ("misses it: " + paper->reason).c_str(), call.c_str());
+  } else if (rec.paper_default) {
+    std::printf(", the paper's default (8x8, K = 8)");
+  }
+  std::printf(".\n");
+  if (rec.speedup < 1)
+    std::printf("It is slower than noopt (%.2fx): no setting within the budget pays here; keep noopt.\n", rec.speedup);
+}
+
 // The settings by speed; settings without error figures are summed up in one line.
 void print_tune(const TuneOptions& o, const TuneMeasured& m, std::vector<TuneRow> rows) {
   std::stable_sort(rows.begin(), rows.end(), [](const TuneRow& a, const TuneRow& b) { return a.mray_s > b.mray_s; });
   const TuneRow& any = rows.front();
+  const std::string repeats = m.modeled ? "one MODELED run each: no interval"
+                              : m.repeats > 1
+                                  ? fmt::format("{} repeats each; speed ratios with their {:.0f}% paired interval",
+                                                m.repeats, 100 * kSpeedConfidence)
+                                  : "one repeat each: no interval";
   std::printf(
-      "\n%s: tune of %s, %dx%d. Speed: %s%s %s MRay/s (noopt %.1f), %d frame(s). Error: ratio to noopt's with its "
-      "95%% interval over %d seeds of %d frames each, against a %d-frame NoOpt reference (%s). Budget %s; "
-      "%s search.\n\n| tile | K | order | hybrid | frame | MRay/s | × noopt | ds8 | rel | HDR-FLIP | bias | meets "
-      "budget | |\n|---|---:|---|---|---|---:|---:|---:|---:|---:|---|---|---|\n",
+      "\n%s: tune of %s, %dx%d. Speed: %s%s %s MRay/s (noopt %.1f), %d frame(s), %s. Error: ratio to noopt's with "
+      "its 95%% interval over %d seeds of %d frames each, against a %d-frame NoOpt reference (%s). Budget %s; "
+      "%s search.\n\n| tile | K | order | hybrid | frame | MRay/s | × noopt | × paper | waves | ds8 | rel | HDR-FLIP | "
+      "bias | meets budget | |\n|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|---|---|\n",
       m.scene.c_str(), o.generator.c_str(), o.width, o.height, m.modeled ? "MODELED by " : "measured on ",
-      m.tracer_label.c_str(), o.rank == "e2e" ? "end-to-end" : "trace", m.noopt_speed, o.speed_frames, o.seeds,
-      o.frames, o.ref_frames, o.render_tracer.text().c_str(), any.budget.c_str(), o.search.c_str());
+      m.tracer_label.c_str(), o.rank == "e2e" ? "end-to-end" : "trace", m.noopt_speed, o.speed_frames, repeats.c_str(),
+      o.seeds, o.frames, o.ref_frames, o.render_tracer.text().c_str(), any.budget.c_str(), o.search.c_str());
   size_t skipped = 0;
   for (const TuneRow& r : rows)
     if (r.error_measured || r.paper_default)
@@ -134,22 +212,19 @@ void print_tune(const TuneOptions& o, const TuneMeasured& m, std::vector<TuneRow
   if (skipped > 0)
     std::printf("\n%zu slower setting(s) left unmeasured by the fastest search (--search grid measures them).\n",
                 skipped);
-  const auto rec = std::find_if(rows.begin(), rows.end(), [](const TuneRow& r) { return r.recommended; });
-  const auto paper = std::find_if(rows.begin(), rows.end(), [](const TuneRow& r) { return r.paper_default; });
-  if (rec != rows.end()) {
-    std::printf("\nRecommended: %s — %.2fx noopt's %s speed%s", rec->setting.c_str(), rec->speedup,
-                o.rank == "e2e" ? "end-to-end" : "trace", m.modeled ? " (MODELED)" : "");
-    if (paper != rows.end() && paper->mray_s > 0)
-      std::printf(", %.2fx the paper's default (8x8, K = 8), which %s", rec->mray_s / paper->mray_s,
-                  paper->meets_budget ? "meets the budget too" : ("misses it: " + paper->reason).c_str());
-    std::printf(".\n");
-    if (rec->speedup < 1)
-      std::printf("It is slower than noopt (%.2fx): no setting within the budget pays here; keep noopt.\n",
-                  rec->speedup);
+  print_waves(m, rows);
+  auto find = [&](auto pred) {
+    const auto it = std::find_if(rows.begin(), rows.end(), pred);
+    return it == rows.end() ? nullptr : &*it;
+  };
+  const TuneRow* rec = find([](const TuneRow& r) { return r.recommended; });
+  if (rec) {
+    print_speed_call(o, m, *rec, find([](const TuneRow& r) { return r.fastest_passing; }),
+                     find([](const TuneRow& r) { return r.paper_default; }));
   } else {
-    const auto miss = std::find_if(rows.begin(), rows.end(), [](const TuneRow& r) { return r.closest_miss; });
+    const TuneRow* miss = find([](const TuneRow& r) { return r.closest_miss; });
     std::printf("\nNo setting meets the budget; keep noopt.%s\n",
-                miss == rows.end()
+                !miss
                     ? ""
                     : fmt::format(" Closest miss: {} ({:.2f}x noopt): {}.", miss->setting, miss->speedup, miss->reason)
                           .c_str());
@@ -177,7 +252,9 @@ int run_tune(const TuneOptions& o, const Provenance& provenance) {
   const auto paper = std::find_if(m->candidates.begin(), m->candidates.end(),
                                   [&](const TuneCandidate& c) { return c.setting == paper_setting(o.generator); });
   const TuneBudget resolved = resolve_paper(budget, paper == m->candidates.end() ? nullptr : &*paper);
-  const TuneChoice choice = choose(m->candidates, resolved);
+  TuneChoice choice = choose(m->candidates, resolved);
+  const int paper_index = paper == m->candidates.end() ? -1 : static_cast<int>(paper - m->candidates.begin());
+  settle_speed(choice, m->candidates, paper_index);
   std::vector<TuneRow> rows;
   for (size_t i = 0; i < m->candidates.size(); ++i) rows.push_back(row_of(o, budget, *m, choice, i, provenance));
   refuse_foreign_out(o);
@@ -187,6 +264,7 @@ int run_tune(const TuneOptions& o, const Provenance& provenance) {
   print_tune(o, *m, rows);
   std::printf("\nWrote %s (from %s and %s; %s)\n", o.out.c_str(), m->speed_source.c_str(), tune_quality_path(o).c_str(),
               provenance.git_revision.c_str());
+  if (o.confirm > 0) confirm_tune(o, *m, choice, paper_index, provenance);
   return 0;
 }
 
@@ -232,7 +310,12 @@ BoundCommand bind_tune(CLI::App& parent) {
   cmd->add_option("--shard", s->shard, "I/N with --search grid: only shard I of both stages' units")
       ->capture_default_str();
   cmd->add_flag("--force", o.force, "measure afresh instead of resuming the stages' files");
-  return {cmd, [s](const Provenance& provenance) {
+  CLI::Option* confirm = cmd->add_option(
+      "--confirm", o.confirm, "N in [1, 64]: re-measure the speed call on N fresh seeds (<stem>-confirm.csv)");
+  return {cmd, [s, confirm](const Provenance& provenance) {
+            if (confirm->count() > 0 && (s->o.confirm < 1 || s->o.confirm > kMaxConfirmSeeds))
+              throw Error(fmt::format("--confirm {}: must be in [1, {}] (fresh seeds to re-measure the speed call on)",
+                                      s->o.confirm, kMaxConfirmSeeds));
             s->o.tracer = parse_plugin_spec(s->tracer);
             s->o.render_tracer = parse_plugin_spec(s->render_tracer);
             std::tie(s->o.width, s->o.height) = parse_res("--res", s->res);

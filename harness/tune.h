@@ -14,7 +14,10 @@
 //   decision harness/tune_select.h: per setting the error ratios to NoOpt with their 95% interval over the seeds,
 //            the verdict against --budget, the Pareto front of speed against the error axis, the recommendation
 //            (or the closest miss and why) and the paper's default (8x8, K = 8, tile order, paper rule, Duff frame)
-//            for comparison: <out> (records/tune_row.h), and the console.
+//            for comparison: <out> (records/tune_row.h), and the console. The speed call: a setting is recommended
+//            over the paper's default only when measured faster at 95% (harness/tune_select.h settle_speed); each
+//            row says how many waves of the GPU (model) its batch fills, and the console warns below two.
+//   confirm  --confirm N: the speed call re-measured on N fresh seeds (harness/tune_confirm.h).
 #pragma once
 
 #include <string>
@@ -53,6 +56,9 @@ struct TuneOptions {
   std::string cache_dir, image_dir;  // "" = $RAYCOH_CACHE or results/cache; <out stem>-images
   bool force = false;
   Shard shard;  // --shard I/N (with --search grid): this shard's units of both stages
+  // --confirm N [1, 64] (0: off): after the decision, re-measure the speed call on N fresh seeds
+  // (harness/tune_confirm.h).
+  int confirm = 0;
 };
 int run_tune(const TuneOptions& options, const Provenance& provenance);
 

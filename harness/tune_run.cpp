@@ -6,44 +6,13 @@
 #include <set>
 
 #include "core/error.h"
-#include "harness/experiment.h"
 #include "harness/quality.h"
 #include "harness/render_common.h"
-#include "records/experiment_sums.h"
-#include "records/result_csv.h"
+#include "harness/tune_speed.h"
 
 namespace raycoh {
 
 namespace {
-
-ExperimentOptions speed_options(const TuneOptions& o, const std::vector<TuneSetting>& settings) {
-  ExperimentOptions e;
-  e.scenes = {o.scene};
-  e.methods = {{"noopt", {"noopt", ""}}};
-  for (const TuneSetting& s : settings) e.methods.push_back({s.spec(), parse_plugin_spec(s.spec())});
-  e.tracers = {o.tracer};
-  e.width = o.width;
-  e.height = o.height;
-  e.frames = o.speed_frames;
-  e.seed = o.seed;
-  e.repeats = o.repeats;
-  e.out = tune_speed_path(o);
-  e.force = o.force;
-  e.shard = o.shard;
-  return e;
-}
-
-struct Speed {
-  double ranked = 0, trace = 0;
-};
-
-Speed speed_of(const Accumulated& a, const std::string& rank) {
-  Speed s;
-  s.trace = a.has_model ? a.modeled_mray_s() : a.mray_s();
-  const double e2e = a.has_model ? a.modeled_e2e_mray_s() : a.on_device ? a.gpu_span_mray_s() : a.e2e_mray_s();
-  s.ranked = rank == "trace" ? s.trace : e2e;
-  return s;
-}
 
 // Each image's fastest setting (settings that differ only in order share an image).
 std::map<std::string, double> best_speed(const std::vector<TuneCandidate>& cs) {
@@ -110,66 +79,33 @@ void fill_error(TuneCandidate& c, const QualityRow& row, const QualityRow& base)
   c.noopt_units = pixels;
 }
 
-// --speed-csv: noopt's and every setting's speed from an experiment CSV measured elsewhere.
-void speeds_from_file(const TuneOptions& o, const std::vector<TuneSetting>& settings, TuneMeasured& m) {
-  const ResultCsv c = read_result_csv(o.speed_csv);
-  const ResultKind kind = result_kind(c);
-  if (kind != ResultKind::Table && kind != ResultKind::Sweep)
-    throw Error(
-        fmt::format("--speed-csv {}: not a table or sweep CSV (a tune's <stem>-speed.csv is one)", o.speed_csv));
-  const Experiment e = read_experiment(c);
-  const std::string res = fmt::format("{}×{}", o.width, o.height);
-  if (e.scenes.size() != 1 || e.tracers.size() != 1 || e.resolutions != std::set<std::string>{res})
-    throw Error(
-        fmt::format("--speed-csv {}: needs one scene, one tracer and --res {}x{}; it holds {} scene(s), {} "
-                    "tracer(s), resolution(s) {}",
-                    o.speed_csv, o.width, o.height, e.scenes.size(), e.tracers.size(), join_set(e.resolutions)));
-  m.scene = e.scenes.front();
-  m.tracer_label = e.tracers.front();
-  m.modeled = e.modeled.at(m.tracer_label);
-  m.speed_source = o.speed_csv;
-  const auto& sums = e.sums.at(m.scene).at(m.tracer_label);
-  auto speed = [&](const std::string& method) {
-    const auto it = sums.find(method);
-    if (it == sums.end())
-      throw Error(fmt::format("--speed-csv {}: no rows of {}; measure the same space there (raycoh tune --tracer ...)",
-                              o.speed_csv, method));
-    const Sums& s = it->second;
-    const double trace = s.speed(m.modeled, false);
-    const double e2e = m.modeled          ? s.speed(true, true)
-                       : s.gpu_e2e_ms > 0 ? s.rays / s.gpu_e2e_ms * 1e-3
-                                          : s.speed(false, true);
-    return Speed{o.rank == "trace" ? trace : e2e, trace};
-  };
-  m.noopt_speed = speed("noopt").ranked;
-  for (const TuneSetting& s : settings) {
-    const Speed sp = speed(s.spec());
-    m.candidates.push_back({s, sp.ranked, sp.trace, false, {}, {}, {}, ""});
-  }
-}
-
-// This run's speed stage (resumed from <stem>-speed.csv where it holds rows).
-void measure_speeds(const TuneOptions& o, const std::vector<TuneSetting>& settings, const Provenance& provenance,
-                    TuneMeasured& m) {
-  const ExperimentOptions e = speed_options(o, settings);
-  std::fprintf(stderr, "tune: speed of %zu settings and noopt (%s) -> %s\n", settings.size(), o.tracer.text().c_str(),
-               e.out.c_str());
-  const std::vector<SceneResult> results = run_experiment(e, provenance);
-  m.speed_source = e.out;
-  std::vector<TuneCandidate>& cs = m.candidates;
-  if (!results.empty() && o.shard.whole()) {
-    const SceneResult& r = results.front();
-    m.scene = r.scene;
-    m.tracer_label = r.tracer_labels.front();
-    const auto& by_method = r.by_tracer.at(m.tracer_label);
-    m.modeled = by_method.at("noopt").has_model;
-    m.noopt_speed = speed_of(by_method.at("noopt"), o.rank).ranked;
-    for (const TuneSetting& s : settings) {
-      const Speed sp = speed_of(by_method.at(s.spec()), o.rank);
-      cs.push_back({s, sp.ranked, sp.trace, false, {}, {}, {}, ""});
+// The speed stage's figures into the candidates: the ranked and trace speeds, the ratios to noopt and to the
+// paper's default with their intervals, and the waves each batch fills.
+void take_speeds(const TuneOptions& o, const std::vector<TuneSetting>& settings, const TuneSpeeds& s, TuneMeasured& m) {
+  m.scene = s.scene;
+  m.tracer_label = s.tracer_label;
+  m.speed_source = s.source;
+  m.modeled = s.modeled;
+  m.repeats = s.repeats;
+  m.wave_rays = s.wave_rays;
+  m.wave_basis = s.wave_basis;
+  const bool whole = !s.by_method.empty();
+  const TuneSpeed none;
+  const TuneSpeed& noopt = whole ? s.by_method.at("noopt") : none;
+  const TuneSpeed& paper = whole ? s.by_method.at(paper_setting(o.generator).spec()) : none;
+  m.noopt_speed = noopt.ranked;
+  for (const TuneSetting& setting : settings) {
+    TuneCandidate c;
+    c.setting = setting;
+    if (whole) {
+      const TuneSpeed& sp = s.by_method.at(setting.spec());
+      c.speed = sp.ranked;
+      c.trace_speed = sp.trace;
+      c.to_noopt = tune_speed_ratio(noopt, sp);
+      c.to_paper = tune_speed_ratio(paper, sp);
+      if (s.wave_rays > 0) c.waves = sp.rays_per_frame / s.wave_rays;
     }
-  } else {
-    for (const TuneSetting& s : settings) cs.push_back({s, 0, 0, false, {}, {}, {}, ""});
+    m.candidates.push_back(c);
   }
 }
 
@@ -180,8 +116,10 @@ std::vector<std::string> tune_quality_methods(const std::string& space, const st
   o.generator = generator;
   o.search = "grid";
   std::vector<TuneCandidate> cs;
-  for (const TuneSetting& s : expand(parse_tune_space(space), generator))
-    cs.push_back({s, 0, 0, false, {}, {}, {}, ""});
+  for (const TuneSetting& s : expand(parse_tune_space(space), generator)) {
+    cs.emplace_back();
+    cs.back().setting = s;
+  }
   std::vector<std::string> methods{"noopt"};
   for (const std::string& image : image_order(o, cs)) methods.push_back(image);
   return methods;
@@ -195,10 +133,12 @@ std::string tune_quality_path(const TuneOptions& o) {
 std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget& budget,
                                          const std::vector<TuneSetting>& settings, const Provenance& provenance) {
   TuneMeasured m;
-  if (o.speed_csv.empty())
-    measure_speeds(o, settings, provenance, m);
-  else
-    speeds_from_file(o, settings, m);
+  std::vector<std::string> methods;
+  for (const TuneSetting& s : settings) methods.push_back(s.spec());
+  take_speeds(o, settings,
+              o.speed_csv.empty() ? measure_tune_speeds(o, methods, o.seed, tune_speed_path(o), provenance)
+                                  : read_tune_speeds(o, o.speed_csv, methods, "--speed-csv"),
+              m);
   std::vector<TuneCandidate>& cs = m.candidates;
   QualityOptions q = error_options(o, image_order(o, cs));
   std::fprintf(stderr, "tune: error of up to %zu images and noopt (%d seeds x %d frames, %s search) -> %s\n",

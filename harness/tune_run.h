@@ -19,6 +19,9 @@ struct TuneMeasured {
   std::string speed_source;                // the --speed-csv file, or the <stem>-speed.csv this run measured
   bool modeled = false;                    // the speeds are a timing model's
   double noopt_speed = 0;                  // noopt's ranked speed
+  int repeats = 0;                         // timed repeats per frame of the speed stage (1: no interval)
+  double wave_rays = 0;                    // rays one wave of the GPU holds (0: not a GPU, or unknown)
+  std::string wave_basis;                  // whose figure wave_rays is
   std::vector<TuneCandidate> candidates;   // one per setting, in the order of `expand`
   std::map<std::string, QualityRow> rows;  // quality rows by image spec ("noopt" too)
 };

@@ -98,6 +98,15 @@ TuneBudget resolve_paper(const TuneBudget& b, const TuneCandidate* paper) {
   return r;
 }
 
+void settle_speed(TuneChoice& ch, const std::vector<TuneCandidate>& cs, int paper) {
+  ch.fastest_passing = ch.recommended;
+  ch.speed_call.clear();
+  if (ch.recommended < 0 || paper < 0 || ch.recommended == paper) return;
+  ch.speed_call = speed_verdict(cs[static_cast<size_t>(ch.recommended)].to_paper);
+  const bool not_faster = ch.speed_call == "indistinguishable" || ch.speed_call == "slower";
+  if (not_faster && ch.verdicts[static_cast<size_t>(paper)].pass) ch.recommended = paper;
+}
+
 double bias_share_z(const TuneCandidate& c) {
   const double p1 = c.bias_share, p0 = c.noopt_bias_share;
   if (!std::isfinite(p1) || !std::isfinite(p0) || c.share_units <= 0 || c.noopt_units <= 0) return std::nan("");

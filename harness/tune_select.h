@@ -15,6 +15,12 @@
 // Without one, the closest miss: the setting whose worst upper end / bound is smallest among those the bias test
 // accepts (among all when it accepts none), with the reason. The front: the settings no other measured setting beats
 // in both speed and the error axis (ds8 when the budget has it, else rel, else flip; mean ratio).
+//
+// The speed call (settle_speed): the fastest setting within the budget is recommended over the paper's default only
+// when its speed ratio to the paper's default has a paired interval over frames and repeats that excludes 1
+// (records/speed_interval.h, 95%). When the interval holds 1 (or lies below it) and the paper's default meets the
+// budget too, the two are indistinguishable at this confidence and the paper's default is recommended. A modelling
+// tracer's speeds (simt: one deterministic run) have no interval; its ranking stands as the model's point figures.
 #pragma once
 
 #include <cmath>
@@ -22,6 +28,7 @@
 #include <vector>
 
 #include "harness/tune_space.h"
+#include "records/speed_interval.h"
 
 namespace raycoh {
 
@@ -44,6 +51,10 @@ struct TuneCandidate {
   // pixels, the setting's pixels / (1 + (K - 1) rho), rho = K / (tile pixels) for ours (the chance that two pixels
   // of a tile share a group in a frame), 1 for contiguous (fixed groups).
   double bias_share = std::nan(""), noopt_bias_share = std::nan(""), share_units = 0, noopt_units = 0;
+  // The ranked speed's ratio to noopt's and to the paper's default with their paired intervals (has_interval false:
+  // one run, a model's figure, or not measured).
+  SpeedRatio to_noopt, to_paper;
+  double waves = std::nan("");  // the batch's rays over the rays the GPU holds resident (NaN: not a GPU, unknown)
 };
 
 struct TuneVerdict {
@@ -64,9 +75,17 @@ struct TuneChoice {
   int recommended = -1;               // index of the fastest passing candidate, -1 when none passes
   int closest_miss = -1;              // when none passes: the nearest miss (-1 when nothing was measured)
   std::string error_axis;             // "ds8", "rel" or "flip"
+  // settle_speed: the fastest passing candidate (the recommendation before the speed call) and the call of its
+  // speed against the paper's default: speed_verdict's words, or "" when it is the paper's default or none passes.
+  int fastest_passing = -1;
+  std::string speed_call;
 };
 // `budget` resolved already (resolve_paper).
 TuneChoice choose(const std::vector<TuneCandidate>& candidates, const TuneBudget& budget);
+
+// The speed call above: recommended becomes the paper's default (index `paper`, -1: not among the candidates) when
+// the fastest passing candidate is not measured faster than it and it meets the budget.
+void settle_speed(TuneChoice& choice, const std::vector<TuneCandidate>& candidates, int paper);
 
 // z of the setting's excluded share over NoOpt's (NaN without both).
 double bias_share_z(const TuneCandidate& c);

@@ -94,6 +94,11 @@ GpuModelConfig gpu_preset(const std::string& name);
 // (CUDA occupancy rules). Throws raycoh::Error when not even one block fits.
 uint32_t resident_warps(const GpuModelConfig& c);
 
+// Rays the `simt` tracer with these parameters ("preset=h100,...") keeps resident on the whole modelled GPU: SMs x
+// resident warps per SM (resident_warps) x lanes per warp, one wave of its batch. Throws raycoh::Error on a bad
+// parameter, as the tracer would. Defined in simt/simt_tracer.cpp.
+uint64_t simt_resident_rays(const std::string& params);
+
 // Throws raycoh::Error naming the offending value (cache geometry, non-positive rates, block size).
 void validate(const GpuModelConfig& c);
 

@@ -240,20 +240,31 @@ float preset_float(ParamSet& p, const std::string& key, double preset_value) {
 
 }  // namespace
 
-std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh) {
-  GpuModelConfig gpu = gpu_preset(params.get_choice("preset"));
+namespace {
+
+// Every parameter of a simt spec read into the modelled GPU (finished: unknown keys throw), before any scene.
+struct SimtSettings {
+  GpuModelConfig gpu;
+  int warp = 32, line = 64;
+  bool cwbvh = false;
+};
+
+SimtSettings read_simt_settings(ParamSet& params) {
+  SimtSettings out;
+  GpuModelConfig& gpu = out.gpu;
+  gpu = gpu_preset(params.get_choice("preset"));
   KernelSpec& kernel = gpu.kernel;
   kernel.kind = params.get_choice("kernel") == "persistent" ? TraceKernel::Persistent : TraceKernel::Simple;
   kernel.block_threads = static_cast<uint32_t>(params.get_int("block"));
-  const int warp = params.get_int("warp");
-  const int line = std::stoi(params.get_choice("line"));
-  const bool cw = params.get_choice("bvh") == "cwbvh";
+  out.warp = params.get_int("warp");
+  out.line = std::stoi(params.get_choice("line"));
+  out.cwbvh = params.get_choice("bvh") == "cwbvh";
   const bool classic = params.get_choice("traversal") == "classic";
-  if (cw && classic)
+  if (out.cwbvh && classic)
     throw Error(fmt::format("{}: traversal=classic is a BVH2 kernel; bvh=cwbvh has one kernel (traversal=tuned)",
                             params.owner()));
   // Before the rows whose defaults it sets (regs, node_cycles).
-  use_kernel(gpu, cw        ? TraceKernelChoice::Cwbvh
+  use_kernel(gpu, out.cwbvh ? TraceKernelChoice::Cwbvh
                   : classic ? TraceKernelChoice::Bvh2Classic
                             : TraceKernelChoice::Bvh2Tuned);
   kernel.regs_per_thread = static_cast<uint32_t>(preset_int(params, "regs", kernel.regs_per_thread));
@@ -272,19 +283,33 @@ std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, c
 
   if (kernel.block_threads % 32 != 0)
     throw Error(fmt::format("{}: block={} is not a multiple of 32", params.owner(), kernel.block_threads));
-  kernel.warp_size = static_cast<uint32_t>(warp);
+  kernel.warp_size = static_cast<uint32_t>(out.warp);
   cache.l1.bytes = uint64_t(l1_kb) << 10;
   cache.l1.ways = l1_ways_for(cache.l1.bytes, cache.line_bytes);
   const uint64_t l2_set = uint64_t{cache.line_bytes} * cache.l2.ways;
   cache.l2.bytes = static_cast<uint64_t>(std::llround(double(l2_mb) * double(1 << 20))) / l2_set * l2_set;
   if (cache.l2.bytes == 0)
     throw Error(fmt::format("{}: l2_mb={} is smaller than one set ({} bytes)", params.owner(), l2_mb, l2_set));
+  return out;
+}
+
+}  // namespace
+
+std::unique_ptr<Tracer> make_simt_tracer(ParamSet& params, const Scene& scene, const Bvh& bvh) {
+  SimtSettings s = read_simt_settings(params);
+  const CacheModelConfig& cache = s.gpu.cache;
   std::unique_ptr<Cwbvh> cwbvh;
-  if (cw) cwbvh = std::make_unique<Cwbvh>(build_cwbvh(scene, bvh.config));
-  const SimtConfig simt =
-      cwbvh ? simt_config(cwbvh->view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes)
-            : simt_config(bvh.view(), static_cast<uint32_t>(warp), static_cast<uint32_t>(line), cache.sector_bytes);
-  return std::make_unique<SimtTracer>(bvh, std::move(cwbvh), simt, gpu, params.canonical(), scene.alpha);
+  if (s.cwbvh) cwbvh = std::make_unique<Cwbvh>(build_cwbvh(scene, bvh.config));
+  const auto warp = static_cast<uint32_t>(s.warp), line = static_cast<uint32_t>(s.line);
+  const SimtConfig simt = cwbvh ? simt_config(cwbvh->view(), warp, line, cache.sector_bytes)
+                                : simt_config(bvh.view(), warp, line, cache.sector_bytes);
+  return std::make_unique<SimtTracer>(bvh, std::move(cwbvh), simt, s.gpu, params.canonical(), scene.alpha);
+}
+
+uint64_t simt_resident_rays(const std::string& params) {
+  ParamSet set("tracer 'simt'", params, simt_params());
+  const SimtSettings s = read_simt_settings(set);
+  return uint64_t{s.gpu.cache.sms} * resident_warps(s.gpu) * static_cast<uint64_t>(s.warp);
 }
 
 }  // namespace raycoh

@@ -43,15 +43,15 @@ TEST(TuneSpace, ParsesTheBudget) {
 }
 
 TEST(TuneSelect, PairedRatioIsTheGeometricMeanWithAStudentInterval) {
-  const RatioStat same = paired_ratio({2, 4, 8}, {1, 2, 4});
+  const RatioStat same = paired_ratio(std::vector<double>{2, 4, 8}, {1, 2, 4});
   EXPECT_NEAR(same.mean, 2, 1e-12);
   EXPECT_NEAR(same.lo, 2, 1e-12);
   EXPECT_NEAR(same.hi, 2, 1e-12);
-  const RatioStat spread = paired_ratio({1, 4}, {1, 1});  // logs 0 and ln 4: mean ln 2, se ln 2
+  const RatioStat spread = paired_ratio(std::vector<double>{1, 4}, {1, 1});  // logs 0 and ln 4: mean ln 2, se ln 2
   EXPECT_NEAR(spread.mean, 2, 1e-12);
   EXPECT_NEAR(spread.hi, std::exp(std::log(2.0) + t_quantile_975(1) * std::log(2.0)), 1e-9);
-  EXPECT_EQ(paired_ratio({NAN, 1, 2}, {1, 0, 1}).n, 1);  // NaN and a zero baseline are left out
-  EXPECT_EQ(paired_ratio({}, {}).n, 0);
+  EXPECT_EQ(paired_ratio(std::vector<double>{NAN, 1, 2}, {1, 0, 1}).n, 1);  // NaN and a zero baseline are left out
+  EXPECT_EQ(paired_ratio(std::vector<double>{}, {}).n, 0);
 }
 
 TuneCandidate candidate(int k, double speed, double ds8_hi, const std::string& verdict = "consistent") {
