@@ -85,7 +85,7 @@ TuneRow row_of(const TuneOptions& o, const TuneBudget& b, const TuneMeasured& m,
   r.vs_paper = c.to_paper.ratio > 0 ? c.to_paper.ratio : std::nan("");
   r.vs_paper_lo = c.to_paper.has_interval ? c.to_paper.lo : std::nan("");
   r.vs_paper_hi = c.to_paper.has_interval ? c.to_paper.hi : std::nan("");
-  r.vs_paper_verdict = c.to_paper.ratio > 0 ? speed_verdict(c.to_paper) : "";
+  r.vs_paper_verdict = c.to_paper.ratio > 0 && !(s == paper_setting(o.generator)) ? speed_verdict(c.to_paper) : "";
   r.speed_repeats = m.repeats;
   r.waves = c.waves;
   r.fastest_passing = ch.fastest_passing == static_cast<int>(i);

@@ -102,7 +102,8 @@ void take_speeds(const TuneOptions& o, const std::vector<TuneSetting>& settings,
       c.speed = sp.ranked;
       c.trace_speed = sp.trace;
       c.to_noopt = tune_speed_ratio(noopt, sp);
-      c.to_paper = tune_speed_ratio(paper, sp);
+      // The paper's default against itself: 1, no interval to state.
+      c.to_paper = setting == paper_setting(o.generator) ? SpeedRatio{1, 1, 1, false} : tune_speed_ratio(paper, sp);
       if (s.wave_rays > 0) c.waves = sp.rays_per_frame / s.wave_rays;
     }
     m.candidates.push_back(c);

@@ -75,7 +75,9 @@ TEST(CliTuneSpeed, AMeasuredTuneStatesTheSpeedupsInterval) {
   }
   EXPECT_NE(r.output.find("3 repeats each; speed ratios with their 95% paired interval"), std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("Recommended:"), std::string::npos);
+  EXPECT_TRUE(r.output.find("\nRecommended:") != std::string::npos ||
+              r.output.find("\nNo setting meets the budget") != std::string::npos)
+      << r.output;
 }
 
 // A model's tune: one deterministic run, no interval (said so), and at 24x16 the batch is far from filling the
@@ -90,7 +92,7 @@ TEST(CliTuneSpeed, AModelsTuneSaysNoIntervalAndWarnsOfASmallBatch) {
       << r.output;
   for (const auto& row : read_rows(dir / "t.csv")) {
     EXPECT_EQ(row.at("speedup_lo"), "");
-    EXPECT_EQ(row.at("vs_paper_verdict"), "no interval");
+    EXPECT_EQ(row.at("vs_paper_verdict"), row.at("paper_default") == "1" ? "" : "no interval");
     EXPECT_GT(num(row.at("waves")), 0);
     EXPECT_LT(num(row.at("waves")), 2);
   }
