@@ -14,6 +14,13 @@ struct Error : std::runtime_error {
   explicit Error(const char* message) : Error(std::string(message)) {}
 };
 
+// A failure of the device, not of the user's input: a CUDA call's error (an allocation, a launch, a fault in a
+// kernel, a kernel past its time limit, a lost device). main() reports it on one line and exits 1; the experiment
+// loops keep every finished row and name the scene, method and stage.
+struct DeviceFault : Error {
+  using Error::Error;
+};
+
 // text with line breaks and other control characters (tab aside) written as escapes: "\n", "\r", "\x1b".
 std::string one_line(const std::string& text);
 

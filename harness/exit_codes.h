@@ -10,7 +10,8 @@ namespace raycoh {
 
 enum ExitCode : int {
   kExitOk = 0,
-  kExitFailure = 1,            // not the user's input: a write the system refused (WriteError), out of memory, a bug
+  kExitFailure = 1,            // not the user's input: a write the system refused (WriteError), a device fault, out of
+                               // memory, a bug
   kExitUserError = 2,          // the user's input: raycoh::Error (names, values, files, a resume file of another run)
   kExitThresholdExceeded = 3,  // `raycoh stability`: the run finished, and a rate exceeds its threshold
 };

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/fault_injection.h"
 #include "encoders/encoder.h"
 #include "encoders/reorder.h"
 #include "generators/pixel_order.h"
@@ -72,6 +73,7 @@ class ExperimentRun {
   std::vector<uint32_t> primary_order_, order_;
   std::vector<Hit> hits_;
   RayBatch batch_, sorted_;
+  std::string where_;  // the unit and stage being measured, for an error's one line
 };
 
 ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
@@ -106,7 +108,7 @@ std::vector<SceneResult> ExperimentRun::run() {
     }
   } catch (const Error& e) {
     progress_.clear();
-    csv_.rethrow_keeping_rows(e);
+    csv_.rethrow_keeping_rows(e, where_);
   }
   if (used_.size() < done_.size()) {
     for (const auto& [key, row] : done_)
@@ -143,6 +145,7 @@ bool ExperimentRun::owns_any(size_t si, int frame) const {
 void ExperimentRun::run_scene(size_t si) {
   std::fprintf(stderr, "[%zu/%zu] ", si + 1, o_.scenes.size());
   si_ = si;
+  where_ = "scene " + o_.scenes[si] + ", loading it and setting up the tracers";
   res_ = SceneResult{};
   setup_.reset();  // the previous scene's tracers go before the next scene is loaded
   setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, generators_, res_.tracer_labels);
@@ -215,6 +218,7 @@ bool ExperimentRun::frame_resumed(int frame) {
 template <class Fn>
 Timing ExperimentRun::measure(size_t ti, Fn&& trace_once) {
   Tracer& tracer = *setup_->tracers[ti];
+  if (inject_fault("trace")) throw DeviceFault("injected device fault (RAYCOH_INJECT_FAULT=trace:N)");
   auto wall = [&] {
     const auto t0 = Clock::now();
     trace_once();
@@ -265,6 +269,7 @@ void ExperimentRun::run_frame(int frame) {
   for (size_t ti = 0; ti < o_.tracers.size() && owns(si_, frame, o_.methods.size()); ++ti) {  // the coherent bound
     ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
     if (setup_->pipelines[ti] || resumed(r, ti)) continue;  // device pipelines: run_device_primary
+    where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, trace", res_.scene, frame, r.tracer);
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), hits_.data()); });
     r.rays = rays.size();
     record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{}, ModeledStages{});
@@ -284,9 +289,11 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
     progress_.update(scene_index_, o_.scenes.size(), static_cast<int>(size_t(frame) * methods + mi),
                      static_cast<int>(size_t(o_.frames) * methods),
                      fmt::format("{} frame {}/{} {}", res_.scene, frame + 1, o_.frames, o_.methods[mi].label));
+    const std::string unit = fmt::format("scene {}, frame {}, method {}", res_.scene, frame, o_.methods[mi].label);
     std::vector<std::pair<size_t, ExperimentRow>> todo;  // host-pipeline tracer index, row head
     for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
       if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) {
+        where_ = fmt::format("{}, tracer {}, device pass", unit, r.tracer);
         if (setup_->pipelines[ti])
           run_device_row(std::move(r), ti, mi);
         else
@@ -295,18 +302,21 @@ void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
     if (todo.empty()) continue;
     const std::string gen_key = o_.methods[mi].generator.name + ":" + generators_[mi]->params();
     if (gen_key != batch_of) {
+      where_ = unit + ", generation";
       const auto t_gen = Clock::now();
       generators_[mi]->generate(setup_->scene, gbuffer, o_.seed, batch_, gs);
       gen_s = seconds_since(t_gen);
       batch_of = gen_key;
     }
     ReorderTimings rt;
+    where_ = unit + ", reordering";
     const bool reordered = reorder(*setup_->encoders[mi], batch_, permute_, sorted_, order_, rt);
     const bool indirect = reordered && permute_ == PermuteMode::Indirect;
     const std::vector<Ray>& rays = reordered && !indirect ? sorted_.rays : batch_.rays;
     hits_.resize(batch_.size());
     for (auto& [ti, r] : todo) {
       Tracer& tracer = *setup_->tracers[ti];
+      where_ = fmt::format("{}, tracer {}, trace", unit, r.tracer);
       const Timing t = measure(ti, [&] {
         if (indirect)
           tracer.trace_indirect(rays.data(), order_.data(), rays.size(), hits_.data());
@@ -332,6 +342,7 @@ void ExperimentRun::run_device_primary(int frame) {
     if (!p) continue;
     auto pass = [&] { return p->primary(o_.width, o_.height, kPrimaryTile, kPrimaryTile, o_.seed, f, true); };
     ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
+    where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, device pass", res_.scene, frame, r.tracer);
     if (owns(si_, frame, o_.methods.size()) && !resumed(r, ti)) {
       r.rays = size_t(o_.width) * size_t(o_.height);
       set_device_times(r, measure_device(pass, setup_->repeats[ti], setup_->models[ti]), setup_->models[ti]);
@@ -346,7 +357,10 @@ void ExperimentRun::run_device_primary(int frame) {
 void ExperimentRun::run_device_row(ExperimentRow r, size_t ti, size_t mi) {
   GenerationStats gs;
   DevicePipeline& p = *setup_->pipelines[ti];
-  auto pass = [&] { return p.secondary(*generators_[mi], *setup_->encoders[mi], permute_, o_.seed, gs); };
+  auto pass = [&] {
+    if (inject_fault("trace")) throw DeviceFault("injected device fault (RAYCOH_INJECT_FAULT=trace:N)");
+    return p.secondary(*generators_[mi], *setup_->encoders[mi], permute_, o_.seed, gs);
+  };
   const DeviceMeasurement m = measure_device(pass, setup_->repeats[ti], setup_->models[ti]);
   r.rays = gs.rays;
   set_device_times(r, m, setup_->models[ti]);

@@ -35,6 +35,8 @@ template <class Fn>
 int run_reporting_failures(Fn&& run) {
   try {
     return run();
+  } catch (const DeviceFault& e) {
+    return fail(kExitFailure, "device fault", e.what());
   } catch (const Error& e) {
     return fail(kExitUserError, "error", e.what());
   } catch (const WriteError& e) {

@@ -49,12 +49,19 @@ class RecordCsv {
 
   // Called from the handler of `e`, which stopped a run: drops an empty <path>.partial and rethrows `e`, or throws
   // it again saying how many rows the partial file keeps and that the same command resumes them.
-  [[noreturn]] void rethrow_keeping_rows(const Error& e) {
+  // Rethrows e (a DeviceFault as a DeviceFault), prefixed by `where` (the unit being measured, "" for none) and
+  // saying how many rows are kept and that the same command resumes.
+  [[noreturn]] void rethrow_keeping_rows(const Error& e, const std::string& where = "") {
     csv_.discard_if_empty();
     const size_t kept = rows() + resumed_.size();
-    if (kept == 0) throw;
-    throw Error(fmt::format("{} ({} rows measured so far are kept in {}; run the same command again to resume)",
-                            e.what(), kept, partial_path()));
+    const std::string what = where.empty() ? e.what() : where + ": " + e.what();
+    const std::string msg =
+        kept == 0 ? what
+                  : fmt::format("{} ({} rows measured so far are kept in {}; run the same command again to resume)",
+                                what, kept, partial_path());
+    if (dynamic_cast<const DeviceFault*>(&e)) throw DeviceFault(msg);
+    if (kept == 0 && where.empty()) throw;
+    throw Error(msg);
   }
 
  private:
