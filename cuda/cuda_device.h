@@ -20,6 +20,20 @@ std::string device_name();
 // size of one wave of a batch at full occupancy; 0 without a GPU.
 long long device_resident_threads();
 
+// What identifies device 0 in a measured row (cuda/gpu_facts.cu): its SM count, the driver's version (the NVIDIA
+// driver's from NVML, with the CUDA version the driver supports) and the CUDA runtime's; empty without a GPU.
+struct DeviceFacts {
+  int sms = 0;
+  std::string driver, runtime;
+};
+DeviceFacts device_facts();
+
+// Device 0's current SM and memory clocks in MHz (NVML); 0 where NVML cannot say (no driver library, GPGPU-Sim).
+struct DeviceClocks {
+  int sm_mhz = 0, mem_mhz = 0;
+};
+DeviceClocks device_clocks();
+
 // Uploads the BVH and rays, traces every ray with one thread each (the `simple` kernel), downloads the hits.
 // kernel_ms receives the kernel time measured with CUDA events (transfers excluded). Throws raycoh::Error on any
 // CUDA error.

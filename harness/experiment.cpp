@@ -184,6 +184,8 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
   r.permute = enc && enc->key_bits() > 0 ? o_.permute : "";
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.tracers[ti]);
+  r.gpu = setup_->gpu[ti];
+  read_gpu_clocks(r.gpu, true);
   set_recorded_params(r);
   return r;
 }
@@ -250,6 +252,7 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
 // The counters and model of counting tracers, then the row is written and summed.
 void ExperimentRun::finish_row(ExperimentRow r, size_t ti, const ModeledStages& stages) {
   if (const CoherenceCounters* c = setup_->tracers[ti]->last_counters()) set_counters(r, *c, stages);
+  read_gpu_clocks(r.gpu, false);
   csv_.write(r);
   accumulate(r, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
 }

@@ -133,6 +133,7 @@ SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o,
     labels.push_back(p.empty() ? t.name : t.name + "[" + p + "]");
     models.push_back(tracers.back()->last_counters() != nullptr);
     repeats.push_back(tracer_repeats(o, t, models.back()));
+    gpu.push_back(gpu_provenance(t));
     pipelines.push_back(tracers.back()->device_pipeline());
   }
   warmed.assign(tracers.size(), false);

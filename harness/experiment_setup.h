@@ -46,6 +46,7 @@ struct SceneSetup {
   std::unique_ptr<Tracer> gbuffer_tracer;
   std::vector<bool> warmed, models;        // models: tracers with coherence counters (deterministic, run once)
   std::vector<int> repeats;                // per tracer: tracer_repeats
+  std::vector<GpuProvenance> gpu;          // per tracer: its GPU's facts (records/provenance.h), empty on the CPU
   std::vector<DevicePipeline*> pipelines;  // per tracer: its device pipeline, or null (it traces host-made batches)
   // Loads and builds; labels receives each tracer's label. Throws raycoh::Error when a tracer's device pipeline
   // has no device version of a method's generator or encoder (DevicePipeline::refusal).

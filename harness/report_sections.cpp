@@ -49,8 +49,24 @@ std::string top(const Experiment& e, const std::string& scene, const std::string
 
 }  // namespace
 
+namespace {
+
+// Rows run under a profiler or sanitizer are no timings: the section says how many it left out, and why.
+bool note_not_timings(Page& p, const Experiment& e, const std::string& path) {
+  if (e.not_timings == 0) return false;
+  const std::string note =
+      fmt::format("{}: {} row(s) run under {} left out: a profiler's or sanitizer's times are not timings.", path,
+                  e.not_timings, join(std::vector<std::string>(e.run_under.begin(), e.run_under.end()), ", "));
+  p.md += note + "\n\n";
+  p.html += "<p>" + html_escape(note) + "</p>\n";
+  return e.tracers.empty();
+}
+
+}  // namespace
+
 void add_table(Page& p, const ResultCsv& c) {
   const Experiment e = read_experiment(c);
+  if (note_not_timings(p, e, c.path)) return;
   p.html += fmt::format("<h2>Table 1 layout: {}</h2>\n", html_escape(c.path));
   p.md += fmt::format("## Table 1 layout: {}\n\n{}\n\n", c.path, footer_of(e));
   for (const std::string& tl : e.tracers) {
@@ -83,6 +99,7 @@ void add_table(Page& p, const ResultCsv& c) {
 
 void add_sweep(Page& p, const ResultCsv& c) {
   const Experiment e = read_experiment(c);
+  if (note_not_timings(p, e, c.path)) return;
   p.html += fmt::format("<h2>Table 3 layout: {}</h2>\n<div class=\"figs\">\n", html_escape(c.path));
   p.md += fmt::format("## Table 3 layout: {}\n\n{}\n\n", c.path, footer_of(e));
   for (const std::string& scene : e.scenes)

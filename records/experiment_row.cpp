@@ -81,6 +81,7 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("e2e_samples_ms", &R::e2e_samples_ms, Numbers{}),
         column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
+    append_columns(s, gpu_provenance_schema(), &R::gpu);
     append_columns(s, provenance_schema(), &R::provenance);
     append_columns(s, recorded_schema(), &R::recorded);
     return s;

@@ -63,6 +63,7 @@ struct ExperimentRow {
   std::optional<double> trace_ms_lo, trace_ms_hi, e2e_ms_lo, e2e_ms_hi, interval_level;
   std::vector<double> trace_samples_ms, e2e_samples_ms;
   std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
+  GpuProvenance gpu;              // the GPU of a measured GPU row (records/provenance.h), empty elsewhere
   Provenance provenance;
   RecordedColumns recorded;  // tile_w .. mode, the last columns (records/recorded_columns.h)
 };

@@ -29,6 +29,11 @@ Experiment read_experiment(const ResultCsv& c) {
   Experiment e;
   std::map<std::string, std::set<std::string>> frames_of;
   for (const auto& r : c.rows) {
+    if (c.has("run_under") && !c.get(r, "run_under").empty()) {
+      ++e.not_timings;
+      e.run_under.insert(c.get(r, "run_under"));
+      continue;
+    }
     const RecordedColumns recorded = recorded_of(c, r);
     const std::string scene = c.get(r, "scene"), tl = tracer_label(c.get(r, "tracer"), recorded),
                       method = c.get(r, "method");

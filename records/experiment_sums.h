@@ -31,6 +31,9 @@ struct Experiment {
   std::map<std::string, bool> modeled;                // tracer label -> figures are the GPU model's
   std::map<std::string, std::map<std::string, std::map<std::string, Sums>>> sums;  // scene, tracer, method
   std::set<std::string> revisions, resolutions, frames, cpus, commands;
+  // Rows run under a profiler or sanitizer (the run_under column): not timings, so left out of every sum above.
+  size_t not_timings = 0;
+  std::set<std::string> run_under;
 };
 
 Experiment read_experiment(const ResultCsv& c);

@@ -5,13 +5,26 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
+#include <cstdint>
 
 namespace raycoh {
 namespace {
 
 constexpr int kBootstrapResamples = 2000;
 constexpr uint64_t kBootstrapSeed = 0x5eed'1e55'0f'a11ULL;
+
+// SplitMix64 (Steele, Lea & Flood 2014): a generator simple enough to repeat exactly in any language, so that
+// scripts/speed_interval.py recomputes the same intervals from the rows. index(n) = next() mod n.
+struct SplitMix64 {
+  uint64_t state;
+  uint64_t next() {
+    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  size_t index(size_t n) { return static_cast<size_t>(next() % n); }
+};
 
 // P(B <= k) for B ~ Binomial(n, 1/2).
 double binomial_half_cdf(int n, int k) {
@@ -86,19 +99,17 @@ SpeedRatio speed_ratio(const std::vector<FrameTimes>& base, const std::vector<Fr
   r.ratio = ratio_of(frames, [](const std::vector<double>& t) { return t; });
   r.lo = r.hi = r.ratio;
   if (!repeated) return r;
-  std::mt19937_64 rng(kBootstrapSeed);
+  SplitMix64 rng{kBootstrapSeed};
   auto draw = [&](const std::vector<double>& t) {
     std::vector<double> out(t.size());
-    std::uniform_int_distribution<size_t> pick(0, t.size() - 1);
-    for (double& x : out) x = t[pick(rng)];
+    for (double& x : out) x = t[rng.index(t.size())];
     return out;
   };
   std::vector<double> ratios;
   ratios.reserve(kBootstrapResamples);
   std::vector<size_t> picked(frames.size());
-  std::uniform_int_distribution<size_t> pick_frame(0, frames.size() - 1);
   for (int b = 0; b < kBootstrapResamples; ++b) {
-    for (size_t& f : picked) f = frames.size() > 1 ? frames[pick_frame(rng)] : frames.front();
+    for (size_t& f : picked) f = frames.size() > 1 ? frames[rng.index(frames.size())] : frames.front();
     ratios.push_back(ratio_of(picked, draw));
   }
   std::sort(ratios.begin(), ratios.end());

@@ -55,6 +55,8 @@ def collect(paths):
     for path in paths:
         with open(path, newline="") as f:
             for row in csv.DictReader(f):
+                if row.get("run_under"):  # under a profiler or sanitizer: not a timing
+                    continue
                 method = "primary" if row["pass"] == "primary" else row["method"]
                 tracer = tracer_label(row)
                 if (row["scene"], method, tracer, row["frame"]) in seen:
@@ -160,6 +162,8 @@ def scaling_table(paths):
     for path in paths:
         with open(path, newline="") as f:
             for row in csv.DictReader(f):
+                if row.get("run_under"):  # under a profiler or sanitizer: not a timing
+                    continue
                 method = "primary" if row["pass"] == "primary" else row["method"]
                 cell = cells.setdefault((row["scene"], f"{row['width']}x{row['height']}", method), {})
                 if row["tracer"] == "cuda":

@@ -21,7 +21,7 @@ def rows_of(paths, tracer):
     out = {}
     for path in paths:
         for r in csv.DictReader(open(path)):
-            if r["tracer"] != tracer or "counters=on" in r["tracer_params"]:
+            if r["tracer"] != tracer or "counters=on" in r["tracer_params"] or r.get("run_under"):
                 continue
             out.setdefault((r["scene"], r["method"], layout(r)), r)
     return out

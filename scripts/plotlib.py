@@ -36,7 +36,7 @@ def read_csv(paths, required):
             if missing:
                 fail(f"{path}: missing column(s) {', '.join(missing)} (written by an older raycoh, or not this kind of "
                      "CSV; see results/README.md)")
-            rows.extend(reader)
+            rows.extend(r for r in reader if not r.get("run_under"))  # a profiler's times are no timings
     if not rows:
         fail(f"{', '.join(paths)}: no data rows")
     return rows

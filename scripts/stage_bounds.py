@@ -18,8 +18,8 @@ Printed (markdown, every figure computed from the rows):
      ratio is the share of the trace's coherence gain that survives end to end (the goal: >= 0.95); the
      reorderings (noopt+encoder) have no fused form and show the materialized columns only;
   4. the verdict per scene: the methods ordered by measured end-to-end time, materialized and fused together.
-Rows read: pass = secondary, tracer = cuda, pipeline in (device, fused), rows run under a profiler excluded by
-name (files named ncu-*).
+Rows read: pass = secondary, tracer = cuda, pipeline in (device, fused); rows run under a profiler or sanitizer
+are excluded (their run_under column, and for older files without it, files named ncu-*).
 """
 import csv
 import os
@@ -68,6 +68,8 @@ def read_rows(paths):
             continue
         with open(p, newline="") as f:
             for r in csv.DictReader(f):
+                if r.get("run_under"):  # under a profiler or sanitizer: not a timing
+                    continue
                 if r.get("pass") == "secondary" and r.get("tracer") == "cuda" and r.get("pipeline") in (
                         "device", "fused"):
                     r["_file"] = os.path.basename(p)

@@ -89,17 +89,33 @@ const std::vector<std::string> kExperimentColumns = {"scene",
                                                      "pipeline",
                                                      "gpu_e2e_ms",
                                                      "gpu_e2e_mray_s",
+                                                     "trace_ms_lo",
+                                                     "trace_ms_hi",
+                                                     "e2e_ms_lo",
+                                                     "e2e_ms_hi",
+                                                     "interval_level",
+                                                     "trace_samples_ms",
+                                                     "e2e_samples_ms",
                                                      "scene_fingerprint",
+                                                     "gpu_sms",
+                                                     "gpu_driver",
+                                                     "cuda_runtime",
+                                                     "gpu_sm_mhz_start",
+                                                     "gpu_sm_mhz_end",
+                                                     "gpu_mem_mhz_start",
+                                                     "gpu_mem_mhz_end",
                                                      "git_revision",
                                                      "build_type",
                                                      "compiler",
                                                      "cpu",
                                                      "host",
+                                                     "machine",
                                                      "device",
                                                      "embree_version",
                                                      "threads",
                                                      "started_utc",
-                                                     "command_line"};
+                                                     "command_line",
+                                                     "run_under"};
 
 // The experiment CSV's column order is part of every file already written: pinned here.
 TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
@@ -112,7 +128,7 @@ TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
     if (c.key) key.push_back(c.name);
   EXPECT_EQ(key, (std::vector<std::string>{"scene", "pass", "method", "generator_params", "tracer", "tracer_params",
                                            "width", "height", "frame", "seed", "repeats", "encoder_params", "permute",
-                                           "git_revision", "build_type", "cpu", "threads"}));
+                                           "git_revision", "build_type", "cpu", "threads", "run_under"}));
 }
 
 TEST(Csv, RowsRoundTripThroughTheirSchema) {

@@ -5,7 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
+#include <string>
+
+#include "tests/cli_util.h"
+#include "tests/test_util.h"
 
 namespace raycoh::test {
 namespace {
@@ -96,6 +101,46 @@ TEST(SpeedInterval, FramesMissingOnEitherSideAreSkipped) {
   const SpeedRatio r = speed_ratio(frames({{2.0, 2.0}, {}}), frames({{1.0, 1.0}, {5.0, 5.0}}));
   EXPECT_NEAR(r.ratio, 2.0, 1e-12);
   EXPECT_EQ(speed_ratio({}, {}).ratio, 0.0);
+}
+
+// scripts/speed_interval.py recomputes the report's intervals from the same rows, number for number (the GPU run
+// summaries use it): every ratio cell and the top of the ranking, as `raycoh report` prints them.
+TEST(SpeedInterval, ThePythonModuleGivesTheReportsIntervals) {
+  const auto dir = temp_dir("speed_interval_py");
+  const std::string csv = (dir / "t.csv").string();
+  CommandResult r = run_raycoh(
+      "table --scenes cornell --generators noopt,ours,contiguous --encoders none,origin "
+      "--tracers cpu --res 48x32 --frames 3 --repeat 5 --out " +
+      csv);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_raycoh("report " + csv + " --out " + (dir / "r.html").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::vector<std::string> report = read_lines(dir / "r.md");
+  const CommandResult py =
+      run_shell("python3 " + std::string(RAYCOH_SOURCE_DIR) + "/scripts/speed_interval.py " + csv + " && python3 " +
+                std::string(RAYCOH_SOURCE_DIR) + "/scripts/speed_interval.py " + csv + " --e2e");
+  ASSERT_EQ(py.exit_code, 0) << py.output;
+  int compared = 0;
+  for (const std::string& line : report) {
+    // "| ours | 1.11x [0.91, 1.26] / 1.09x [0.94, 1.20] |": trace / end to end, each printed by the module too.
+    if (line.rfind("| ", 0) != 0 || line.find("x [") == std::string::npos) continue;
+    const size_t name_end = line.find(" |", 2);
+    const std::string method = line.substr(2, name_end - 2);
+    const std::string cells = line.substr(name_end + 3, line.size() - name_end - 5);
+    const size_t slash = cells.find(" / ");
+    for (const std::string& cell : {cells.substr(0, slash), slash == std::string::npos ? "" : cells.substr(slash + 3)})
+      if (!cell.empty()) {
+        EXPECT_NE(py.output.find("  " + method + ": " + cell + "\n"), std::string::npos) << method << " " << cell;
+        ++compared;
+      }
+  }
+  EXPECT_EQ(compared, 1 + 2 * 5);  // primary (trace only) and five methods, noopt being the base
+  const size_t top = py.output.find("  top: ");
+  ASSERT_NE(top, std::string::npos);
+  const std::string verdict = py.output.substr(top + 7, py.output.find('\n', top) - top - 7);
+  bool found = false;
+  for (const std::string& line : report) found = found || line.find("cornell: " + verdict) != std::string::npos;
+  EXPECT_TRUE(found) << verdict;
 }
 
 }  // namespace
