@@ -26,6 +26,8 @@ import os
 import sys
 from collections import defaultdict
 
+import speed_interval
+
 STAGES = (("gen", "gen_ms", "modeled_gen_bytes"), ("key", "key_ms", "modeled_key_bytes"),
           ("sort", "sort_ms", "modeled_sort_bytes"), ("permute", "permute_ms", "modeled_permute_bytes"))
 
@@ -164,12 +166,16 @@ def verdict(rows, out):
         if (r["scene"], label) in seen:
             continue
         seen.add((r["scene"], label))
-        by_scene[r["scene"]].append((num(r, "gpu_e2e_ms"), label))
+        by_scene[r["scene"]].append((num(r, "gpu_e2e_ms"), label, r))
     out.append("## Verdict: fastest end to end per scene (measured spans, median of the run's repeats)")
     out.append("")
     for scene, entries in sorted(by_scene.items()):
         entries.sort()
-        out.append(f"- {scene}: " + " < ".join(f"{label} {ms:.4f} ms" for ms, label in entries))
+        out.append(f"- {scene}: " + " < ".join(f"{label} {ms:.4f} ms" for ms, label, _ in entries))
+        ranked = [(label, speed_interval.series([r], True)) for _, label, r in entries]
+        base = dict(ranked).get("noopt")
+        if base:  # the same words, and intervals, as raycoh's table and report (docs/statistics.md)
+            out.append(f"  - at 95%: {speed_interval.top_of_ranking(ranked, base)}")
     out.append("")
 
 
