@@ -149,7 +149,8 @@ std::string top_of_ranking(const std::vector<std::pair<std::string, const FrameS
   const auto& [label, top] = methods[best];
   const SpeedRatio to_base = paired_ratio(base, *top);
   if (!to_base.has_interval)
-    return fmt::format("{} highest, {} (one repeat: no interval, not called fastest)", label, ratio_text(to_base));
+    return fmt::format("{} highest, {} (no repeated times in the rows: no interval, not called fastest)", label,
+                       ratio_text(to_base));
   std::string tied;
   for (size_t i = 0; i < methods.size(); ++i)
     if (i != best && paired_ratio(*methods[i].second, *top).lo <= 1.0)

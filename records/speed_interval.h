@@ -59,8 +59,8 @@ double series_speed(const FrameSeries& s);
 // The top of a measured ranking, as a table line may state it: the method with the highest series_speed is
 // "<label> fastest, <ratio to base>" only when its paired interval over every other method excludes 1; otherwise
 // "indistinguishable at the top: <label> <ratio>, <label> <ratio>..." lists every method the interval cannot tell
-// from it; with one repeat, "<label> highest, <ratio> (one repeat: no interval, not called fastest)". Ratios are to
-// `base` (noopt) with their intervals.
+// from it; without repeats, "<label> highest, <ratio> (no repeated times in the rows: no interval, not called
+// fastest)". Ratios are to `base` (noopt) with their intervals.
 std::string top_of_ranking(const std::vector<std::pair<std::string, const FrameSeries*>>& methods,
                            const FrameSeries& base);
 

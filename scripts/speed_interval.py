@@ -132,7 +132,7 @@ def top_of_ranking(methods, base):
     label, top = methods[best]
     to_base = speed_ratio(base, top)
     if not to_base[3]:
-        return f"{label} highest, {ratio_text(to_base)} (one repeat: no interval, not called fastest)"
+        return f"{label} highest, {ratio_text(to_base)} (no repeated times in the rows: no interval, not called fastest)"
     tied = "".join(f", {m} {ratio_text(speed_ratio(base, s))}" for i, (m, s) in enumerate(methods)
                    if i != best and speed_ratio(s, top)[1] <= 1.0)
     if not tied:

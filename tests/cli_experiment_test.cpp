@@ -52,11 +52,11 @@ TEST(CliExperiment, TheDefaultTableShowsTheComparison) {
                                             "noopt+reis",  "noopt+costa", "noopt+aila", "noopt+twopoint",
                                             "noopt+mlhcc", "noopt+window"};
   for (const std::string& m : methods) EXPECT_NE(r.output.find("| " + m + " |"), std::string::npos) << m;
-  for (const char* s :
-       {"| primary (coherent bound) |", "- simt[preset=rtx3060]: MODELED GPU figures",
-        "### simt[preset=rtx3060]: MODELED end to end", "### cpu: end to end",
-        "Fastest end to end (ratio to noopt [95% interval]):\n- cpu (measured), cornell: ",
-        "(one repeat: no interval, not called fastest)", "- simt[preset=rtx3060] (modeled), cornell: "})
+  for (const char* s : {"| primary (coherent bound) |", "- simt[preset=rtx3060]: MODELED GPU figures",
+                        "### simt[preset=rtx3060]: MODELED end to end", "### cpu: end to end",
+                        "Fastest end to end (ratio to noopt [95% interval]):\n- cpu (measured), cornell: ",
+                        "(no repeated times in the rows: no interval, not called fastest)",
+                        "- simt[preset=rtx3060] (modeled), cornell: "})
     EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
   EXPECT_EQ(r.output.find("### simt[preset=rtx3060,kernel"), std::string::npos) << "the full parameters once only";
   // 2 scenes x 2 tracers (cpu, simt) x (primary + 10 methods), and the header
@@ -76,8 +76,10 @@ TEST(CliExperiment, TheDefaultTableShowsTheComparison) {
 // the closing line calls a method fastest only when the interval says so.
 TEST(CliExperiment, MeasuredSpeedsCarryIntervals) {
   const auto out = temp_dir("cli_intervals") / "t.csv";
-  CommandResult r = run_raycoh("table --scenes cornell --generators noopt,contiguous --tracers cpu,simt --res 48x32 "
-                               "--frames 2 --out " + out.string());
+  CommandResult r = run_raycoh(
+      "table --scenes cornell --generators noopt,contiguous --tracers cpu,simt --res 48x32 "
+      "--frames 2 --out " +
+      out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   int timed = 0;
   for (const auto& row : read_rows(out)) {
@@ -97,8 +99,8 @@ TEST(CliExperiment, MeasuredSpeedsCarryIntervals) {
     EXPECT_LE(std::stod(row.at("e2e_ms_lo")), std::stod(row.at("e2e_ms")) + 1e-4);
   }
   EXPECT_EQ(timed, 2 * 3);  // 2 frames x (primary, noopt, contiguous)
-  for (const char* s : {"ratio to noopt [95% interval]); 48x32, 2 frame(s), seed 1, median of 7 traces",
-                        "| noopt | ", "(1.00x), ", "Fastest end to end (ratio to noopt [95% interval]):"})
+  for (const char* s : {"ratio to noopt [95% interval]); 48x32, 2 frame(s), seed 1, median of 7 traces", "| noopt | ",
+                        "(1.00x), ", "Fastest end to end (ratio to noopt [95% interval]):"})
     EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
   // contiguous' cell has an interval; the verdict line either names one method fastest or says what it cannot tell.
   EXPECT_NE(r.output.find("| contiguous | "), std::string::npos);
