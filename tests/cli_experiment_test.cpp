@@ -251,14 +251,50 @@ TEST(CliExperiment, ValidatePutsTheModelBesideThePaper) {
   // 7 rows of Table 1, 16 cells of Table 3, the primary-ray bound.
   const auto lines = read_lines(out);
   ASSERT_EQ(lines.size(), 1u + 7 + 16 + 1);
-  EXPECT_EQ(lines[0].rfind("table,row,paper_row,tile,k,paper_mray_s,paper_ratio,modeled_mray_s,modeled_ratio,", 0), 0u)
+  EXPECT_EQ(lines[0].rfind("table,row,paper_scene,paper_row,tile,k,paper_mray_s,paper_ratio,kind,modeled_mray_s,"
+                           "modeled_ratio,measured_mray_s,",
+                           0),
+            0u)
       << lines[0];
-  EXPECT_EQ(lines[1].rfind("table1,noopt,NoOpt,,0,154.7,1,", 0), 0u) << lines[1];
+  EXPECT_EQ(lines[1].rfind("table1,noopt,Sibenik,NoOpt,,0,154.7,1,modeled,", 0), 0u) << lines[1];
   EXPECT_TRUE(std::filesystem::exists(out.string() + ".md"));
   EXPECT_EQ(count_lines(out.string() + ".rows.csv"), 1 + 22 + 1);  // 22 methods and the primary pass, one frame
   expect_error("validate --scene /nonexistent/sibenik --out " + (dir / "w.csv").string(), "Sibenik");
   expect_error("validate --scene voxels:size=16 --res 48x32 --preset gtx480 --out " + (dir / "w.csv").string(),
                "rtx3060, h100");
+  expect_error("validate --scene voxels:size=16 --stand-ins " + dir.string() + " --out " + (dir / "w.csv").string(),
+               "no country_kitchen in it (the stand-in for the paper's Breakfast)");
+}
+
+// A measuring tracer instead of the model: Table 1 on the paper's five scene types (the stand-ins from the shared
+// scenes), Table 3 on Sibenik, each measured ratio with its paired interval and whether the paper's ratio lies in
+// it. (The CPU tracer here, so that it runs anywhere; scripts/gpu-check --validate runs it on cuda.)
+TEST(CliExperiment, ValidateMeasuresTheTablesWithIntervals) {
+  const auto scenes = shared_scenes_dir();
+  if (scenes.empty() || !std::filesystem::exists(scenes / "lost_empire")) GTEST_SKIP() << "no shared scenes";
+  const auto dir = temp_dir("cli_validate_measured");
+  const auto out = dir / "v.csv";
+  const CommandResult r = run_raycoh("validate --tracer cpu --scene " + (scenes / "sibenik").string() +
+                                     " --stand-ins " + scenes.string() + " --res 24x16 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* s : {"MEASURED on cpu", "### Table 1, Vokselia column (lost_empire)",
+                        "### Table 1, Breakfast column (country_kitchen)", "the paper's ratio inside our 95% interval"})
+    EXPECT_NE(r.output.find(s), std::string::npos) << s << "\n" << r.output;
+  const auto rows = read_rows(out);
+  ASSERT_EQ(rows.size(), 5u * 7 + 16 + 1);  // Table 1 on five columns, Table 3, the primary bound
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("kind"), "measured");
+    EXPECT_EQ(row.at("modeled_ratio"), "");
+    if (row.at("row") == "noopt") {  // the base: no interval
+      EXPECT_EQ(row.at("ratio_lo"), "");
+      continue;
+    }
+    EXPECT_LE(std::stod(row.at("ratio_lo")), std::stod(row.at("measured_ratio")) + 1e-9) << row.at("row");
+    EXPECT_GE(std::stod(row.at("ratio_hi")), std::stod(row.at("measured_ratio")) - 1e-9) << row.at("row");
+    if (row.at("table") != "bound")
+      EXPECT_TRUE(row.at("paper_in_interval") == "yes" || row.at("paper_in_interval") == "no");
+  }
+  EXPECT_EQ(count_lines(out.string() + ".table1-rows.csv"), 1 + 4 * (7 + 1));  // four stand-ins, 7 methods + primary
 }
 
 }  // namespace

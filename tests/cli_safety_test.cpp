@@ -82,7 +82,7 @@ TEST(CliSafety, AFullDiskKeepsEveryWholeRowAndTheRerunCompletesIt) {
   const std::string args =
       "table --scenes cornell --generators noopt --res 24x16 --frames 30 --repeat 1 --tracers cpu --out " +
       out.string();
-  CommandResult r = run_shell("ulimit -f 8; $R " + args);  // 8 KiB: a disk that fills after ~20 rows
+  CommandResult r = run_shell("ulimit -f 24; $R " + args);  // 24 KiB: a disk that fills after ~15 rows
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("error: write failed: --out " + out.string() + ": writing " + out.string() +
                           ".partial failed: File too large"),
