@@ -5,9 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <map>
 #include <memory>
-#include <set>
 
 #include "core/error.h"
 #include "core/fault_injection.h"
@@ -16,6 +14,7 @@
 #include "generators/pixel_order.h"
 #include "harness/device_rows.h"
 #include "harness/experiment_setup.h"
+#include "harness/experiment_units.h"
 #include "harness/progress.h"
 #include "harness/repeat_timing.h"
 #include "pipeline/first_hits.h"
@@ -33,22 +32,42 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// One run of the loop: the CSV, the rows an interrupted run left, and the sums of the scene being measured.
+// One run of the loop, as steps: run() takes the scenes in turn (run_scene: load, set up the tracers), run_scene
+// the frames (run_frame: first hits, then the passes), run_frame the primary pass (run_primary; run_device_primary
+// for device pipelines) and then each method's secondary pass (run_methods -> run_method: generate, reorder,
+// trace; run_device_row for device pipelines). Which units this shard owns and which rows an interrupted run left
+// are ExperimentUnits' (harness/experiment_units.h); timing is repeat_timing.h's (host) and device_rows.h's
+// (device pipelines). A row is made in three steps: head() (what is known before measuring, the resume key),
+// record() (the times), finish_row() (the counters; written, summed into the scene's result).
 class ExperimentRun {
  public:
   ExperimentRun(const ExperimentOptions& o, const Provenance& p);
   std::vector<SceneResult> run();
 
  private:
-  std::string unit(size_t si, int frame, size_t mi) const;
-  bool owns(size_t si, int frame, size_t mi) const;
-  bool owns_any(size_t si, int frame) const;
+  // The batches and their buffers, reused from frame to frame.
+  struct Buffers {
+    std::vector<uint32_t> primary_order;  // the primary pass's pixel order (8x8 tiles)
+    std::vector<uint32_t> order;          // a reordering's permutation of the batch
+    std::vector<Hit> hits;
+    RayBatch batch, sorted;  // a method's batch, and its reordered copy (physical permute)
+  };
+  // The batch of the last generation in a frame: methods sharing a generator share it (generated once, timed once).
+  struct Generated {
+    std::string of;  // "generator:params", empty before the first
+    double gen_s = 0.0;
+    GenerationStats stats;
+  };
+
+  void check_all_resumed_rows_asked_for() const;
   void run_scene(size_t si);
-  void run_device_primary(int frame);
-  void run_device_row(ExperimentRow r, size_t ti, size_t mi);
   void run_frame(int frame);
+  void run_primary(int frame, const std::vector<Ray>& rays);
+  void run_device_primary(int frame);
   void run_methods(int frame, const GBuffer& gbuffer);
-  ExperimentRow head(const std::string& pass, size_t mi, size_t ti, int frame) const;
+  void run_method(const Unit& u, const GBuffer& gbuffer, Generated& generated);
+  void run_device_row(ExperimentRow r, size_t ti, size_t mi);
+  ExperimentRow head(const Unit& u, size_t ti) const;
   bool resumed(const ExperimentRow& head, size_t ti);
   bool frame_resumed(int frame);
   template <class Fn>
@@ -62,17 +81,12 @@ class ExperimentRun {
   std::vector<std::unique_ptr<Generator>> generators_;  // one per method
   PermuteMode permute_;
   RecordCsv<ExperimentRow> csv_;
-  std::map<std::string, const ExperimentRow*> done_;  // resume key -> resumed row
-  std::set<std::string> used_;                        // keys of done_ this run asked for
-  std::set<std::string> owned_;                       // --shard: the units this shard measures
+  ExperimentUnits units_;  // shard ownership and resumed rows
   Progress progress_;
-  size_t scene_index_ = 0;  // of the scene being measured, for the progress line
   std::unique_ptr<SceneSetup> setup_;
-  size_t si_ = 0;  // the scene being measured
-  SceneResult res_;
-  std::vector<uint32_t> primary_order_, order_;
-  std::vector<Hit> hits_;
-  RayBatch batch_, sorted_;
+  size_t si_ = 0;    // the scene being measured
+  SceneResult res_;  // its sums
+  Buffers buffers_;
   std::string where_;  // the unit and stage being measured, for an error's one line
 };
 
@@ -81,28 +95,19 @@ ExperimentRun::ExperimentRun(const ExperimentOptions& o, const Provenance& p)
       provenance_(p),
       generators_(checked_generators(o)),
       permute_(parse_permute_mode(o.permute)),
-      csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))) {
-  for (const ExperimentRow& row : csv_.resumed()) done_[resume_key(experiment_schema(), row)] = &row;
-  if (!o.shard.whole()) {
-    std::vector<std::string> units;
-    for (size_t si = 0; si < o.scenes.size(); ++si)
-      for (int frame = 0; frame < o.frames; ++frame)
-        for (size_t mi = 0; mi <= o.methods.size(); ++mi) units.push_back(unit(si, frame, mi));
-    const std::vector<int> owner = deal_units(units, o.shard.count);
-    for (size_t u = 0; u < units.size(); ++u)
-      if (owner[u] == o.shard.index) owned_.insert(units[u]);
-  }
-  if (!done_.empty())
-    std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", done_.size(), csv_.partial_path().c_str());
+      csv_(o.out, experiment_schema(), CsvWriter::Options::resumable(o.force, experiment_rule(o, generators_, p))),
+      units_(o, csv_.resumed()) {
+  buffers_.primary_order = make_pixel_order(o.width, o.height, RayOrder::Tile, kPrimaryTile, kPrimaryTile);
+  if (units_.resumed_rows() > 0)
+    std::fprintf(stderr, "resuming: %zu rows already measured in %s\n", units_.resumed_rows(),
+                 csv_.partial_path().c_str());
 }
 
 std::vector<SceneResult> ExperimentRun::run() {
   std::vector<SceneResult> results;
   try {
     for (size_t si = 0; si < o_.scenes.size(); ++si) {
-      bool any = false;
-      for (int frame = 0; frame < o_.frames && !any; ++frame) any = owns_any(si, frame);
-      if (!any) continue;  // a shard that owns none of the scene's units does not load it
+      if (!units_.owns_any(si)) continue;  // a shard that owns none of the scene's units does not load it
       run_scene(si);
       results.push_back(std::move(res_));
     }
@@ -110,36 +115,23 @@ std::vector<SceneResult> ExperimentRun::run() {
     progress_.clear();
     csv_.rethrow_keeping_rows(e, where_);
   }
-  if (used_.size() < done_.size()) {
-    for (const auto& [key, row] : done_)
-      if (!used_.count(key))
-        throw Error(fmt::format(
-            "--out {}: {} holds {} rows this run did not ask for (e.g. {} {} {} with tracer_params '{}', "
-            "encoder_params '{}'); this run's rows are kept beside them; pass --force to replace the file, or choose "
-            "another --out",
-            o_.out, csv_.partial_path(), done_.size() - used_.size(), row->scene, row->method, row->tracer,
-            row->tracer_params, row->encoder_params));
-  }
+  check_all_resumed_rows_asked_for();
   csv_.finish();
   if (csv_.rows() == 0)
     std::fprintf(stderr, "%s already held every row of this run: nothing was measured\n", o_.out.c_str());
   return results;
 }
 
-// Units (records/shard.h): scene x frame x method, and the scene x frame primary pass (mi == methods.size()).
-std::string ExperimentRun::unit(size_t si, int frame, size_t mi) const {
-  return experiment_unit(scene_name_of(o_.scenes[si]), frame,
-                         mi == o_.methods.size() ? "primary" : o_.methods[mi].label);
-}
-
-bool ExperimentRun::owns(size_t si, int frame, size_t mi) const {
-  return o_.shard.whole() || owned_.count(unit(si, frame, mi));
-}
-
-bool ExperimentRun::owns_any(size_t si, int frame) const {
-  for (size_t mi = 0; mi <= o_.methods.size(); ++mi)
-    if (owns(si, frame, mi)) return true;
-  return false;
+// Resumed rows this run did not ask for differ in what is known only once a scene is loaded (experiment_rule).
+void ExperimentRun::check_all_resumed_rows_asked_for() const {
+  const ExperimentRow* row = units_.first_untaken();
+  if (!row) return;
+  throw Error(fmt::format(
+      "--out {}: {} holds {} rows this run did not ask for (e.g. {} {} {} with tracer_params '{}', "
+      "encoder_params '{}'); this run's rows are kept beside them; pass --force to replace the file, or choose "
+      "another --out",
+      o_.out, csv_.partial_path(), units_.untaken_rows(), row->scene, row->method, row->tracer, row->tracer_params,
+      row->encoder_params));
 }
 
 void ExperimentRun::run_scene(size_t si) {
@@ -151,31 +143,28 @@ void ExperimentRun::run_scene(size_t si) {
   setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, generators_, res_.tracer_labels);
   res_.scene = setup_->scene.name;
   res_.triangles = setup_->scene.triangle_count();
-  primary_order_ = make_pixel_order(o_.width, o_.height, RayOrder::Tile, kPrimaryTile, kPrimaryTile);
-  scene_index_ = si;
   for (int frame = 0; frame < o_.frames; ++frame) run_frame(frame);
   progress_.clear();
 }
 
-// The identifying fields of a row: everything known before measuring, the resume key included. mi is a method
-// index, or methods.size() for the primary pass.
-ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti, int frame) const {
-  const bool primary = mi == o_.methods.size();
-  const Encoder* enc = primary ? nullptr : setup_->encoders[mi].get();
+// The identifying fields of a row: everything known before measuring, the resume key included.
+ExperimentRow ExperimentRun::head(const Unit& u, size_t ti) const {
+  const bool primary = u.primary();
+  const Encoder* enc = primary ? nullptr : setup_->encoders[u.method].get();
   ExperimentRow r;
   r.scene = setup_->scene.name;
   r.scene_triangles = setup_->scene.triangle_count();
   r.scene_fingerprint = setup_->fingerprint;
-  r.pass = pass;
-  r.method = primary ? "primary" : o_.methods[mi].label;
-  r.generator = primary ? "primary" : o_.methods[mi].generator.name;
-  r.generator_params = primary ? kPrimaryParams : generators_[mi]->params();
+  r.pass = pass_name(u.pass);
+  r.method = primary ? "primary" : o_.methods[u.method].label;
+  r.generator = primary ? "primary" : o_.methods[u.method].generator.name;
+  r.generator_params = primary ? kPrimaryParams : generators_[u.method]->params();
   r.tracer = o_.tracers[ti].name;
   r.tracer_params = setup_->tracers[ti]->params();
   r.bvh = setup_->tracers[ti]->bvh_layout();
   r.width = o_.width;
   r.height = o_.height;
-  r.frame = frame;
+  r.frame = u.frame;
   r.seed = o_.seed;
   r.repeats = setup_->repeats[ti];
   r.encoder = enc ? enc->name() : "";
@@ -192,26 +181,22 @@ ExperimentRow ExperimentRun::head(const std::string& pass, size_t mi, size_t ti,
 
 // Rows already measured by an interrupted run count as measured now.
 bool ExperimentRun::resumed(const ExperimentRow& head, size_t ti) {
-  const auto it = done_.find(resume_key(experiment_schema(), head));
-  if (it == done_.end()) return false;
-  used_.insert(it->first);
-  accumulate(*it->second, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
+  const ExperimentRow* row = units_.take(head);
+  if (!row) return false;
+  accumulate(*row, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
   return true;
 }
 
 // A frame whose every row (of this shard) was measured is taken as it is, without tracing its primary rays again.
 bool ExperimentRun::frame_resumed(int frame) {
-  const size_t primary = o_.methods.size();
+  std::vector<Unit> owned;
+  for (const Unit& u : frame_units(o_, si_, frame))
+    if (units_.owns(u)) owned.push_back(u);
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
-    for (size_t mi = 0; mi <= primary; ++mi)
-      if (owns(si_, frame, mi) &&
-          !done_.count(resume_key(experiment_schema(), head(mi == primary ? "primary" : "secondary", mi, ti, frame))))
-        return false;
-  for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {
-    if (owns(si_, frame, primary)) resumed(head("primary", primary, ti, frame), ti);
-    for (size_t mi = 0; mi < primary; ++mi)
-      if (owns(si_, frame, mi)) resumed(head("secondary", mi, ti, frame), ti);
-  }
+    for (const Unit& u : owned)
+      if (!units_.done(head(u, ti))) return false;
+  for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
+    for (const Unit& u : owned) resumed(head(u, ti), ti);
   return true;
 }
 
@@ -258,95 +243,107 @@ void ExperimentRun::finish_row(ExperimentRow r, size_t ti, const ModeledStages& 
 }
 
 void ExperimentRun::run_frame(int frame) {
-  if (!owns_any(si_, frame) || frame_resumed(frame)) return;
-  const FirstHits first = first_hits(setup_->scene, *setup_->gbuffer_tracer, o_.width, o_.height, primary_order_,
-                                     o_.seed, static_cast<uint32_t>(frame), true);
+  if (!units_.owns_any(si_, frame) || frame_resumed(frame)) return;
+  const FirstHits first = first_hits(setup_->scene, *setup_->gbuffer_tracer, o_.width, o_.height,
+                                     buffers_.primary_order, o_.seed, static_cast<uint32_t>(frame), true);
   // A frame without a single hit would measure 0 secondary rays: a table of zeros is no result.
   if (first.gbuffer.hits == 0)
     throw Error(
         fmt::format("scene '{}': the camera sees no triangle ({} of {} camera rays hit at {}x{}); nothing "
                     "to measure",
                     setup_->scene.source, 0, first.primary.rays.size(), o_.width, o_.height));
-  const std::vector<Ray>& rays = first.primary.rays;
-  hits_.resize(rays.size());
-  for (size_t ti = 0; ti < o_.tracers.size() && owns(si_, frame, o_.methods.size()); ++ti) {  // the coherent bound
-    ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
-    if (setup_->pipelines[ti] || resumed(r, ti)) continue;  // device pipelines: run_device_primary
-    where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, trace", res_.scene, frame, r.tracer);
-    const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), hits_.data()); });
-    r.rays = rays.size();
-    record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{}, ModeledStages{});
-  }
+  run_primary(frame, first.primary.rays);
   run_device_primary(frame);
   run_methods(frame, first.gbuffer);
 }
 
-// Methods sharing a generator share its batch within a frame (generated once, timed once).
+// The primary pass of host-pipeline tracers: the camera rays, the coherent bound.
+void ExperimentRun::run_primary(int frame, const std::vector<Ray>& rays) {
+  buffers_.hits.resize(rays.size());
+  const Unit u{si_, frame, Pass::Primary, 0};
+  if (!units_.owns(u)) return;
+  for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {
+    ExperimentRow r = head(u, ti);
+    if (setup_->pipelines[ti] || resumed(r, ti)) continue;  // device pipelines: run_device_primary
+    where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, trace", res_.scene, frame, r.tracer);
+    const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), buffers_.hits.data()); });
+    r.rays = rays.size();
+    record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{}, ModeledStages{});
+  }
+}
+
 void ExperimentRun::run_methods(int frame, const GBuffer& gbuffer) {
-  std::string batch_of;
-  double gen_s = 0.0;
-  GenerationStats gs;
+  Generated generated;
   const size_t methods = o_.methods.size();
-  for (size_t mi = 0; mi < methods; ++mi) {
-    if (!owns(si_, frame, mi)) continue;
-    progress_.update(scene_index_, o_.scenes.size(), static_cast<int>(size_t(frame) * methods + mi),
+  for (const Unit& u : frame_units(o_, si_, frame)) {
+    if (u.primary() || !units_.owns(u)) continue;
+    progress_.update(si_, o_.scenes.size(), static_cast<int>(size_t(frame) * methods + u.method),
                      static_cast<int>(size_t(o_.frames) * methods),
-                     fmt::format("{} frame {}/{} {}", res_.scene, frame + 1, o_.frames, o_.methods[mi].label));
-    const std::string unit = fmt::format("scene {}, frame {}, method {}", res_.scene, frame, o_.methods[mi].label);
-    std::vector<std::pair<size_t, ExperimentRow>> todo;  // host-pipeline tracer index, row head
-    for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
-      if (ExperimentRow r = head("secondary", mi, ti, frame); !resumed(r, ti)) {
-        where_ = fmt::format("{}, tracer {}, device pass", unit, r.tracer);
-        if (setup_->pipelines[ti])
-          run_device_row(std::move(r), ti, mi);
-        else
-          todo.emplace_back(ti, std::move(r));
-      }
-    if (todo.empty()) continue;
-    const std::string gen_key = o_.methods[mi].generator.name + ":" + generators_[mi]->params();
-    if (gen_key != batch_of) {
-      where_ = unit + ", generation";
-      const auto t_gen = Clock::now();
-      generators_[mi]->generate(setup_->scene, gbuffer, o_.seed, batch_, gs);
-      gen_s = seconds_since(t_gen);
-      batch_of = gen_key;
+                     fmt::format("{} frame {}/{} {}", res_.scene, frame + 1, o_.frames, o_.methods[u.method].label));
+    run_method(u, gbuffer, generated);
+  }
+}
+
+// One method's secondary pass: device pipelines run it whole (run_device_row); for the others its batch is
+// generated (or the previous method's reused), reordered and traced by each.
+void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated& generated) {
+  const size_t mi = u.method;
+  const std::string unit = fmt::format("scene {}, frame {}, method {}", res_.scene, u.frame, o_.methods[mi].label);
+  std::vector<std::pair<size_t, ExperimentRow>> todo;  // host-pipeline tracer index, row head
+  for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
+    if (ExperimentRow r = head(u, ti); !resumed(r, ti)) {
+      where_ = fmt::format("{}, tracer {}, device pass", unit, r.tracer);
+      if (setup_->pipelines[ti])
+        run_device_row(std::move(r), ti, mi);
+      else
+        todo.emplace_back(ti, std::move(r));
     }
-    ReorderTimings rt;
-    where_ = unit + ", reordering";
-    const bool reordered = reorder(*setup_->encoders[mi], batch_, permute_, sorted_, order_, rt);
-    const bool indirect = reordered && permute_ == PermuteMode::Indirect;
-    const std::vector<Ray>& rays = reordered && !indirect ? sorted_.rays : batch_.rays;
-    hits_.resize(batch_.size());
-    for (auto& [ti, r] : todo) {
-      Tracer& tracer = *setup_->tracers[ti];
-      where_ = fmt::format("{}, tracer {}, trace", unit, r.tracer);
-      const Timing t = measure(ti, [&] {
-        if (indirect)
-          tracer.trace_indirect(rays.data(), order_.data(), rays.size(), hits_.data());
-        else
-          tracer.trace(rays.data(), rays.size(), hits_.data());
-      });
-      r.rays = batch_.size();
-      const GpuModelConfig* gpu = tracer.gpu_model();
-      const Encoder& enc = *setup_->encoders[mi];
-      record(std::move(r), ti, gen_s, t, &gs, rt,
-             gpu ? modeled_stages(*gpu, size_t(o_.width) * size_t(o_.height), enc.key_bits(), enc.window(),
-                                  permute_ == PermuteMode::Physical, batch_.size(), order_)
-                 : ModeledStages{});
-    }
+  if (todo.empty()) return;
+  Buffers& b = buffers_;
+  const std::string gen_key = o_.methods[mi].generator.name + ":" + generators_[mi]->params();
+  if (gen_key != generated.of) {
+    where_ = unit + ", generation";
+    const auto t_gen = Clock::now();
+    generators_[mi]->generate(setup_->scene, gbuffer, o_.seed, b.batch, generated.stats);
+    generated.gen_s = seconds_since(t_gen);
+    generated.of = gen_key;
+  }
+  ReorderTimings rt;
+  where_ = unit + ", reordering";
+  Encoder& enc = *setup_->encoders[mi];
+  const bool reordered = reorder(enc, b.batch, permute_, b.sorted, b.order, rt);
+  const bool indirect = reordered && permute_ == PermuteMode::Indirect;
+  const std::vector<Ray>& rays = reordered && !indirect ? b.sorted.rays : b.batch.rays;
+  b.hits.resize(b.batch.size());
+  for (auto& [ti, r] : todo) {
+    Tracer& tracer = *setup_->tracers[ti];
+    where_ = fmt::format("{}, tracer {}, trace", unit, r.tracer);
+    const Timing t = measure(ti, [&] {
+      if (indirect)
+        tracer.trace_indirect(rays.data(), b.order.data(), rays.size(), b.hits.data());
+      else
+        tracer.trace(rays.data(), rays.size(), b.hits.data());
+    });
+    r.rays = b.batch.size();
+    const GpuModelConfig* gpu = tracer.gpu_model();
+    record(std::move(r), ti, generated.gen_s, t, &generated.stats, rt,
+           gpu ? modeled_stages(*gpu, size_t(o_.width) * size_t(o_.height), enc.key_bits(), enc.window(),
+                                permute_ == PermuteMode::Physical, b.batch.size(), b.order)
+               : ModeledStages{});
   }
 }
 
 // Device pipelines: camera rays made and traced on the device (the primary row), their G-buffer uploaded.
 void ExperimentRun::run_device_primary(int frame) {
   const auto f = static_cast<uint32_t>(frame);
+  const Unit u{si_, frame, Pass::Primary, 0};
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {
     DevicePipeline* p = setup_->pipelines[ti];
     if (!p) continue;
     auto pass = [&] { return p->primary(o_.width, o_.height, kPrimaryTile, kPrimaryTile, o_.seed, f, true); };
-    ExperimentRow r = head("primary", o_.methods.size(), ti, frame);
+    ExperimentRow r = head(u, ti);
     where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, device pass", res_.scene, frame, r.tracer);
-    if (owns(si_, frame, o_.methods.size()) && !resumed(r, ti)) {
+    if (units_.owns(u) && !resumed(r, ti)) {
       r.rays = size_t(o_.width) * size_t(o_.height);
       set_device_times(r, measure_device(pass, setup_->repeats[ti], setup_->models[ti]), setup_->models[ti]);
       finish_row(std::move(r), ti, ModeledStages{});
