@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,14 @@
 
 namespace raycoh {
 
+// What decides a batch's layout, as a generator holds it: tile, group size K and batch order; empty where the
+// generator has no such parameter. The typed source of a row's tile_w, tile_h, k and order columns
+// (plugins/recorded_params.h).
+struct BatchLayout {
+  std::optional<int> tile_w, tile_h, k;
+  std::string order;
+};
+
 class Generator {
  public:
   virtual ~Generator() = default;
@@ -25,6 +34,9 @@ class Generator {
   virtual std::string params() const = 0;
   // The typed configuration a device version runs (generators/grouping.h); kind None where there is none.
   virtual DeviceRecipe device_recipe() const { return {}; }
+  // Its batch layout, typed; nullopt where the generator does not give it (its recorded columns are then read
+  // from params() through its parameter table).
+  virtual std::optional<BatchLayout> layout() const { return std::nullopt; }
 };
 
 // Reads its values from a ParamSet over the record's table; throws raycoh::Error for bad ones.

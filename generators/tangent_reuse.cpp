@@ -214,6 +214,10 @@ TangentSpaceReuse::TangentSpaceReuse(ParamSet& params, bool interleaved) : inter
   params_ = params.canonical();
 }
 
+std::optional<BatchLayout> TangentSpaceReuse::layout() const {
+  return BatchLayout{tile_.first, tile_.second, k_, to_string(order_)};
+}
+
 DeviceRecipe TangentSpaceReuse::device_recipe() const {
   DeviceRecipe r;
   r.kind = DeviceRecipe::Kind::Grouping;

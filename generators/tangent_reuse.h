@@ -17,6 +17,7 @@ class TangentSpaceReuse final : public Generator {
                 GenerationStats& stats) override;
   std::string params() const override { return params_; }
   DeviceRecipe device_recipe() const override;
+  std::optional<BatchLayout> layout() const override;
   // The grouping of one frame, as the CPU loop and the CUDA block phases read it: device_recipe().config().
   GroupingConfig config(uint32_t seed, uint32_t frame) const { return device_recipe().config(seed, frame); }
   std::pair<int, int> tile() const { return tile_; }

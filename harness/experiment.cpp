@@ -175,7 +175,10 @@ ExperimentRow ExperimentRun::head(const Unit& u, size_t ti) const {
   r.provenance.device = device_of(o_.tracers[ti]);
   r.gpu = setup_->gpu[ti];
   read_gpu_clocks(r.gpu, true);
-  set_recorded_params(r);
+  if (primary)
+    set_recorded_params(r);
+  else
+    set_recorded_params(r, *generators_[u.method]);  // the generator's typed K, tile and order
   return r;
 }
 

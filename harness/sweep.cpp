@@ -5,10 +5,10 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
-#include <climits>
 #include <cstdio>
 
 #include "core/error.h"
+#include "generators/generator.h"
 #include "harness/cli.h"
 #include "harness/command.h"
 #include "harness/table.h"
@@ -17,17 +17,30 @@ namespace raycoh {
 
 namespace {
 
+void check_generator(const std::string& generator) {
+  if (generator != "ours" && generator != "contiguous" && generator != "tile")
+    throw Error(fmt::format("--generator {}: sweep varies tile and group size; choose ours or contiguous", generator));
+}
+
+// K's range is the one the generator's parameter table states (ours_params(), row `k`; `tile` is the old name of
+// `contiguous`): --groups is read through it, and no other rule checks K here.
+int parse_group_size(const std::string& generator, const std::string& text) {
+  check_generator(generator);
+  const std::string name = generator == "tile" ? "contiguous" : generator;
+  for (const GeneratorInfo& info : generator_infos())
+    if (info.name == name)
+      for (const ParamSpec& row : info.table())
+        if (row.name == "k") return parse_int("--groups", text, static_cast<int>(row.lo), static_cast<int>(row.hi));
+  throw Error(fmt::format("--generator {}: its parameter table has no group size k", generator));
+}
+
 void check_sweep(const SweepOptions& o) {
-  if (o.generator != "ours" && o.generator != "contiguous" && o.generator != "tile")
-    throw Error(
-        fmt::format("--generator {}: sweep varies tile and group size; choose ours or contiguous", o.generator));
+  check_generator(o.generator);
   if (o.tiles.empty()) throw Error("--tiles: empty list");
   if (o.groups.empty()) throw Error("--groups: empty list");
   for (const auto& [w, h] : o.tiles)
     if (w < 1 || w > 1024 || h < 1 || h > 1024 || w * h > 65536)
       throw Error(fmt::format("--tiles {}x{}: width and height must be in [1, 1024], at most 65536 pixels", w, h));
-  for (int k : o.groups)
-    if (k < 1 || k > 65536) throw Error(fmt::format("--groups {}: must be in [1, 65536]", k));
 }
 
 // One tracer's tile x K table.
@@ -109,7 +122,7 @@ BoundCommand bind_sweep(CLI::App& parent) {
               s->o.tiles.push_back(parse_res("--tiles", t.text()));
             s->o.groups.clear();
             for (const PluginSpec& k : split_nonempty("--groups", s->groups))
-              s->o.groups.push_back(parse_int("--groups", k.text(), INT_MIN, INT_MAX));
+              s->o.groups.push_back(parse_group_size(s->o.generator, k.text()));
             resolve_experiment(s->o.experiment, s->text);
             return run_sweep(s->o, provenance);
           }};

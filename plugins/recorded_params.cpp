@@ -39,6 +39,11 @@ RecordedGenerator recorded_generator(const std::string& generator, const std::st
   return g;
 }
 
+RecordedGenerator recorded_generator(const std::string& name, const Generator& generator) {
+  if (std::optional<BatchLayout> layout = generator.layout()) return *layout;
+  return recorded_generator(name, generator.params());
+}
+
 RecordedTracer recorded_tracer(const std::string& tracer, const std::string& params) {
   const ParamTable* table = table_of(tracer_infos(), tracer);
   RecordedTracer t;

@@ -93,6 +93,10 @@ void set_recorded_params(ExperimentRow& row) {
   row.recorded = recorded_columns(row.generator, row.generator_params, row.tracer, row.tracer_params);
 }
 
+void set_recorded_params(ExperimentRow& row, const Generator& generator) {
+  row.recorded = recorded_columns(row.generator, generator, row.tracer, row.tracer_params);
+}
+
 void set_generation(ExperimentRow& row, const GenerationStats& g) {
   row.below_geometric = g.below_geometric;
   row.below_shading = g.below_shading;

@@ -73,6 +73,9 @@ const Schema<ExperimentRow>& experiment_schema();
 
 // The typed columns (tile_w .. mode) from the row's generator, generator_params, tracer and tracer_params.
 void set_recorded_params(ExperimentRow& row);
+// The same with the generator that made the row's batch: its typed layout where it gives one (K, tile, order not
+// read back from generator_params).
+void set_recorded_params(ExperimentRow& row, const Generator& generator);
 
 // Copies the generation statistics into / out of a row.
 void set_generation(ExperimentRow& row, const GenerationStats& g);

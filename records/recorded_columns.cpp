@@ -13,6 +13,13 @@ RecordedColumns recorded_columns(const std::string& generator, const std::string
   return {g.tile_w, g.tile_h, g.k, g.order, t.preset, t.mode};
 }
 
+RecordedColumns recorded_columns(const std::string& generator_name, const Generator& generator,
+                                 const std::string& tracer, const std::string& tracer_params) {
+  const RecordedGenerator g = recorded_generator(generator_name, generator);
+  const RecordedTracer t = recorded_tracer(tracer, tracer_params);
+  return {g.tile_w, g.tile_h, g.k, g.order, t.preset, t.mode};
+}
+
 const Schema<RecordedColumns>& recorded_schema() {
   using namespace csv_format;
   using R = RecordedColumns;

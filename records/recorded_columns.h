@@ -13,6 +13,8 @@
 
 namespace raycoh {
 
+class Generator;
+
 struct RecordedColumns {
   std::optional<int> tile_w, tile_h, k;  // empty where the generator has no such parameter (and for noopt's K)
   std::string order;                     // batch order: scanline | tile | group; empty where it has none
@@ -20,6 +22,9 @@ struct RecordedColumns {
 };
 
 RecordedColumns recorded_columns(const std::string& generator, const std::string& generator_params,
+                                 const std::string& tracer, const std::string& tracer_params);
+// The same, for a generator that ran (its typed layout where it gives one: plugins/recorded_params.h).
+RecordedColumns recorded_columns(const std::string& generator_name, const Generator& generator,
                                  const std::string& tracer, const std::string& tracer_params);
 
 // tile_w, tile_h, k, order, preset, mode.

@@ -1,6 +1,9 @@
 // `table` and `sweep` from the command line: CSV rows, rows kept after an error, resume, printed tables.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include "generators/tangent_reuse.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {
@@ -179,7 +182,19 @@ TEST(CliExperiment, SweepPrintsTheTileByGroupTable) {
   // noopt + 3 valid cells, 1 tracer, 1 frame, plus primary and header
   EXPECT_EQ(count_lines(out), 1 + 1 + 4);
   expect_error("sweep --scene cornell --tiles 0x8", "--tiles");
-  expect_error("sweep --scene cornell --groups 0", "--groups");
+  // A bad K is refused in one line naming the range of `ours`' parameter table (ours_params(), row k): the one rule.
+  std::string k_range;
+  for (const ParamSpec& row : ours_params())
+    if (row.name == "k") k_range = "[" + std::to_string(int(row.lo)) + ", " + std::to_string(int(row.hi)) + "]";
+  ASSERT_FALSE(k_range.empty());
+  for (const char* bad : {"0", "70000", "x"}) {
+    const CommandResult e = run_raycoh(std::string("sweep --scene cornell --groups ") + bad);
+    EXPECT_EQ(e.exit_code, 2) << e.output;
+    EXPECT_NE(e.output.find(std::string("--groups: '") + bad + "' is not valid; expected an integer in " + k_range),
+              std::string::npos)
+        << e.output;
+    EXPECT_EQ(std::count(e.output.begin(), e.output.end(), '\n'), 1) << "one line\n" << e.output;
+  }
   expect_error("sweep --scene cornell --generator noopt", "ours or contiguous");
 }
 

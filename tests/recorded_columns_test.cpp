@@ -8,6 +8,7 @@
 
 #include <filesystem>
 
+#include "generators/generator.h"
 #include "records/csv.h"
 #include "records/experiment_row.h"
 #include "records/result_csv.h"
@@ -44,6 +45,24 @@ TEST(RecordedColumns, ReadThroughThePluginTables) {
 
 // A CSV of the experiment schema with its typed columns, and the same rows without them (an older file): the
 // report's data access reads the same typed values from both.
+// A generator that ran gives its K, tile and order typed (Generator::layout()): the same columns its canonical
+// parameter text reads as, without reading the text back; generators without a typed layout are read from it.
+TEST(RecordedColumns, AGeneratorThatRanGivesItsLayoutTyped) {
+  for (const char* spec : {"ours:tile=16x8,k=32,order=group", "contiguous:k=4", "noopt", "direct:tile=4x4"}) {
+    const PluginSpec p = parse_plugin_spec(spec);
+    const std::unique_ptr<Generator> g = make_generator(p);
+    const RecordedColumns typed = recorded_columns(p.name, *g, "cpu", "");
+    const RecordedColumns text = recorded_columns(p.name, g->params(), "cpu", "");
+    EXPECT_EQ(typed.tile_w, text.tile_w) << spec;
+    EXPECT_EQ(typed.tile_h, text.tile_h) << spec;
+    EXPECT_EQ(typed.k, text.k) << spec;
+    EXPECT_EQ(typed.order, text.order) << spec;
+    EXPECT_EQ(g->layout().has_value(), p.name == "ours" || p.name == "contiguous") << spec;
+  }
+  const std::unique_ptr<Generator> ours = make_generator(parse_plugin_spec("ours:tile=16x8,k=32"));
+  EXPECT_EQ(ours->layout()->k, 32);
+}
+
 TEST(RecordedColumns, OlderFilesAreReadThroughTheTextOnce) {
   const auto dir = temp_dir("recorded_columns");
   ExperimentRow r;
