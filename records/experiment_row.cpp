@@ -4,6 +4,42 @@
 
 namespace raycoh {
 
+namespace {
+
+// The coherence counters and the GPU model's columns (modelling tracers), between the measured times and the
+// device pipeline's columns.
+void append_modeled_columns(Schema<ExperimentRow>& s) {
+  using namespace csv_format;
+  using R = ExperimentRow;
+  const Schema<R> modeled = {
+      column("simt_efficiency", &R::simt_efficiency, Optional<General>{}),
+      column("node_simt_efficiency", &R::node_simt_efficiency, Optional<General>{}),
+      column("lines_per_ray", &R::lines_per_ray, Optional<General>{}),
+      column("fetches_per_ray", &R::fetches_per_ray, Optional<General>{}),
+      column("l1_misses_per_ray", &R::l1_misses_per_ray, Optional<General>{}),
+      column("l2_misses_per_ray", &R::l2_misses_per_ray, Optional<General>{}),
+      column("dram_bytes_per_ray", &R::dram_bytes_per_ray, Optional<General>{}),
+      column("modeled_ms", &R::modeled_ms, Optional<General>{}),
+      column("modeled_mray_s", &R::modeled_mray_s, Optional<General>{}),
+      column("modeled_e2e_ms", &R::modeled_e2e_ms, Optional<General>{}),
+      column("modeled_e2e_mray_s", &R::modeled_e2e_mray_s, Optional<General>{}),
+      column("modeled_limiter", &R::modeled_limiter, Text{}),
+      column("modeled_l1_wavefronts_per_ray", &R::modeled_l1_wavefronts_per_ray, Optional<General>{}),
+      column("modeled_l1_local_wavefronts_per_ray", &R::modeled_l1_local_wavefronts_per_ray, Optional<General>{}),
+      column("modeled_gen_ms", &R::modeled_gen_ms, Optional<General>{}),
+      column("modeled_key_ms", &R::modeled_key_ms, Optional<General>{}),
+      column("modeled_sort_ms", &R::modeled_sort_ms, Optional<General>{}),
+      column("modeled_permute_ms", &R::modeled_permute_ms, Optional<General>{}),
+      column("modeled_gen_bytes", &R::modeled_gen_bytes, Optional<General>{}),
+      column("modeled_key_bytes", &R::modeled_key_bytes, Optional<General>{}),
+      column("modeled_sort_bytes", &R::modeled_sort_bytes, Optional<General>{}),
+      column("modeled_permute_bytes", &R::modeled_permute_bytes, Optional<General>{}),
+  };
+  s.insert(s.end(), modeled.begin(), modeled.end());
+}
+
+}  // namespace
+
 const Schema<ExperimentRow>& experiment_schema() {
   using namespace csv_format;
   using R = ExperimentRow;
@@ -47,28 +83,9 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("permute_ms", &R::permute_ms, Fixed<4>{}),
         column("e2e_ms", &R::e2e_ms, Fixed<4>{}),
         column("e2e_mray_s", &R::e2e_mray_s, Fixed<3>{}),
-        column("simt_efficiency", &R::simt_efficiency, Optional<General>{}),
-        column("node_simt_efficiency", &R::node_simt_efficiency, Optional<General>{}),
-        column("lines_per_ray", &R::lines_per_ray, Optional<General>{}),
-        column("fetches_per_ray", &R::fetches_per_ray, Optional<General>{}),
-        column("l1_misses_per_ray", &R::l1_misses_per_ray, Optional<General>{}),
-        column("l2_misses_per_ray", &R::l2_misses_per_ray, Optional<General>{}),
-        column("dram_bytes_per_ray", &R::dram_bytes_per_ray, Optional<General>{}),
-        column("modeled_ms", &R::modeled_ms, Optional<General>{}),
-        column("modeled_mray_s", &R::modeled_mray_s, Optional<General>{}),
-        column("modeled_e2e_ms", &R::modeled_e2e_ms, Optional<General>{}),
-        column("modeled_e2e_mray_s", &R::modeled_e2e_mray_s, Optional<General>{}),
-        column("modeled_limiter", &R::modeled_limiter, Text{}),
-        column("modeled_l1_wavefronts_per_ray", &R::modeled_l1_wavefronts_per_ray, Optional<General>{}),
-        column("modeled_l1_local_wavefronts_per_ray", &R::modeled_l1_local_wavefronts_per_ray, Optional<General>{}),
-        column("modeled_gen_ms", &R::modeled_gen_ms, Optional<General>{}),
-        column("modeled_key_ms", &R::modeled_key_ms, Optional<General>{}),
-        column("modeled_sort_ms", &R::modeled_sort_ms, Optional<General>{}),
-        column("modeled_permute_ms", &R::modeled_permute_ms, Optional<General>{}),
-        column("modeled_gen_bytes", &R::modeled_gen_bytes, Optional<General>{}),
-        column("modeled_key_bytes", &R::modeled_key_bytes, Optional<General>{}),
-        column("modeled_sort_bytes", &R::modeled_sort_bytes, Optional<General>{}),
-        column("modeled_permute_bytes", &R::modeled_permute_bytes, Optional<General>{}),
+    };
+    append_modeled_columns(s);
+    const Schema<R> device = {
         column("pipeline", &R::pipeline, Text{}),
         column("gpu_e2e_ms", &R::gpu_e2e_ms, Optional<General>{}),
         column("gpu_e2e_mray_s", &R::gpu_e2e_mray_s, Optional<General>{}),
@@ -81,6 +98,7 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("e2e_samples_ms", &R::e2e_samples_ms, Numbers{}),
         column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
+    s.insert(s.end(), device.begin(), device.end());
     append_columns(s, gpu_provenance_schema(), &R::gpu);
     append_columns(s, provenance_schema(), &R::provenance);
     append_columns(s, recorded_schema(), &R::recorded);

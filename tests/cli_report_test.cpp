@@ -62,7 +62,7 @@ TEST(CliReport, RendersThePageAndSummaryFromTheCommittedResults) {
                         "axis from 0",
                         "Fastest end to end",
                         "Equal-time and equal-error",
-                        "The GPU model beside the paper",
+                        "The GPU model (or a GPU) beside the paper",
                         "<h2>Numerical stability:",
                         "<h2>Provenance</h2>",
                         "revision 1fdf2e5fcaab",
