@@ -200,6 +200,7 @@ int run_validate(const ValidateOptions& o, const Provenance& provenance) {
   std::vector<ValidateRow> rows = measure(o, provenance);
   for (ValidateRow& v : rows) {
     v.provenance = provenance;
+    v.provenance.device = device_of(tracer_of(o));
     csv.write(v);
   }
   const std::string text = validate_report(o.order, o.width, o.height, rows);

@@ -49,7 +49,7 @@ std::string table1(const std::vector<ValidateRow>& rows, const std::string& colu
       m ? "paper in our interval" : "limiter");
   for (const ValidateRow& v : rows)
     if (v.table == "table1" && v.paper_scene == column)
-      s += fmt::format("| {} | {:.1f} | {:.2f} | {:.1f} | {} | {} | {} |\n", v.paper_row, v.paper_mray_s, v.paper_ratio,
+      s += fmt::format("| {} | {:.1f} | {:.2f} | {:.4g} | {} | {} | {} |\n", v.paper_row, v.paper_mray_s, v.paper_ratio,
                        ours_mray_s(v), ratio_cell(v), pct(v.ratio_error), m ? v.paper_in_interval : v.limiter);
   return s;
 }
@@ -109,7 +109,7 @@ std::string goals(const std::vector<ValidateRow>& rows) {
                      100 * (ours_mray_s(*k64) / ours_mray_s(*k32) - 1),
                      100 * (k64->paper_mray_s / k32->paper_mray_s - 1));
   if (bound)
-    s += fmt::format("- primary rays (not in the paper): {:.1f} MRay/s, {}x NoOpt\n", ours_mray_s(*bound),
+    s += fmt::format("- primary rays (not in the paper): {:.4g} MRay/s, {}x NoOpt\n", ours_mray_s(*bound),
                      ratio_cell(*bound));
   return s;
 }
