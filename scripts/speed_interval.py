@@ -152,8 +152,8 @@ def main(argv):
     for (scene, tracer), by_method in groups.items():
         base = series(by_method["noopt"], e2e)
         print(f"{scene}, {tracer}:")
-        for m, rows in by_method.items():
-            print(f"  {m}: {ratio_text(speed_ratio(base, series(rows, e2e)))}")
+        for m, rows in by_method.items():  # noopt is the base: 1 by definition, no interval
+            print(f"  {m}: " + ("1.00x" if m == "noopt" else ratio_text(speed_ratio(base, series(rows, e2e)))))
         ranked = [(m, series(rows, True)) for m, rows in by_method.items() if m != "primary"]
         print(f"  top: {top_of_ranking(ranked, series(by_method['noopt'], True))}")
 
