@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/probe_provenance.h"
 #include "l1_patterns.h"
 
 namespace {
@@ -209,6 +210,7 @@ Measured per_sm(const std::vector<long long>& clocks, int grid, int sms, double 
 
 int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
+  raycoh::probe_provenance_start(argc, argv);
   cudaDeviceProp prop{};
   PROBE_CHECK(cudaGetDeviceProperties(&prop, 0));
   for (auto k : {probe_kernel<4>, probe_kernel<8>, probe_kernel<16>})  // all of the unified memory as L1
@@ -236,7 +238,8 @@ int main(int argc, char** argv) {
                o.threads);
   std::fprintf(out,
                "launch,pattern,width,lines,sectors,bank_max,gpgpusim,lines4,sectors4,bytes128,"
-               "cycles_per_load,min_sm,max_sm,kernel_ms,offsets\n");
+               "cycles_per_load,min_sm,max_sm,kernel_ms,offsets%s\n",
+               raycoh::probe_provenance_header().c_str());
   int index = 0;
   std::vector<Pattern> patterns;
   if (!o.span_only) patterns = raycoh::l1probe::all_patterns(o.random, o.seed);
@@ -263,7 +266,7 @@ int main(int argc, char** argv) {
                  f.sectors, f.bank_max, f.gpgpusim, f.lines4, f.sectors4, f.bytes128, m.cycles_per_load, m.min_sm,
                  m.max_sm, m.kernel_ms);
     for (size_t i = 0; i < p.offsets.size(); ++i) std::fprintf(out, "%s%u", i ? " " : "", p.offsets[i]);
-    std::fprintf(out, "\n");
+    std::fprintf(out, "%s\n", raycoh::probe_provenance_values().c_str());
   }
   if (out != stdout) std::fclose(out);
   PROBE_CHECK(cudaFree(pages));

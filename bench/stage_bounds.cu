@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/probe_provenance.h"
+
 namespace {
 
 #define STAGE_CHECK(call)                                                                   \
@@ -78,10 +80,11 @@ Times time_runs(int repeat, F&& f) {
 
 void row(FILE* out, const char* measure, int bits, size_t n, double bytes, const Times& t) {
   std::fprintf(out, "%s,%d,%zu,%.0f,%.6f,%.6f,", measure, bits, n, bytes, t.median_ms, t.min_ms);
+  const std::string provenance = raycoh::probe_provenance_values();
   if (bytes > 0)
-    std::fprintf(out, "%.1f\n", bytes / (t.median_ms * 1e6));
+    std::fprintf(out, "%.1f%s\n", bytes / (t.median_ms * 1e6), provenance.c_str());
   else
-    std::fprintf(out, "\n");
+    std::fprintf(out, "%s\n", provenance.c_str());
 }
 
 template <class K>
@@ -126,7 +129,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "raycoh_bench_stages: cannot write %s\n", out_path.c_str());
     return 2;
   }
-  std::fprintf(out, "measure,bits,n,bytes,median_ms,min_ms,gb_s\n");
+  raycoh::probe_provenance_start(argc, argv);
+  std::fprintf(out, "measure,bits,n,bytes,median_ms,min_ms,gb_s%s\n", raycoh::probe_provenance_header().c_str());
 
   const size_t copy_bytes = size_t{512} << 20, vecs = copy_bytes / sizeof(float4);
   float4 *src = nullptr, *dst = nullptr;
