@@ -58,8 +58,10 @@ void print_sweep(const SweepOptions& o, const SceneResult& r, const std::string&
         "MRay/s); %dx%d, %d frame(s)\n\n",
         r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);
   else
-    std::printf("\n%s, tracer %s: secondary MRay/s of %s (ratio to noopt %.2f MRay/s); %dx%d, %d frame(s)\n\n",
-                r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);
+    std::printf(
+        "\n%s, tracer %s: secondary MRay/s of %s (ratio to noopt %.2f MRay/s [95%% interval]); %dx%d, %d "
+        "frame(s)\n\n",
+        r.scene.c_str(), tl.c_str(), o.generator.c_str(), base, e.width, e.height, e.frames);
   std::string header = "| (W,H) |", rule = "|---|";
   for (int k : o.groups) {
     header += fmt::format(" K = {} |", k);
@@ -69,7 +71,12 @@ void print_sweep(const SweepOptions& o, const SceneResult& r, const std::string&
   for (size_t ti = 0; ti < o.tiles.size(); ++ti) {
     std::string line = fmt::format("| ({},{}) |", o.tiles[ti].first, o.tiles[ti].second);
     for (const std::string& label : labels[ti])
-      line += label.empty() ? " — |" : " " + ratio_cell(value(m.at(label)), base) + " |";
+      line += label.empty() ? " — |"
+              : model       ? " " + ratio_cell(value(m.at(label)), base) + " |"
+                            : " " +
+                            ratio_cell(value(m.at(label)), measured_ratio(m.at("noopt"), m.at(label), false),
+                                       label == "noopt") +
+                            " |";
     std::printf("%s\n", line.c_str());
   }
 }

@@ -25,8 +25,7 @@ std::string ratio_cell(double value, double base) {
   return fmt::format("{:.2f} ({:.2f}x)", value, base > 0 ? value / base : 0.0);
 }
 
-// A measured speed with its ratio to noopt and the ratio's interval; noopt's own row is the base (no interval).
-std::string ratio_cell(double value, const SpeedRatio& r, bool base = false) {
+std::string ratio_cell(double value, const SpeedRatio& r, bool base) {
   return base ? ratio_cell(value, value) : fmt::format("{:.2f} ({})", value, ratio_text(r));
 }
 

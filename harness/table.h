@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "harness/experiment.h"
+#include "records/speed_interval.h"
 
 namespace raycoh {
 
@@ -31,5 +32,8 @@ int print_shard_done(const ExperimentOptions& e, const Provenance& provenance);
 
 // "12.34 (1.05x)": a value and its ratio to the baseline; shared by the table and sweep printouts.
 std::string ratio_cell(double value, double base);
+// "12.34 (1.05x [1.01, 1.09])": a measured value and its ratio to noopt with the ratio's paired interval
+// (records/speed_interval.h); `base`: noopt's own cell, "12.34 (1.00x)".
+std::string ratio_cell(double value, const SpeedRatio& r, bool base = false);
 
 }  // namespace raycoh
