@@ -11,6 +11,21 @@ namespace {
 
 double mray_s(size_t rays, double ms) { return ms > 0 ? static_cast<double>(rays) / ms * 1e-3 : 0.0; }
 
+// Every pass's time of each stage that ran (its median above 0: a fused pass has no generation of its own, a pass
+// without keys no key, sort or gather).
+void set_stage_samples(ExperimentRow& row, const DeviceMeasurement& m) {
+  const std::pair<double DeviceStageTimes::*, std::vector<double> ExperimentRow::*> stages[] = {
+      {&DeviceStageTimes::gen_ms, &ExperimentRow::gen_samples_ms},
+      {&DeviceStageTimes::key_ms, &ExperimentRow::key_samples_ms},
+      {&DeviceStageTimes::sort_ms, &ExperimentRow::sort_samples_ms},
+      {&DeviceStageTimes::permute_ms, &ExperimentRow::permute_samples_ms}};
+  for (const auto& [time, samples] : stages) {
+    (row.*samples).clear();
+    if (m.median.*time <= 0) continue;
+    for (const DeviceStageTimes& p : m.passes) (row.*samples).push_back(p.*time);
+  }
+}
+
 }  // namespace
 
 DeviceMeasurement measure_device(const std::function<DeviceStageTimes()>& pass, int repeats, bool counting) {
@@ -49,6 +64,7 @@ void set_device_times(ExperimentRow& row, const DeviceMeasurement& m, bool count
     row.trace_samples_ms.push_back(p.trace_ms);
     row.e2e_samples_ms.push_back(p.span_ms);
   }
+  set_stage_samples(row, m);
   set_intervals(row);
 }
 

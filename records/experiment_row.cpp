@@ -96,6 +96,10 @@ const Schema<ExperimentRow>& experiment_schema() {
         column("interval_level", &R::interval_level, Optional<General>{}),
         column("trace_samples_ms", &R::trace_samples_ms, Numbers{}),
         column("e2e_samples_ms", &R::e2e_samples_ms, Numbers{}),
+        column("gen_samples_ms", &R::gen_samples_ms, Numbers{}),
+        column("key_samples_ms", &R::key_samples_ms, Numbers{}),
+        column("sort_samples_ms", &R::sort_samples_ms, Numbers{}),
+        column("permute_samples_ms", &R::permute_samples_ms, Numbers{}),
         column("scene_fingerprint", &R::scene_fingerprint, Text{}),
     };
     s.insert(s.end(), device.begin(), device.end());

@@ -62,6 +62,8 @@ struct ExperimentRow {
   // that repeat's trace. The table's ratio intervals are computed from the repeats.
   std::optional<double> trace_ms_lo, trace_ms_hi, e2e_ms_lo, e2e_ms_hi, interval_level;
   std::vector<double> trace_samples_ms, e2e_samples_ms;
+  // Device pipelines' stages, every timed pass (ms; a stage that did not run: empty), for their intervals.
+  std::vector<double> gen_samples_ms, key_samples_ms, sort_samples_ms, permute_samples_ms;
   std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
   GpuProvenance gpu;              // the GPU of a measured GPU row (records/provenance.h), empty elsewhere
   Provenance provenance;

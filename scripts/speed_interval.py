@@ -48,6 +48,30 @@ def quantile(sorted_values, q):
     return sorted_values[i] + (at - i) * (sorted_values[i + 1] - sorted_values[i])
 
 
+def binomial_half_cdf(n, k):
+    """P(B <= k) for B ~ Binomial(n, 1/2)."""
+    p, term = 0.0, 0.5 ** n
+    for i in range(k + 1):
+        p += term
+        term = term * (n - i) / (i + 1)
+    return p
+
+
+def median_interval(samples, confidence=CONFIDENCE):
+    """(median, lo, hi, level): the order-statistic interval of median_interval in C++."""
+    v = sorted(samples)
+    n = len(v)
+    if n == 0:
+        return 0.0, 0.0, 0.0, 0.0
+    m = median(v)
+    if n == 1:
+        return m, v[0], v[0], 0.0
+    k = 1
+    while k + 1 <= (n + 1) // 2 and 1.0 - 2.0 * binomial_half_cdf(n, k) >= confidence:
+        k += 1
+    return m, v[k - 1], v[n - k], 1.0 - 2.0 * binomial_half_cdf(n, k - 1)
+
+
 def speed_ratio(base, method):
     """base, method: {frame: (times, rays)}. Returns (ratio, lo, hi, has_interval) as speed_ratio in C++."""
     frames = [f for f in sorted(base) if f in method and base[f][0] and method[f][0]]

@@ -99,6 +99,31 @@ TEST(DeviceRows, DeviceRowsHoldMeasuredGpuStagesAndTheSpan) {
   EXPECT_EQ(column(counting, "gpu_e2e_ms"), "");  // the counting kernel is no traversal time
 }
 
+// Timed passes give every stage's repeats (a stage that did not run: none), the trace's and the span's, and the
+// median intervals of trace and span.
+TEST(DeviceRows, TimedPassesKeepEveryStagesRepeatsAndTheIntervals) {
+  auto pass = [n = 0]() mutable {
+    ++n;
+    return stages(0.1 * n, 0, 0.3, 0, 1.0 + n, 2.0 + n);  // no keys: key and gather did not run
+  };
+  const DeviceMeasurement m = measure_device(pass, 7, false);  // the first (warm-up) pass is not kept
+  ExperimentRow row;
+  row.rays = 1000;
+  set_device_times(row, m, false);
+  EXPECT_EQ(row.trace_samples_ms, (std::vector<double>{3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_EQ(row.e2e_samples_ms, (std::vector<double>{4, 5, 6, 7, 8, 9, 10}));
+  EXPECT_EQ(row.gen_samples_ms.size(), 7u);
+  EXPECT_EQ(row.sort_samples_ms, std::vector<double>(7, 0.3));
+  EXPECT_TRUE(row.key_samples_ms.empty());
+  EXPECT_TRUE(row.permute_samples_ms.empty());
+  EXPECT_EQ(*row.trace_ms_lo, 3);  // 7 repeats: [min, max] at 1 - 2/128
+  EXPECT_EQ(*row.trace_ms_hi, 9);
+  EXPECT_EQ(*row.e2e_ms_hi, 10);
+  EXPECT_NEAR(*row.interval_level, 1.0 - 2.0 / 128, 1e-12);
+  EXPECT_EQ(column(row, "key_samples_ms"), "");
+  EXPECT_EQ(column(row, "sort_samples_ms"), "0.3;0.3;0.3;0.3;0.3;0.3;0.3");
+}
+
 TEST(DeviceRows, TheConsoleSumsTheSpanOfDeviceRowsOnly) {
   SceneResult res;
   ExperimentRow row;
