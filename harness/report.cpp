@@ -59,8 +59,9 @@ int run_report(const std::vector<std::string>& inputs, const std::string& out, c
   static const char* names[] = {"table",   "sweep",    "converge curve", "converge summary",
                                 "quality", "validate", "stability",      "tune"};
   // Tables first, then sweeps, quality, convergence and the model's validation, whatever the argument order.
-  for (ResultKind k : {ResultKind::Table, ResultKind::Sweep, ResultKind::Quality, ResultKind::Converge,
-                       ResultKind::ConvergeSummary, ResultKind::Validate, ResultKind::Stability, ResultKind::Tune})
+  for (ResultKind k :
+       {ResultKind::Table, ResultKind::Sweep, ResultKind::Quality, ResultKind::Converge, ResultKind::ConvergeSummary,
+        ResultKind::Validate, ResultKind::Stability, ResultKind::Tune, ResultKind::TuneConfirm})
     for (const auto& [c, kind] : csvs) {
       if (kind != k) continue;
       if (k == ResultKind::Table) add_table(p, c);
@@ -71,6 +72,7 @@ int run_report(const std::vector<std::string>& inputs, const std::string& out, c
       if (k == ResultKind::Validate) add_validate(p, c);
       if (k == ResultKind::Stability) add_stability(p, c);
       if (k == ResultKind::Tune) add_tune(p, c);
+      if (k == ResultKind::TuneConfirm) add_tune_confirm(p, c);
       p.provenance.push_back(provenance_of(c, names[static_cast<int>(k)]));
     }
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>raycoh report</title>\n";

@@ -40,7 +40,8 @@ void add_converge_summary(Page& p, const ResultCsv& c);
 void add_quality(Page& p, const ResultCsv& c);
 void add_validate(Page& p, const ResultCsv& c);
 void add_stability(Page& p, const ResultCsv& c);
-void add_tune(Page& p, const ResultCsv& c);  // report_tune.cpp
+void add_tune(Page& p, const ResultCsv& c);          // report_tune.cpp
+void add_tune_confirm(Page& p, const ResultCsv& c);  // report_tune.cpp
 std::string provenance_of(const ResultCsv& c, const char* kind);
 
 }  // namespace raycoh::report_detail

@@ -139,4 +139,31 @@ void add_tune(Page& page, const ResultCsv& c) {
   }
 }
 
+// `tune --confirm`: per fresh seed the call re-measured (the setting over its baseline, with its interval) and
+// whether it held, then the pooled row.
+void add_tune_confirm(Page& page, const ResultCsv& c) {
+  page.md += fmt::format(
+      "## Tune's speed call confirmed on fresh seeds: {}\n\n| scene | seed(s) | setting over baseline | search said | "
+      "this seed says | held |\n|---|---|---|---|---|---|\n",
+      c.path);
+  std::string rows;
+  for (const auto& r : c.rows) {
+    const std::string ratio = c.get(r, "ratio_lo").empty() ? fmt::format("{:.2f}x", c.num(r, "ratio"))
+                                                           : fmt::format("{:.2f}x [{:.2f}, {:.2f}]", c.num(r, "ratio"),
+                                                                         c.num(r, "ratio_lo"), c.num(r, "ratio_hi"));
+    const std::string what = c.get(r, "setting") + " over " + c.get(r, "baseline") + ": " + ratio;
+    page.md += fmt::format("| {} | {} ({}) | {} | {} | {} | {} |\n", c.get(r, "scene"), c.get(r, "seeds"),
+                           c.get(r, "kind"), what, c.get(r, "claim"), c.get(r, "verdict"), c.get(r, "held"));
+    rows +=
+        fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                    html_escape(c.get(r, "scene")), html_escape(c.get(r, "seeds")), html_escape(what),
+                    html_escape(c.get(r, "claim")), html_escape(c.get(r, "verdict")), html_escape(c.get(r, "held")));
+  }
+  page.md += "\n";
+  page.html += fmt::format(
+      "<h2>Tune's speed call confirmed on fresh seeds: {}</h2>\n<table><tr><th>scene</th><th>seed(s)</th><th>setting "
+      "over baseline</th><th>search said</th><th>this seed says</th><th>held</th></tr>\n{}</table>\n",
+      html_escape(c.path), rows);
+}
+
 }  // namespace raycoh::report_detail

@@ -53,9 +53,10 @@ ResultKind result_kind(const ResultCsv& c) {
   if (c.has("paper_ratio") && c.has("modeled_ratio")) return ResultKind::Validate;
   if (c.has("case") && c.has("rate") && c.has("threshold") && c.has("status")) return ResultKind::Stability;
   if (c.has("meets_budget") && c.has("setting")) return ResultKind::Tune;
+  if (c.has("held") && c.has("claim") && c.has("baseline")) return ResultKind::TuneConfirm;
   throw Error(fmt::format(
       "report: {}: not a raycoh result CSV; valid: the CSVs of table, sweep, converge (curve or -summary), quality, "
-      "validate, stability and tune (results/README.md)",
+      "validate, stability, tune and tune --confirm (results/README.md)",
       c.path));
 }
 

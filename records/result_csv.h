@@ -40,7 +40,7 @@ struct ResultCsv {
 // Throws raycoh::Error ("report: ...") for a file that cannot be read, unbalanced quotes, a row of another width.
 ResultCsv read_result_csv(const std::string& path);
 
-enum class ResultKind { Table, Sweep, Converge, ConvergeSummary, Quality, Validate, Stability, Tune };
+enum class ResultKind { Table, Sweep, Converge, ConvergeSummary, Quality, Validate, Stability, Tune, TuneConfirm };
 // From the columns (and for table against sweep, the methods); throws raycoh::Error for a CSV of no known kind.
 ResultKind result_kind(const ResultCsv& c);
 

@@ -120,6 +120,14 @@ TEST(CliTuneSpeed, ConfirmRemeasuresTheCallOnFreshSeeds) {
     const std::string held = row.at("held");
     EXPECT_TRUE(held == "held" || held == "not held" || held == "indistinguishable") << held;
   }
+  // The report shows the confirmation beside the tune itself.
+  const CommandResult rep = run_raycoh("report " + (dir / "t.csv").string() + " " + (dir / "t-confirm.csv").string() +
+                                       " --out " + (dir / "r.html").string());
+  ASSERT_EQ(rep.exit_code, 0) << rep.output;
+  std::string md;
+  for (const std::string& line : read_lines(dir / "r.md")) md += line + "\n";
+  EXPECT_NE(md.find("## Tune's speed call confirmed on fresh seeds"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 3;4 (pooled) |"), std::string::npos) << md;
 }
 
 TEST(CliTuneSpeed, ConfirmChecksItsRange) {
