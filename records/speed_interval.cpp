@@ -154,9 +154,12 @@ std::string top_of_ranking(const std::vector<std::pair<std::string, const FrameS
   std::string tied;
   for (size_t i = 0; i < methods.size(); ++i)
     if (i != best && paired_ratio(*methods[i].second, *top).lo <= 1.0)
-      tied += fmt::format(", {} {}", methods[i].first, ratio_text(paired_ratio(base, *methods[i].second)));
-  if (tied.empty()) return fmt::format("{} fastest, {}", label, ratio_text(to_base));
-  return fmt::format("indistinguishable at the top: {} {}{}", label, ratio_text(to_base), tied);
+      tied += fmt::format(", {} {}", methods[i].first,
+                          methods[i].second == &base ? "1.00x" : ratio_text(paired_ratio(base, *methods[i].second)));
+  // The base itself on top: its ratio to itself is 1 by definition, no interval.
+  const std::string top_ratio = top == &base ? "1.00x" : ratio_text(to_base);
+  if (tied.empty()) return fmt::format("{} fastest, {}", label, top_ratio);
+  return fmt::format("indistinguishable at the top: {} {}{}", label, top_ratio, tied);
 }
 
 std::string speed_verdict(const SpeedRatio& r) {

@@ -157,11 +157,13 @@ def top_of_ranking(methods, base):
     to_base = speed_ratio(base, top)
     if not to_base[3]:
         return f"{label} highest, {ratio_text(to_base)} (no repeated times in the rows: no interval, not called fastest)"
-    tied = "".join(f", {m} {ratio_text(speed_ratio(base, s))}" for i, (m, s) in enumerate(methods)
-                   if i != best and speed_ratio(s, top)[1] <= 1.0)
+    # The base itself: its ratio to itself is 1 by definition, no interval.
+    tied = "".join(f", {m} {'1.00x' if s is base else ratio_text(speed_ratio(base, s))}"
+                   for i, (m, s) in enumerate(methods) if i != best and speed_ratio(s, top)[1] <= 1.0)
+    top_ratio = "1.00x" if top is base else ratio_text(to_base)
     if not tied:
-        return f"{label} fastest, {ratio_text(to_base)}"
-    return f"indistinguishable at the top: {label} {ratio_text(to_base)}{tied}"
+        return f"{label} fastest, {top_ratio}"
+    return f"indistinguishable at the top: {label} {top_ratio}{tied}"
 
 
 def main(argv):
@@ -179,7 +181,7 @@ def main(argv):
         for m, rows in by_method.items():  # noopt is the base: 1 by definition, no interval
             print(f"  {m}: " + ("1.00x" if m == "noopt" else ratio_text(speed_ratio(base, series(rows, e2e)))))
         ranked = [(m, series(rows, True)) for m, rows in by_method.items() if m != "primary"]
-        print(f"  top: {top_of_ranking(ranked, series(by_method['noopt'], True))}")
+        print(f"  top: {top_of_ranking(ranked, dict(ranked)['noopt'])}")
 
 
 if __name__ == "__main__":

@@ -103,6 +103,30 @@ TEST(SpeedInterval, FramesMissingOnEitherSideAreSkipped) {
   EXPECT_EQ(speed_ratio({}, {}).ratio, 0.0);
 }
 
+// The ranking's words: one method fastest where its interval over every other excludes 1, else the methods it
+// cannot tell apart; the base (noopt) on top is 1.00x, with no interval against itself.
+TEST(SpeedInterval, TheTopOfARankingIsNamedOnlyWhereTheIntervalsSeparateIt) {
+  auto series = [](std::vector<double> times) {
+    FrameSeries s;
+    s[0] = {std::move(times), 1000};
+    return s;
+  };
+  const FrameSeries noopt = series({1.00, 1.01, 0.99, 1.02, 0.98, 1.00, 1.01});
+  const FrameSeries fast = series({0.50, 0.51, 0.49, 0.52, 0.48, 0.50, 0.51});
+  const FrameSeries fast_too = series({0.505, 0.50, 0.495, 0.51, 0.49, 0.50, 0.52});
+  const FrameSeries slow = series({2.0, 2.1, 1.9, 2.05, 1.95, 2.0, 2.02});
+  EXPECT_EQ(
+      top_of_ranking({{"noopt", &noopt}, {"fast", &fast}, {"slow", &slow}}, noopt).rfind("fast fastest, 2.00x [", 0),
+      0u);
+  const std::string tied = top_of_ranking({{"noopt", &noopt}, {"fast", &fast}, {"fast_too", &fast_too}}, noopt);
+  EXPECT_EQ(tied.rfind("indistinguishable at the top: ", 0), 0u) << tied;
+  EXPECT_NE(tied.find(", fast_too 2.00x ["), std::string::npos) << tied;
+  EXPECT_EQ(top_of_ranking({{"noopt", &noopt}, {"slow", &slow}}, noopt), "noopt fastest, 1.00x");
+  const FrameSeries once = series({1.0}), once_fast = series({0.5});
+  EXPECT_EQ(top_of_ranking({{"noopt", &once}, {"fast", &once_fast}}, once),
+            "fast highest, 2.00x (no repeated times in the rows: no interval, not called fastest)");
+}
+
 // scripts/speed_interval.py recomputes the report's intervals from the same rows, number for number (the GPU run
 // summaries use it): every ratio cell and the top of the ranking, as `raycoh report` prints them.
 TEST(SpeedInterval, ThePythonModuleGivesTheReportsIntervals) {
