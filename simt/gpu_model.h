@@ -74,7 +74,7 @@ struct KernelSpec {
 enum class TraceKernelChoice : uint8_t { Bvh2Tuned, Bvh2Classic, Cwbvh };
 
 struct GpuModelConfig {
-  std::string preset;  // "rtx3060", "h100", "gpgpusim-rtx3070"
+  std::string preset;  // one of gpu_preset_names()
   CacheModelConfig cache;
   GpuSpec gpu;
   KernelSpec kernel;  // the kernel modelled: `tuned` unless use_kernel() chose another
@@ -86,7 +86,7 @@ struct GpuModelConfig {
 // Makes `kernel` the preset's costs of k (its launch shape, kind and block, kept).
 void use_kernel(GpuModelConfig& c, TraceKernelChoice k);
 
-std::vector<std::string> gpu_preset_names();  // {"rtx3060", "h100", "gpgpusim-rtx3070"}
+std::vector<std::string> gpu_preset_names();  // the presets of simt/gpu_presets.cpp, in their table's order
 // Throws raycoh::Error for an unknown name, naming the valid ones.
 GpuModelConfig gpu_preset(const std::string& name);
 

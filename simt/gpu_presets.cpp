@@ -275,12 +275,27 @@ void use_kernel(GpuModelConfig& c, TraceKernelChoice k) {
 
 const char* to_string(TraceKernel k) { return k == TraceKernel::Persistent ? "persistent" : "simple"; }
 
-std::vector<std::string> gpu_preset_names() { return {"rtx3060", "h100", "gpgpusim-rtx3070"}; }
+namespace {
+
+// Every preset, once: its name (the `preset` parameter, the CSVs' `preset` column) and what makes it. Each makes a
+// config whose `preset` field is that name.
+struct Preset {
+  const char* name;
+  GpuModelConfig (*make)();
+};
+constexpr Preset kPresets[] = {{"rtx3060", rtx3060}, {"h100", h100}, {"gpgpusim-rtx3070", gpgpusim_rtx3070}};
+
+}  // namespace
+
+std::vector<std::string> gpu_preset_names() {
+  std::vector<std::string> names;
+  for (const Preset& p : kPresets) names.push_back(p.name);
+  return names;
+}
 
 GpuModelConfig gpu_preset(const std::string& name) {
-  if (name == "rtx3060") return rtx3060();
-  if (name == "h100") return h100();
-  if (name == "gpgpusim-rtx3070") return gpgpusim_rtx3070();
+  for (const Preset& p : kPresets)
+    if (name == p.name) return p.make();
   throw Error(fmt::format("unknown GPU preset '{}'; valid presets: {}", name, join(gpu_preset_names())));
 }
 
