@@ -32,6 +32,13 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Just before a row is measured: the experiment loop's site of injected faults (core/fault_injection.h, `trace`:
+// a device fault where there may be no device) and the GPU's clocks at the start (GPU rows only).
+void begin_measurement(ExperimentRow& r) {
+  if (inject_fault("trace")) throw DeviceFault("injected device fault (RAYCOH_INJECT_FAULT=trace:N)");
+  read_gpu_clocks(r.gpu, true);
+}
+
 // One run of the loop, as steps: run() takes the scenes in turn (run_scene: load, set up the tracers), run_scene
 // the frames (run_frame: first hits, then the passes), run_frame the primary pass (run_primary; run_device_primary
 // for device pipelines) and then each method's secondary pass (run_methods -> run_method: generate, reorder,
@@ -174,7 +181,6 @@ ExperimentRow ExperimentRun::head(const Unit& u, size_t ti) const {
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.tracers[ti]);
   r.gpu = setup_->gpu[ti];
-  read_gpu_clocks(r.gpu, true);
   if (primary)
     set_recorded_params(r);
   else
@@ -208,7 +214,6 @@ bool ExperimentRun::frame_resumed(int frame) {
 template <class Fn>
 Timing ExperimentRun::measure(size_t ti, Fn&& trace_once) {
   Tracer& tracer = *setup_->tracers[ti];
-  if (inject_fault("trace")) throw DeviceFault("injected device fault (RAYCOH_INJECT_FAULT=trace:N)");
   auto wall = [&] {
     const auto t0 = Clock::now();
     trace_once();
@@ -269,6 +274,7 @@ void ExperimentRun::run_primary(int frame, const std::vector<Ray>& rays) {
     ExperimentRow r = head(u, ti);
     if (setup_->pipelines[ti] || resumed(r, ti)) continue;  // device pipelines: run_device_primary
     where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, trace", res_.scene, frame, r.tracer);
+    begin_measurement(r);
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), buffers_.hits.data()); });
     r.rays = rays.size();
     record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{}, ModeledStages{});
@@ -321,6 +327,7 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
   for (auto& [ti, r] : todo) {
     Tracer& tracer = *setup_->tracers[ti];
     where_ = fmt::format("{}, tracer {}, trace", unit, r.tracer);
+    begin_measurement(r);
     const Timing t = measure(ti, [&] {
       if (indirect)
         tracer.trace_indirect(rays.data(), b.order.data(), rays.size(), b.hits.data());
@@ -348,6 +355,7 @@ void ExperimentRun::run_device_primary(int frame) {
     where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, device pass", res_.scene, frame, r.tracer);
     if (units_.owns(u) && !resumed(r, ti)) {
       r.rays = size_t(o_.width) * size_t(o_.height);
+      begin_measurement(r);
       set_device_times(r, measure_device(pass, setup_->repeats[ti], setup_->models[ti]), setup_->models[ti]);
       finish_row(std::move(r), ti, ModeledStages{});
     } else {
@@ -360,10 +368,8 @@ void ExperimentRun::run_device_primary(int frame) {
 void ExperimentRun::run_device_row(ExperimentRow r, size_t ti, size_t mi) {
   GenerationStats gs;
   DevicePipeline& p = *setup_->pipelines[ti];
-  auto pass = [&] {
-    if (inject_fault("trace")) throw DeviceFault("injected device fault (RAYCOH_INJECT_FAULT=trace:N)");
-    return p.secondary(*generators_[mi], *setup_->encoders[mi], permute_, o_.seed, gs);
-  };
+  auto pass = [&] { return p.secondary(*generators_[mi], *setup_->encoders[mi], permute_, o_.seed, gs); };
+  begin_measurement(r);
   const DeviceMeasurement m = measure_device(pass, setup_->repeats[ti], setup_->models[ti]);
   r.rays = gs.rays;
   set_device_times(r, m, setup_->models[ti]);

@@ -87,12 +87,12 @@ def method_label(r):
 
 
 def stage_interval(r, stage):
-    """' [lo, hi]': the stage's median interval from the row's repeats (<stage>_samples_ms), '' without them."""
+    """(lo, hi): the stage's median interval from the row's repeats (<stage>_samples_ms), None without them."""
     samples = r.get(f"{stage}_samples_ms", "")
     if not samples:
-        return ""
+        return None
     _, lo, hi, _ = speed_interval.median_interval([float(x) for x in samples.split(";")])
-    return f" [{lo:.4f}, {hi:.4f}]"
+    return lo, hi
 
 
 def stage_table(rows, facts, out):
@@ -114,11 +114,12 @@ def stage_table(rows, facts, out):
             bound = b / (bw * 1e6)
             ratio = ms / bound
             worst[stage] = max(worst[stage], ratio)
-            line = (f"| {r['scene']} | {method_label(r)} | {stage} | {ms:.4f}{stage_interval(r, stage)} | "
-                    f"{b / 1e6:.1f} | {bound:.4f} | {ratio:.2f} |")
+            iv = stage_interval(r, stage)
+            line = (f"| {r['scene']} | {method_label(r)} | {stage} | {ms:.4f}"
+                    + (f" [{iv[0]:.4f}, {iv[1]:.4f}]" if iv else "")
+                    + f" | {b / 1e6:.1f} | {bound:.4f} | {ratio:.2f} |")
             if intervals:
-                cell = stage_interval(r, stage)
-                line += f" {float(cell.split(', ')[1].rstrip(']')) / bound:.2f} |" if cell else " |"
+                line += f" {iv[1] / bound:.2f} |" if iv else " |"
             out.append(line)
     out.append("")
     out.append("Worst measured / bound per stage (goal <= 2): " +
