@@ -26,6 +26,13 @@
 // traversal, persistent threads, two-boxes-per-node BVH2; Woop, Benthin & Wald (JCGT 2013): watertight triangles;
 // Ylitie, Karras & Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs" (HPG 2017).
 //
+// counters=hw: the timing kernels (not the counting kernel) run under CUPTI's range profiler (cuda/hw_profiler.h):
+// every trace() call, and every device pass (primary, secondary), is one profiling session whose trace kernels'
+// hardware counters last_hw_counters() then holds, measured. CUPTI replays each kernel once per pass its metrics
+// need, so the rows' times are not timings: run_under() says "cupti-counters" and the harness runs the tracer once
+// per row, like a counting tracer. Where CUPTI cannot read counters (no library, GPGPU-Sim, a driver restricting
+// profiling to administrators) one line says why and the tracer is the plain timing tracer.
+//
 // Scenes with alpha MASK cut-outs (Scene::alpha): the mask arrays are uploaded once with the BVH and every kernel
 // (persistent, simple, counting; BVH2 and CWBVH) runs the AlphaTest any-hit filter of core/alpha_mask.h, the same
 // test as the cpu, simt and embree tracers, so hits still equal the `cpu` tracer's bit for bit. Scenes without
@@ -36,6 +43,7 @@
 #include <fmt/format.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +52,7 @@
 #include "core/error.h"
 #include "cuda/cuda_device.h"
 #include "cuda/device_pipeline.h"
+#include "cuda/hw_profiler.h"
 #include "cuda/trace_kernels.h"
 #include "scenes/scene.h"
 #include "simt/simt.h"
@@ -53,7 +62,45 @@
 namespace raycoh {
 namespace {
 
-class CudaTracer final : public Tracer {
+// A device pipeline whose passes each run as one profiling session; the trace kernels' counters go to *counters.
+class ProfiledPipeline final : public DevicePipeline {
+ public:
+  ProfiledPipeline(std::unique_ptr<DevicePipeline> inner, cuda::HwProfiler& profiler,
+                   std::optional<HwCounters>& counters)
+      : inner_(std::move(inner)), profiler_(profiler), counters_(counters) {}
+  std::string refusal(const std::string& name, const Generator& generator, const Encoder& encoder) const override {
+    return inner_->refusal(name, generator, encoder);
+  }
+  DeviceStageTimes primary(int width, int height, int tile_w, int tile_h, uint32_t seed, uint32_t frame,
+                           bool jitter) override {
+    profiler_.begin();
+    const DeviceStageTimes t = inner_->primary(width, height, tile_w, tile_h, seed, frame, jitter);
+    counters_ = profiler_.end();
+    return t;
+  }
+  const GBuffer& upload_first_hits() override { return inner_->upload_first_hits(); }
+  DeviceStageTimes secondary(const Generator& generator, const Encoder& encoder, PermuteMode mode, uint32_t seed,
+                             GenerationStats& stats) override {
+    profiler_.begin();
+    const DeviceStageTimes t = inner_->secondary(generator, encoder, mode, seed, stats);
+    counters_ = profiler_.end();
+    return t;
+  }
+  void download_primary(PixelRays& rays, std::vector<Hit>& hits) const override {
+    inner_->download_primary(rays, hits);
+  }
+  void download_secondary(RayBatch& generated, std::vector<uint32_t>& order, RayBatch& permuted,
+                          std::vector<Hit>& hits) const override {
+    inner_->download_secondary(generated, order, permuted, hits);
+  }
+
+ private:
+  std::unique_ptr<DevicePipeline> inner_;
+  cuda::HwProfiler& profiler_;
+  std::optional<HwCounters>& counters_;
+};
+
+class CudaTracer final : public Tracer, public HwCounterSource {
  public:
   CudaTracer(std::unique_ptr<cuda::DeviceTracer> device, const cuda::TraceLaunch& launch, bool counting,
              const SimtConfig& layout, bool cwbvh, std::string params)
@@ -78,6 +125,13 @@ class CudaTracer final : public Tracer {
     trace.layout = layout_;
     trace.counted = [this](const std::vector<WarpStepCounters>& warps, size_t rays) { count(warps, rays); };
     pipeline_ = cuda::make_device_pipeline(scene, bvh, std::move(trace));
+    if (hw_) pipeline_ = std::make_unique<ProfiledPipeline>(std::move(pipeline_), *hw_, hw_counters_);
+  }
+
+  // counters=hw: CUPTI set up on the device's context (made by the upload); without counters, a timing tracer.
+  void make_hw_profiler() {
+    hw_ = std::make_unique<cuda::HwProfiler>();
+    if (!hw_->unavailable().empty()) hw_.reset();
   }
 
   void trace(const Ray* rays, size_t count, Hit* hits) override { run(rays, nullptr, count, hits); }
@@ -89,11 +143,15 @@ class CudaTracer final : public Tracer {
   const CoherenceCounters* last_counters() const override { return counting_ ? &counters_ : nullptr; }
   double last_device_ms() const override { return device_->last_kernel_ms(); }
   DevicePipeline* device_pipeline() override { return pipeline_.get(); }
+  const HwCounters* last_hw_counters() const override { return hw_counters_ ? &*hw_counters_ : nullptr; }
+  std::string run_under() const override { return hw_ ? kHwCountersRunUnder : ""; }
 
  private:
   void run(const Ray* rays, const uint32_t* order, size_t count, Hit* hits) {
     if (!counting_) {
+      if (hw_) hw_->begin();
       device_->trace(rays, order, count, hits, launch_);
+      if (hw_) hw_counters_ = hw_->end();
       return;
     }
     device_->trace_counting(rays, order, count, hits, layout_, launch_.block, warps_);
@@ -123,6 +181,8 @@ class CudaTracer final : public Tracer {
   std::string params_;
   std::vector<WarpStepCounters> warps_;
   CoherenceCounters counters_;
+  std::unique_ptr<cuda::HwProfiler> hw_;  // counters=hw where CUPTI reads counters
+  std::optional<HwCounters> hw_counters_;
   std::unique_ptr<DevicePipeline> pipeline_;
 };
 
@@ -132,7 +192,9 @@ const ParamTable& cuda_params() {
   static const ParamTable table = {
       choice_param("kernel", "persistent", {"persistent", "simple"}, "persistent threads, or one thread per ray"),
       int_param("block", 128, 32, 1024, "threads per block, a multiple of 32"),
-      choice_param("counters", "off", {"off", "on"}, "on: the counting kernel (its time is not a traversal time)"),
+      choice_param("counters", "off", {"off", "on", "hw"},
+                   "on: the counting kernel (its time is not a traversal time); hw: the GPU's own counters through "
+                   "CUPTI (kernels replayed: rows run_under=cupti-counters, not timings)"),
       choice_param("line", "64", {"64", "128"}, "bytes per line of the counted transactions (simt's line)"),
       choice_param("bvh", "bvh2", {"bvh2", "cwbvh"},
                    "layout: the BVH2, or the compressed 8-wide BVH (Ylitie et al. 2017; no counting kernel)"),
@@ -158,7 +220,7 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   if (launch.block % 32 != 0)
     throw Error(
         fmt::format("{}: block={} is not a multiple of 32 (a block holds whole warps)", params.owner(), launch.block));
-  const bool counting = params.get_choice("counters") == "on";
+  const bool counting = params.get_choice("counters") == "on", hw = params.get_choice("counters") == "hw";
   const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line")));
   const bool cwbvh = params.get_choice("bvh") == "cwbvh";
   launch.traversal =
@@ -213,6 +275,7 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   }
   device->check_launch(launch);
   auto tracer = std::make_unique<CudaTracer>(std::move(device), launch, counting, layout, cwbvh, params.canonical());
+  if (hw) tracer->make_hw_profiler();
   if (on_device) tracer->make_pipeline(scene, bvh, fused);
   return tracer;
 }

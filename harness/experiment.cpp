@@ -18,6 +18,7 @@
 #include "harness/progress.h"
 #include "harness/repeat_timing.h"
 #include "pipeline/first_hits.h"
+#include "records/hw_columns.h"
 #include "records/record_csv.h"
 #include "simt/pipeline_model.h"
 #include "simt/timed_replay.h"
@@ -180,6 +181,8 @@ ExperimentRow ExperimentRun::head(const Unit& u, size_t ti) const {
   r.permute = enc && enc->key_bits() > 0 ? o_.permute : "";
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.tracers[ti]);
+  // A tracer whose kernels a profiler replays (cuda:counters=hw) marks its rows: their times are not timings.
+  if (const std::string under = hw_run_under(*setup_->tracers[ti]); !under.empty()) r.provenance.run_under = under;
   r.gpu = setup_->gpu[ti];
   if (primary)
     set_recorded_params(r);
@@ -245,6 +248,7 @@ void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timin
 // The counters and model of counting tracers, then the row is written and summed.
 void ExperimentRun::finish_row(ExperimentRow r, size_t ti, const ModeledStages& stages) {
   if (const CoherenceCounters* c = setup_->tracers[ti]->last_counters()) set_counters(r, *c, stages);
+  if (const HwCounters* h = last_hw_counters(*setup_->tracers[ti])) set_hw_counters(r, *h);
   read_gpu_clocks(r.gpu, false);
   csv_.write(r);
   accumulate(r, res_.tracer_labels[ti], ti == 0, o_.frames, res_);

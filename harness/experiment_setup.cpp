@@ -15,6 +15,7 @@
 #include "plugins/tracer_registry.h"
 #include "records/record_csv.h"
 #include "shading/reference.h"
+#include "tracers/hw_counters.h"
 
 namespace raycoh {
 
@@ -131,7 +132,8 @@ SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o,
     tracers.push_back(make_tracer(t, scene, bvh));
     const std::string p = tracers.back()->params();
     labels.push_back(p.empty() ? t.name : t.name + "[" + p + "]");
-    models.push_back(tracers.back()->last_counters() != nullptr);
+    // Counting tracers, and tracers whose kernels a profiler replays (cuda:counters=hw), run once per row.
+    models.push_back(tracers.back()->last_counters() != nullptr || !hw_run_under(*tracers.back()).empty());
     repeats.push_back(tracer_repeats(o, t, models.back()));
     gpu.push_back(gpu_provenance(t));
     pipelines.push_back(tracers.back()->device_pipeline());

@@ -48,6 +48,13 @@ void print_sweep(const SweepOptions& o, const SceneResult& r, const std::string&
                  const std::vector<std::vector<std::string>>& labels) {
   const ExperimentOptions& e = o.experiment;
   const auto& m = r.by_tracer.at(tl);
+  if (m.at("noopt").hw_counters) {  // cuda:counters=hw: replayed kernels, no speeds; the counters are in the CSV
+    std::printf(
+        "\n%s, tracer %s: MEASURED hardware counters only (kernels replayed by CUPTI: no speeds; hw_* columns "
+        "of %s)\n",
+        r.scene.c_str(), tl.c_str(), e.out.c_str());
+    return;
+  }
   // A modelling tracer's wall time is the model's: its cells are the timing model's modeled MRay/s.
   const bool model = m.at("noopt").has_model;
   auto value = [&](const Accumulated& a) { return model ? a.modeled_mray_s() : a.mray_s(); };

@@ -166,7 +166,7 @@ void print_measured_vs_modeled(const std::vector<SceneResult>& results, const st
   std::vector<std::string> measured, modeled;
   for (const std::string& tl : results.front().tracer_labels) {
     const Accumulated& a = results.front().by_tracer.at(tl).at("noopt");
-    if (a.on_device && !a.has_counters) measured.push_back(tl);
+    if (a.on_device && !a.has_counters && !a.hw_counters) measured.push_back(tl);
     if (a.has_model) modeled.push_back(tl);
   }
   if (measured.empty()) return;
@@ -233,6 +233,7 @@ void print_tracers(const SceneResult& first, const std::map<std::string, std::st
                              : simulated_device(tracer)
                                  ? std::string(a.has_counters ? "coherence counters; " : "") +
                                        "SIMULATED GPU figures, not hardware (" + device_of(tracer) + ")"
+                             : a.hw_counters  ? "MEASURED hardware counters (CUPTI; kernels replayed, no speeds)"
                              : a.has_counters ? "coherence counters"
                              : a.on_device    ? "MEASURED on the GPU: every batch made, sorted and traced on the device"
                                               : "measured on this machine";
@@ -249,7 +250,7 @@ void print_winners(const std::vector<SceneResult>& results, const std::vector<Me
   std::string lines;
   for (const std::string& tl : results.front().tracer_labels) {
     const Accumulated& first = results.front().by_tracer.at(tl).at("noopt");
-    if (first.has_counters && !first.has_model) continue;  // counters only: no time
+    if ((first.has_counters && !first.has_model) || first.hw_counters) continue;  // counters only: no time
     const std::string kind = first.has_model ? "modeled"
                              : first.on_device
                                  ? (device_times(tl) == "SIMULATED" ? "simulated GPU" : "measured on the GPU")
@@ -316,7 +317,9 @@ int run_table(const TableOptions& options, const Provenance& provenance) {
   const std::map<std::string, std::string> names = short_labels(results.front());
   print_tracers(results.front(), names, e);
   for (const std::string& tl : results.front().tracer_labels) {
-    if (results.front().by_tracer.at(tl).at("noopt").has_counters)
+    if (results.front().by_tracer.at(tl).at("noopt").hw_counters)
+      print_hw_counters(results, e.methods, tl, names.at(tl), header);
+    else if (results.front().by_tracer.at(tl).at("noopt").has_counters)
       print_counters(results, e.methods, tl, names.at(tl), header);
     else
       print_speeds(results, e.methods, tl, names.at(tl), header, e);

@@ -17,6 +17,7 @@
 #include "records/record_csv.h"
 #include "records/tune_row.h"
 #include "shading/flip.h"
+#include "tracers/hw_counters.h"
 
 namespace raycoh {
 
@@ -237,6 +238,7 @@ int run_tune(const TuneOptions& o, const Provenance& provenance) {
   const TuneBudget budget = parse_tune_budget(o.budget);
   std::vector<TuneSetting> settings = expand(parse_tune_space(o.space), o.generator);
   check_tune(o, budget);
+  if (const std::string why = hw_counters_refusal("--tracer", o.tracer.params); !why.empty()) throw Error(why);
   // The paper's default is always measured: the recommendation's gain is stated against it.
   if (std::find(settings.begin(), settings.end(), paper_setting(o.generator)) == settings.end())
     settings.push_back(paper_setting(o.generator));

@@ -28,6 +28,7 @@
 #include "records/record_csv.h"
 #include "records/recorded_columns.h"
 #include "records/validate_row.h"
+#include "tracers/hw_counters.h"
 
 namespace raycoh {
 namespace {
@@ -189,6 +190,7 @@ std::vector<ValidateRow> measure(const ValidateOptions& o, const Provenance& pro
 
 int run_validate(const ValidateOptions& o, const Provenance& provenance) {
   check(o);
+  if (const std::string why = hw_counters_refusal("--tracer", tracer_of(o).params); !why.empty()) throw Error(why);
   RecordCsv<ValidateRow> csv(o.out, validate_schema(), CsvWriter::Options::once(o.force, same_command(provenance)));
   if (csv.already_complete()) {
     std::printf(

@@ -1,5 +1,8 @@
 #include "records/experiment_row.h"
 
+#include <algorithm>
+
+#include "records/hw_columns.h"
 #include "simt/timed_replay.h"
 
 namespace raycoh {
@@ -106,6 +109,7 @@ const Schema<ExperimentRow>& experiment_schema() {
     append_columns(s, gpu_provenance_schema(), &R::gpu);
     append_columns(s, provenance_schema(), &R::provenance);
     append_columns(s, recorded_schema(), &R::recorded);
+    append_hw_columns(s);  // last, so that every column before keeps its place in files already written
     return s;
   }();
   return schema;
@@ -193,6 +197,11 @@ void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool 
     acc.modeled_reorder_s +=
         (row.modeled_key_ms.value_or(0) + row.modeled_sort_ms.value_or(0) + row.modeled_permute_ms.value_or(0)) * 1e-3;
   }
+  if (row.provenance.run_under == kHwCountersRunUnder) acc.hw_counters = true;
+  acc.hw_w.resize(std::max(acc.hw_w.size(), row.hw.size()), 0.0);
+  acc.hw_rays.resize(acc.hw_w.size(), 0.0);
+  for (size_t i = 0; i < row.hw.size(); ++i)
+    if (row.hw[i]) acc.hw_w[i] += rays * *row.hw[i], acc.hw_rays[i] += rays;
   if (row.pipeline != "host") {  // device or fused: every stage on the device
     acc.on_device = true;
     acc.gpu_span_s += row.gpu_e2e_ms.value_or(0) * 1e-3;

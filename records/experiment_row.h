@@ -67,7 +67,11 @@ struct ExperimentRow {
   std::string scene_fingerprint;  // shading/reference.h scene_fingerprint: `merge` refuses shards of other files
   GpuProvenance gpu;              // the GPU of a measured GPU row (records/provenance.h), empty elsewhere
   Provenance provenance;
-  RecordedColumns recorded;  // tile_w .. mode, the last columns (records/recorded_columns.h)
+  RecordedColumns recorded;  // tile_w .. mode (records/recorded_columns.h)
+  // The GPU's own counters of the trace kernels, measured (`cuda:counters=hw`, records/hw_columns.h), the last
+  // columns: one value per hw_column_names() entry, in that order; empty on every other row and where they could
+  // not be read.
+  std::vector<std::optional<double>> hw;
 };
 
 // The experiment CSV's columns, in file order, provenance last.
@@ -113,6 +117,13 @@ struct Accumulated {
   double modeled_e2e_mray_s() const { return modeled_e2e_s > 0 ? rays / modeled_e2e_s * 1e-6 : 0.0; }
   double modeled_overhead_share() const { return modeled_e2e_s > 0 ? 1.0 - modeled_s / modeled_e2e_s : 0.0; }
   double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
+  // Rows whose kernels CUPTI replayed (run_under cupti-counters: no timings) and their measured hw columns, per
+  // hw_column_names() entry: the sum of value x rays over the rows holding it, and those rows' rays.
+  bool hw_counters = false;
+  std::vector<double> hw_w, hw_rays;
+  std::optional<double> hw(size_t i) const {
+    return i < hw_rays.size() && hw_rays[i] > 0 ? std::optional<double>(hw_w[i] / hw_rays[i]) : std::nullopt;
+  }
   // Measured times of every repeat by frame (a row without repeats: its median alone), for the ratio intervals:
   // the trace, and end to end (device pipelines: the measured span).
   FrameSeries trace_times, e2e_times;

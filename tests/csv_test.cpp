@@ -10,6 +10,7 @@
 
 #include "harness/exit_codes.h"
 #include "records/experiment_row.h"
+#include "records/hw_columns.h"
 #include "records/quality_row.h"
 #include "records/record_csv.h"
 #include "tests/cli_util.h"
@@ -126,6 +127,7 @@ TEST(Csv, ExperimentColumnsKeepTheirOrderAndResumeKey) {
   const std::vector<std::string> names = column_names(experiment_schema());
   std::vector<std::string> expected = kExperimentColumns;
   for (const char* c : {"tile_w", "tile_h", "k", "order", "preset", "mode"}) expected.push_back(c);
+  for (const std::string& c : hw_column_names()) expected.push_back(c);  // cuda:counters=hw, measured
   EXPECT_EQ(names, expected);
   std::vector<std::string> key;
   for (const auto& c : experiment_schema())
