@@ -21,6 +21,7 @@
 #include "records/hw_columns.h"
 #include "records/record_csv.h"
 #include "simt/pipeline_model.h"
+#include "simt/stage_model.h"
 #include "simt/timed_replay.h"
 #include "tracers/device_pipeline.h"
 #include "tracers/tracer.h"
@@ -341,8 +342,10 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
     r.rays = b.batch.size();
     const GpuModelConfig* gpu = tracer.gpu_model();
     record(std::move(r), ti, generated.gen_s, t, &generated.stats, rt,
-           gpu ? modeled_stages(*gpu, size_t(o_.width) * size_t(o_.height), enc.key_bits(), enc.window(),
-                                permute_ == PermuteMode::Physical, b.batch.size(), b.order)
+           gpu ? stage_model(*gpu,
+                             stage_work(*generators_[mi], enc, permute_ == PermuteMode::Physical, o_.width, o_.height,
+                                        b.batch.size()),
+                             b.order)
                : ModeledStages{});
   }
 }

@@ -73,6 +73,22 @@ struct KernelSpec {
 // in local memory; `traversal=classic`), and the CWBVH kernel (`bvh=cwbvh`).
 enum class TraceKernelChoice : uint8_t { Bvh2Tuned, Bvh2Classic, Cwbvh };
 
+// The device pipeline's stage kernels (cuda/device_generators.cu, device_grouping.cu, device_keys.cu,
+// device_stages.cu, and CUB's onesweep pass) as the stage model prices them (simt/stage_model.h): the cycles one
+// warp of each kernel occupies an SM partition, from its SASS counted by scripts/count-stage-instructions for the
+// preset's architecture (every branch and every loop body once), and CUB's onesweep tile for the architecture
+// (its tuning policy). 0: the preset has no count (that kernel is priced by its bytes alone).
+struct StageKernelCosts {
+  double tile_hits = 0;   // a tile's hit count (blocks of 128 threads, one per tile)
+  double noopt = 0;       // the noopt generator (a block per tile, a thread per pixel)
+  double group = 0;       // the ours / contiguous group kernel (a block per tile, a thread per pixel)
+  double key[7] = {};     // the key kernel of each KeyKind (index = the enum's value; [0] = none), 32-bit keys
+  double gather = 0;      // the gather of every batch column (a thread per ray)
+  double onesweep32 = 0;  // one onesweep pass, 32-bit keys with 32-bit values: per warp of the tile
+  double onesweep64 = 0;  // the same with 64-bit keys (key_bits > 32)
+  uint32_t onesweep_threads = 384, onesweep_items32 = 23, onesweep_items64 = 30;  // CUB's tile
+};
+
 struct GpuModelConfig {
   std::string preset;  // one of gpu_preset_names()
   CacheModelConfig cache;
@@ -81,6 +97,7 @@ struct GpuModelConfig {
   // The preset's step costs of each kernel, counted from the code its GPU runs (sources in simt/gpu_presets.cpp).
   KernelSpec tuned, classic, cwbvh;
   uint32_t resident_override = 0;  // 0: occupancy from the kernel's registers and block size
+  StageKernelCosts stages;         // the pipeline's stage kernels (simt/stage_model.h)
 };
 
 // Makes `kernel` the preset's costs of k (its launch shape, kind and block, kept).

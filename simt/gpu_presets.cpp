@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/params.h"
 #include "simt/gpu_model.h"
+#include "simt/stage_model.h"
 
 namespace raycoh {
 namespace {
@@ -147,6 +148,7 @@ GpuModelConfig rtx3060() {
   g.l2_latency = 187;
   g.dram_latency = 187 + 254;
   set_kernels(m, 55, 66);  // sm_86
+  m.stages = stage_costs_sm86();
   return m;
 }
 
@@ -179,6 +181,24 @@ GpuModelConfig h100() {
   g.l2_latency = 200;
   g.dram_latency = 200 + 190;
   set_kernels(m, 54, 56);  // sm_90
+  m.stages = stage_costs_sm90();
+  return m;
+}
+
+// The H200 SXM: the H100 SXM5's GH100 chip (132 SMs, the same SM and L2) with 141 GB of HBM3e (NVIDIA H200
+// Tensor Core GPU datasheet, 2024: "the first GPU with HBM3e", 4.8 TB/s, the Hopper architecture of the H100).
+GpuModelConfig h200() {
+  GpuModelConfig m = h100();
+  m.preset = "h200";
+  // 132 SMs, 256 KB L1/shared per SM, 50 MB L2: the H100 SXM5's figures (NVIDIA H100 Tensor Core GPU
+  // Architecture whitepaper), as the H200 keeps the GH100 chip of the H100 SXM5 (NVIDIA H200 datasheet: Hopper).
+  m.cache = cache_geometry(132, 256 * kKiB, 50 * kMiB);
+  GpuSpec& g = m.gpu;
+  // Max boost clock 1980 MHz, as the H100 SXM5's (NVIDIA H100 datasheet; TechPowerUp GPU database, H200 SXM).
+  g.clock_mhz = 1980;
+  g.dram_gb_s = 4800;  // HBM3e, 4.8 TB/s (NVIDIA H200 datasheet)
+  // Compute capability 9.0, the L1 rule measured on an H100, the L2 bandwidth per SM and the latencies: h100's
+  // (the same SM and L2). Registers: sm_90's ptxas counts, as h100.
   return m;
 }
 
@@ -237,6 +257,7 @@ GpuModelConfig gpgpusim_rtx3070() {
   // same PTX, which reports 55 for persistent_kernel<false, BvhView, NoAlphaTest> (raycoh.N.sm_86.ptxas), as
   // nvcc 13 does.
   set_kernels(m, 55, 66);
+  m.stages = stage_costs_sm86();  // SASS, not the PTX the simulator runs: the stage kernels' PTX was not counted
   // The simulator issues each warp's PTX in program order and waits for every operand (its scoreboard), with the
   // latencies of cfg:55-62 and cfg:96: a step alone on its scheduler, every load an L1 hit, takes node 1,242,
   // triangle 1,353, leaf 135 cycles (scripts/count-ptx-step-instructions, "in-order issue"). nvcc leaves PTX
@@ -283,7 +304,8 @@ struct Preset {
   const char* name;
   GpuModelConfig (*make)();
 };
-constexpr Preset kPresets[] = {{"rtx3060", rtx3060}, {"h100", h100}, {"gpgpusim-rtx3070", gpgpusim_rtx3070}};
+constexpr Preset kPresets[] = {
+    {"rtx3060", rtx3060}, {"h100", h100}, {"gpgpusim-rtx3070", gpgpusim_rtx3070}, {"h200", h200}};
 
 }  // namespace
 

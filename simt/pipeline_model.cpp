@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "core/ray_batch.h"
+#include "simt/stage_model.h"
 
 namespace raycoh {
 namespace {
@@ -28,21 +29,23 @@ size_t batch_bytes_per_ray() {
   return b;
 }
 
-double modeled_stream_ms(const GpuModelConfig& gpu, double bytes) { return bytes / (gpu.gpu.dram_gb_s * 1e6); }
-
-namespace {
 double window_bytes(size_t n, bool physical) {
   if (n < 2) return 0.0;
   return physical ? 2.0 * double(n) * batch_bytes_per_ray() : double(n) * (sizeof(Ray) + kIndexBytes);
 }
-}  // namespace
 
 double generation_bytes(size_t pixels, size_t rays) {
   return double(pixels) * sizeof(ShadingPoint) + double(rays) * batch_bytes_per_ray();
 }
 
 double modeled_generation_ms(const GpuModelConfig& gpu, size_t pixels, size_t rays) {
-  return modeled_stream_ms(gpu, generation_bytes(pixels, rays));
+  StageWork w;  // pixels / 64 tiles of 64 pixels: a row of 64 x 1 tiles has 8x8's tiles and warps
+  w.width = static_cast<int>(pixels);
+  w.height = 1;
+  w.tile_w = 64;
+  w.tile_h = 1;
+  w.rays = rays;
+  return stage_generation_ms(gpu, w);
 }
 
 double key_bytes(size_t rays, int key_bits) {
@@ -50,28 +53,11 @@ double key_bytes(size_t rays, int key_bits) {
   return double(rays) * (sizeof(Ray) + key_bits / 8 + kIndexBytes);
 }
 
-double modeled_key_ms(const GpuModelConfig& gpu, size_t rays, int key_bits) {
-  return modeled_stream_ms(gpu, key_bytes(rays, key_bits));
-}
-
 double sort_bytes(size_t n, int key_bits) {
   if (key_bits == 0 || n < 2) return 0.0;
   const double key = key_bits / 8.0;
   const int passes = (key_bits + 7) / 8;
   return double(n) * (key + passes * 2.0 * (key + kIndexBytes));
-}
-
-double modeled_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits) {
-  return modeled_stream_ms(gpu, sort_bytes(n, key_bits));
-}
-
-double modeled_window_ms(const GpuModelConfig& gpu, size_t n, bool physical) {
-  if (n < 2) return 0.0;
-  return modeled_stream_ms(gpu, window_bytes(n, physical));
-}
-
-double modeled_permute_ms(const GpuModelConfig& gpu, const uint32_t* order, size_t n) {
-  return modeled_stream_ms(gpu, permute_bytes(order, n));
 }
 
 double permute_bytes(const uint32_t* order, size_t n) {
@@ -114,16 +100,6 @@ ModeledStages stage_traffic(size_t pixels, int key_bits, int window, bool physic
   m.key_bytes = key_bytes(rays, key_bits);
   m.sort_bytes = sort_bytes(rays, key_bits);
   if (physical) m.permute_bytes = permute_bytes(order.data(), order.size());
-  return m;
-}
-
-ModeledStages modeled_stages(const GpuModelConfig& gpu, size_t pixels, int key_bits, int window, bool physical,
-                             size_t rays, const std::vector<uint32_t>& order) {
-  ModeledStages m = stage_traffic(pixels, key_bits, window, physical, rays, order);
-  m.gen_ms = modeled_stream_ms(gpu, m.gen_bytes);
-  m.key_ms = modeled_stream_ms(gpu, m.key_bytes);
-  m.sort_ms = modeled_stream_ms(gpu, m.sort_bytes);
-  m.permute_ms = modeled_stream_ms(gpu, m.permute_bytes);
   return m;
 }
 

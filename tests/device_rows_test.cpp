@@ -11,6 +11,7 @@
 #include "records/experiment_row.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
+#include "simt/stage_model.h"
 #include "tracers/device_pipeline.h"
 
 namespace raycoh {
@@ -161,22 +162,30 @@ TEST(ModeledStages, EachReorderingModelsItsOwnStages) {
   const GpuModelConfig gpu = gpu_preset("rtx3060");
   std::vector<uint32_t> order(4096);
   for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>((i * 1031) % order.size());
-  const size_t pixels = 8192, rays = order.size();
-  const ModeledStages none = modeled_stages(gpu, pixels, 0, 0, true, rays, {});
-  EXPECT_EQ(none.gen_ms, modeled_generation_ms(gpu, pixels, rays));
+  StageWork w;
+  w.width = 128;
+  w.height = 64;
+  w.rays = order.size();
+  const ModeledStages none = stage_model(gpu, w, {});
+  EXPECT_EQ(none.gen_ms, stage_generation_ms(gpu, w));
   EXPECT_EQ(none.reorder_ms(), 0.0);
-  const ModeledStages physical = modeled_stages(gpu, pixels, 32, 0, true, rays, order);
-  EXPECT_EQ(physical.key_ms, modeled_key_ms(gpu, rays, 32));
-  EXPECT_EQ(physical.sort_ms, modeled_sort_ms(gpu, rays, 32));
-  EXPECT_EQ(physical.permute_ms, modeled_permute_ms(gpu, order.data(), order.size()));
+  w.key = KeyKind::Origin;
+  w.key_bits = 32;
+  const ModeledStages physical = stage_model(gpu, w, order);
+  EXPECT_EQ(physical.key_ms, stage_key_ms(gpu, w));
+  EXPECT_EQ(physical.sort_ms, stage_sort_ms(gpu, w.rays, 32));
+  EXPECT_EQ(physical.permute_ms, stage_permute_ms(gpu, permute_bytes(order.data(), order.size()), w.rays));
   EXPECT_GT(physical.permute_ms, 0.0);
-  const ModeledStages indirect = modeled_stages(gpu, pixels, 32, 0, false, rays, order);
+  w.physical = false;
+  const ModeledStages indirect = stage_model(gpu, w, order);
   EXPECT_EQ(indirect.permute_ms, 0.0);
   EXPECT_EQ(indirect.sort_ms, physical.sort_ms);
-  const ModeledStages window = modeled_stages(gpu, pixels, 32, 256, true, rays, order);
+  w.physical = true;
+  w.window = 256;
+  const ModeledStages window = stage_model(gpu, w, order);
   EXPECT_EQ(window.key_ms, 0.0);
   EXPECT_EQ(window.permute_ms, 0.0);
-  EXPECT_EQ(window.sort_ms, modeled_window_ms(gpu, rays, true));
+  EXPECT_EQ(window.sort_ms, stage_kernel_ms(gpu, window_bytes(w.rays, true), 0, 0));
 }
 
 }  // namespace

@@ -1,0 +1,157 @@
+// The stage model's terms and its kernels per stage; see stage_model.h and docs/simt-model.md section 3.
+#include "simt/stage_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/ray_batch.h"
+
+namespace raycoh {
+namespace {
+
+constexpr double kWarp = 32;
+constexpr double kSectorBytes = 32;
+constexpr double kTileHitsThreads = 128;  // cuda/device_generators.cu, tile_hits_kernel's block
+
+double div_up(double a, double b) { return std::ceil(a / b); }
+
+double cycles_ms(const GpuModelConfig& gpu, double cycles) { return cycles / (gpu.gpu.clock_mhz * 1e3); }
+
+// CUB's exclusive scan of the tile counts (DeviceScan: an init kernel and a single-pass scan kernel), `items`
+// 4-byte words read and written.
+double scan_ms(const GpuModelConfig& gpu, double items) {
+  return stage_launch_ms(gpu) + stage_kernel_ms(gpu, 8.0 * items, 0, 0);
+}
+
+}  // namespace
+
+StageWork stage_work(const Generator& generator, const Encoder& encoder, bool physical, int width, int height,
+                     size_t rays) {
+  StageWork w;
+  w.width = width;
+  w.height = height;
+  w.rays = rays;
+  const DeviceRecipe r = generator.device_recipe();
+  w.grouping = r.kind == DeviceRecipe::Kind::Grouping;
+  if (r.kind != DeviceRecipe::Kind::None) {
+    w.tile_w = r.tile_w;
+    w.tile_h = r.tile_h;
+  }
+  if (r.kind == DeviceRecipe::Kind::NoOpt && r.order == RayOrder::Scanline) {  // one-row tiles (device_generators.cu)
+    w.tile_w = width;
+    w.tile_h = 1;
+  }
+  w.key_bits = encoder.key_bits();
+  w.window = encoder.window();
+  w.key = encoder.recipe().kind;
+  w.physical = physical;
+  return w;
+}
+
+double stage_launch_ms(const GpuModelConfig& gpu) { return cycles_ms(gpu, kLaunchCycles); }
+
+double stage_stream_ms(const GpuModelConfig& gpu, double bytes) {
+  return bytes / (kStreamFraction * gpu.gpu.dram_gb_s * 1e6);
+}
+
+double stage_issue_ms(const GpuModelConfig& gpu, double warps, double cycles) {
+  const double partitions = double(gpu.cache.sms) * gpu.gpu.schedulers_per_sm;
+  return cycles_ms(gpu, warps * cycles / partitions);
+}
+
+double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, double cycles) {
+  return stage_launch_ms(gpu) + std::max(stage_stream_ms(gpu, bytes), stage_issue_ms(gpu, warps, cycles));
+}
+
+double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w) {
+  if (w.rays == 0 || w.pixels() == 0) return 0.0;
+  const double tiles = div_up(w.width, w.tile_w) * div_up(w.height, w.tile_h);
+  const double tile_pixels = double(w.tile_w) * w.tile_h;
+  const StageKernelCosts& c = gpu.stages;
+  // tile_hits: one 32-byte sector per pixel (its hit flag; a ShadingPoint is 60 bytes), a count per tile written.
+  double ms = stage_kernel_ms(gpu, double(w.pixels()) * kSectorBytes + 4.0 * tiles,
+                              tiles * div_up(std::min(tile_pixels, kTileHitsThreads), kWarp), c.tile_hits);
+  ms += scan_ms(gpu, tiles + 1);
+  // The generator: a block per tile, a thread per pixel (noopt's block loops over tiles of more than 256 pixels,
+  // the same warps in all), reading the G-buffer and writing the batch.
+  const double warps = tiles * div_up(tile_pixels, kWarp);
+  ms += stage_kernel_ms(gpu, generation_bytes(w.pixels(), w.rays), warps, w.grouping ? c.group : c.noopt);
+  return ms;
+}
+
+double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w) {
+  if (w.key_bits == 0 || w.rays == 0) return 0.0;
+  const int kind = static_cast<int>(w.key);
+  const double cycles = kind >= 0 && kind < 7 ? gpu.stages.key[kind] : 0.0;
+  return stage_kernel_ms(gpu, key_bytes(w.rays, w.key_bits), div_up(double(w.rays), kWarp), cycles);
+}
+
+double stage_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits) {
+  if (key_bits == 0 || n < 2) return 0.0;
+  const StageKernelCosts& c = gpu.stages;
+  const bool wide = key_bits > 32;
+  const double key = wide ? 8.0 : 4.0, value = 4.0;  // CUB sorts 32- or 64-bit words (cuda/device_keys.cu)
+  const int passes = (key_bits + 7) / 8;
+  // Histogram (reads the keys once) and exclusive sum (a few KB): launch-bound kernels.
+  double ms = stage_kernel_ms(gpu, double(n) * key, 0, 0) + stage_launch_ms(gpu);
+  const double tile = double(c.onesweep_threads) * (wide ? c.onesweep_items64 : c.onesweep_items32);
+  const double warps = div_up(double(n), tile) * (c.onesweep_threads / kWarp);
+  const double pass = std::max(stage_stream_ms(gpu, 2.0 * double(n) * (key + value)),
+                               stage_issue_ms(gpu, warps, wide ? c.onesweep64 : c.onesweep32));
+  ms += passes * (cycles_ms(gpu, kOnesweepPassFloorCycles) + pass);
+  return ms;
+}
+
+double stage_permute_ms(const GpuModelConfig& gpu, double permute_bytes, size_t n) {
+  if (n == 0) return 0.0;
+  return stage_kernel_ms(gpu, permute_bytes, div_up(double(n), kWarp), gpu.stages.gather);
+}
+
+ModeledStages stage_model(const GpuModelConfig& gpu, const StageWork& w, const std::vector<uint32_t>& order) {
+  ModeledStages m = stage_traffic(w.pixels(), w.key_bits, w.window, w.physical, w.rays, order);
+  m.gen_ms = stage_generation_ms(gpu, w);
+  if (w.key_bits == 0) return m;
+  if (w.window > 0) {  // one on-chip binning kernel: its bytes and one launch, written as the sort
+    m.sort_ms = w.rays < 2 ? 0.0 : stage_kernel_ms(gpu, m.sort_bytes, 0, 0);
+    return m;
+  }
+  m.key_ms = stage_key_ms(gpu, w);
+  m.sort_ms = stage_sort_ms(gpu, w.rays, w.key_bits);
+  if (w.physical) m.permute_ms = stage_permute_ms(gpu, m.permute_bytes, w.rays);
+  return m;
+}
+
+// The device pipeline's stage kernels (StageKernelCosts, simt/stage_model.h): partition cycles per warp counted by
+// scripts/count-stage-instructions (nvcc 13's SASS of cuda/device_*.cu and CUB 3.0's onesweep kernel, every
+// branch and loop body once; its output for each architecture is results/model/h200-stages/instructions-*.txt).
+// CUB's onesweep tile, from its tuning (cub/device/dispatch/tuning/tuning_radix_sort.cuh, CUDA 13): sm_90
+// (Policy900, sm90_small_key_tuning) 384 threads x 23 items for 32-bit keys with 32-bit values and 32-bit offsets,
+// 30 for 64-bit keys; sm_86 (Policy800) 384 x 21 for both.
+StageKernelCosts stage_costs_sm90() {
+  StageKernelCosts c;
+  c.tile_hits = 172;
+  c.noopt = 1620;
+  c.group = 7241;
+  const double keys[7] = {0, 270, 480, 428, 540, 680, 536};  // none, origin, reis, costa, aila, twopoint, mlhcc
+  std::copy(keys, keys + 7, c.key);
+  c.gather = 160;
+  c.onesweep32 = 4120;
+  c.onesweep64 = 2894;
+  return c;
+}
+
+StageKernelCosts stage_costs_sm86() {
+  StageKernelCosts c;
+  c.tile_hits = 170;
+  c.noopt = 1604;
+  c.group = 7068;
+  const double keys[7] = {0, 268, 480, 428, 538, 680, 502};
+  std::copy(keys, keys + 7, c.key);
+  c.gather = 146;
+  c.onesweep32 = 3892;
+  c.onesweep64 = 2142;
+  c.onesweep_items32 = c.onesweep_items64 = 21;
+  return c;
+}
+
+}  // namespace raycoh

@@ -1,0 +1,73 @@
+// The timing model of the device pipeline's stages around the trace (generation, keys, sort, gather) on a preset
+// GPU: each kernel launch as a launch term plus the larger of its bytes over an effective streaming bandwidth and
+// its instructions over the SMs' issue rate; CUB's onesweep sort as a per-pass floor plus each pass's bytes (or
+// instructions). Modeled, never measured; docs/simt-model.md section 3 has the form, every constant's source and
+// what is not modeled. Host only. The bytes each stage moves are simt/pipeline_model.h's.
+//
+// Kernels per stage, as cuda/ launches them (cuda/device_generators.cu, device_grouping.cu, device_keys.cu,
+// device_stages.cu, CUB 3.0's DeviceRadixSort::SortPairs):
+//   generation  tile_hits (a block of 128 threads per tile reads each pixel's hit flag), CUB's exclusive scan of
+//               the tile counts (two kernels), and the generator's kernel (noopt or group: a block per tile).
+//   keys        one key kernel, a thread per ray.
+//   sort        CUB onesweep: a histogram kernel (reads the keys once), an exclusive-sum kernel, then per 8-bit
+//               digit a memset of the look-back state and one onesweep pass (reads and writes keys and values).
+//   permute     one gather kernel over every batch column.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "encoders/encoder.h"  // Encoder, KeyRecipe and KeyKind
+#include "generators/generator.h"
+#include "simt/gpu_model.h"
+#include "simt/pipeline_model.h"
+
+namespace raycoh {
+
+// What one secondary pass runs: the image, the generator's kernel and tiles, the reordering.
+struct StageWork {
+  int width = 0, height = 0;
+  size_t rays = 0;
+  bool grouping = false;  // ours / contiguous (the group kernel), else noopt
+  int tile_w = 8, tile_h = 8;
+  KeyKind key = KeyKind::None;
+  int key_bits = 0;      // 0: no reordering
+  int window = 0;        // > 0: the windowed reordering (one binning kernel)
+  bool physical = true;  // the gather runs (permute physical)
+  size_t pixels() const { return size_t(width) * size_t(height); }
+};
+
+// The pass a generator and an encoder make on a width x height image: the generator's device recipe (noopt, or the
+// group kernel with its tiles; a generator without a GPU version is priced as noopt on 8x8 tiles) and the
+// encoder's key kind and bits.
+StageWork stage_work(const Generator& generator, const Encoder& encoder, bool physical, int width, int height,
+                     size_t rays);
+
+// The constants of the form, the same for every preset (docs/simt-model.md section 3 gives each one's source).
+constexpr double kStreamFraction = 0.9;             // effective streaming bandwidth / the preset's DRAM figure
+constexpr double kLaunchCycles = 5000;              // per kernel launch, SM cycles
+constexpr double kOnesweepPassFloorCycles = 21514;  // per onesweep pass (its memset and kernel), SM cycles
+
+// The terms (milliseconds on `gpu`).
+double stage_launch_ms(const GpuModelConfig& gpu);
+double stage_stream_ms(const GpuModelConfig& gpu, double bytes);
+// `warps` warps each occupying an SM partition `cycles` cycles, spread over every partition of the GPU.
+double stage_issue_ms(const GpuModelConfig& gpu, double warps, double cycles);
+// One launch: launch term + max(bytes term, instruction term).
+double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, double cycles);
+
+double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w);
+double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w);
+double stage_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits);
+double stage_permute_ms(const GpuModelConfig& gpu, double permute_bytes, size_t n);
+
+// The stage kernels' costs per architecture (simt/stage_model.cpp has their sources), for the presets.
+StageKernelCosts stage_costs_sm90();
+StageKernelCosts stage_costs_sm86();
+
+// Every stage of one pass: times by the model above, bytes by stage_traffic (simt/pipeline_model.h). `order`: the
+// sorted indices (a physical permutation's gather reads through them).
+ModeledStages stage_model(const GpuModelConfig& gpu, const StageWork& w, const std::vector<uint32_t>& order);
+
+}  // namespace raycoh

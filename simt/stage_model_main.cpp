@@ -1,0 +1,69 @@
+// raycoh_stage_model: the stage model (simt/stage_model.h) of passes described on stdin, one CSV line each:
+//   label,preset,width,height,rays,generator,tile_w,tile_h,encoder,key_bits,permute_bytes
+// generator: noopt or group (ours / contiguous); encoder: none, origin, reis, costa, aila, twopoint or mlhcc;
+// permute_bytes: the gather's bytes (simt/pipeline_model.h permute_bytes of the pass's order; empty: no gather).
+// Prints label,gen_ms,key_ms,sort_ms,permute_ms, every figure MODELED. No times are read: what a pass is, not
+// what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "simt/stage_model.h"
+
+namespace {
+
+constexpr const char* kKinds[] = {"none", "origin", "reis", "costa", "aila", "twopoint", "mlhcc"};
+
+raycoh::KeyKind kind_of(const std::string& name) {
+  for (int k = 0; k < 7; ++k)
+    if (name == kKinds[k]) return static_cast<raycoh::KeyKind>(k);
+  throw raycoh::Error("raycoh_stage_model: unknown encoder '" + name + "'");
+}
+
+std::vector<std::string> fields(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream in(line);
+  for (std::string f; std::getline(in, f, ',');) out.push_back(f);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+}  // namespace
+
+int main() {
+  using namespace raycoh;
+  std::cout << "label,gen_ms,key_ms,sort_ms,permute_ms\n";
+  try {
+    for (std::string line; std::getline(std::cin, line);) {
+      if (line.empty()) continue;
+      const std::vector<std::string> f = fields(line);
+      if (f.size() != 11) throw Error("raycoh_stage_model: 11 fields expected: " + line);
+      const GpuModelConfig gpu = gpu_preset(f[1]);
+      StageWork w;
+      w.width = std::stoi(f[2]);
+      w.height = std::stoi(f[3]);
+      w.rays = std::stoull(f[4]);
+      w.grouping = f[5] == "group";
+      w.tile_w = std::stoi(f[6]);
+      w.tile_h = std::stoi(f[7]);
+      w.key = kind_of(f[8]);
+      w.key_bits = w.key == KeyKind::None ? 0 : std::stoi(f[9]);
+      ModeledStages m;
+      m.gen_ms = stage_generation_ms(gpu, w);
+      m.key_ms = stage_key_ms(gpu, w);
+      m.sort_ms = stage_sort_ms(gpu, w.rays, w.key_bits);
+      if (!f[10].empty() && w.key_bits > 0) m.permute_ms = stage_permute_ms(gpu, std::stod(f[10]), w.rays);
+      char out[256];
+      std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f\n", f[0].c_str(), m.gen_ms, m.key_ms, m.sort_ms,
+                    m.permute_ms);
+      std::cout << out;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
