@@ -1,7 +1,7 @@
 """results/stages/h200-*/README.md: the counts their prose states about the rows (repeats per median, tiles per
 frame). Their stage times are in `stages.md` beside them, which checks_generated.py makes again from the same rows;
 the READMEs' comparisons of those times are words, not figures."""
-from results_checks.core import Figure
+from results_checks.core import Embedded, Figure, Generated
 from results_checks.rows import load
 
 S = "results/stages/"
@@ -21,7 +21,18 @@ def tiles(run):
     return n
 
 
+M = "results/model/h200-stages"
+MEASURED = [f"../../stages/h200-a26f7f6/stages-{f}.csv" for f in (
+    "conference-encoders", "conference", "country_kitchen-encoders", "country_kitchen", "sibenik-encoders", "sibenik",
+    "sweep")]
+NCU_LOG = "../../stages/h200-6ebd003/ncu-stages.log.xz"
+
 CHECKS = [
+    # The stage model beside the measured stages: made again from the committed prediction and rows, and the
+    # README's summary table copied from it.
+    Generated(f"{M}/model-vs-measured.md", ["scripts/stage_model_check.py", "compare", "--ncu", NCU_LOG,
+                                             "prediction.csv", *MEASURED], cwd=M),
+    Embedded(f"{M}/README.md", f"{M}/model-vs-measured.md", "Summary of `model-vs-measured.md`"),
     Figure(S + "h200-6ebd003/README.md", "Each time is the median of {} repeats of one frame",
            lambda: repeats("h200-6ebd003")),
     Figure(S + "h200-a26f7f6/README.md", "of {} repeats of one frame", lambda: repeats("h200-a26f7f6")),
