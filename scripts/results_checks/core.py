@@ -7,6 +7,10 @@ Figure(readme, text, value): `text` is the exact text the README quotes, with a 
 was edited, or that the rows round differently, is a failure naming the README, the text it quotes and the
 recomputed value.
 
+Unrecorded(readme, text, source): figures the README quotes that no committed file holds (a wall time written down
+from the console, a table a script printed from files it did not keep): the check only requires the README to hold
+`text` and to name `source`; the coverage line counts these figures apart, as quoted without a committed source.
+
 Generated(output, command): a Markdown (or CSV) file written by a script from committed rows. The command runs
 again into a temporary folder and its output must equal the committed file (mode 'lines': every committed line
 that holds a digit must be in the new output, for a file an earlier version of the script wrote).
@@ -82,6 +86,23 @@ class Figure:
         shown = ", ".join(f"{v:.6g}" if isinstance(v, float) else str(v)
                           for v in (values if isinstance(values, (tuple, list)) else (values,)))
         return f"{self.readme}: expected {want!r} (recomputed {shown}); {said}"
+
+
+class Unrecorded(Figure):
+    """`text`: the README's words with their figures (no format fields); `source`: words the README uses to say
+    where the figures come from (the check fails when the README no longer says it)."""
+
+    def __init__(self, readme, text, source):
+        super().__init__(readme, text, tuple, "-")
+        self.source = squash(source)
+
+    def run(self, read):
+        have = squash(read(self.readme))
+        if self.text not in have:
+            return f"{self.readme}: {self.text!r} (recorded in no committed file) is not in the README"
+        if self.source not in have:
+            return f"{self.readme}: the README no longer names the source of {self.text!r}: {self.source!r}"
+        return None
 
 
 class Generated:

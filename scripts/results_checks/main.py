@@ -3,13 +3,14 @@ import re
 import sys
 import time
 
-from results_checks import (checks_first_run, checks_generated, checks_gpu, checks_kernels, checks_model, checks_ncu,
-                            checks_scaling, checks_stages, checks_top, checks_tune, coverage)
-from results_checks.core import Embedded, Figure, Generated, read_file, render, squash
+from results_checks import (checks_denoise, checks_first_run, checks_generated, checks_gpu, checks_kernels, checks_model, checks_ncu,
+                            checks_scaling, checks_shard, checks_stages, checks_top, checks_tune, coverage)
+from results_checks.core import Embedded, Figure, Generated, Unrecorded, read_file, render, squash
 from results_checks.rows import ROOT
 
 MODULES = (checks_gpu, checks_first_run, checks_ncu, checks_kernels, checks_scaling, checks_stages, checks_model,
-           checks_tune, checks_top, checks_generated)
+           checks_tune, checks_top, checks_shard, checks_denoise,
+           checks_generated)
 EXTRA_DOCS = ("results/shard-overhead.md",)  # hand-written documents that are not called README.md
 
 
@@ -27,12 +28,19 @@ def coverage_line(checks, passed):
     for c in checks:
         if isinstance(c, Figure) and c in passed:
             quoted.setdefault(c.readme, []).append(c.expected())
-    figures = sum(1 for c in passed if isinstance(c, Figure))
+    figures = sum(1 for c in passed if isinstance(c, Figure) and not isinstance(c, Unrecorded))
     generated = sum(1 for c in passed if isinstance(c, Generated))
     docs = documents()
     checked = [d for d in docs if d in quoted]
     print(f"check-results: {len(checked)} of {len(docs)} hand-written results documents checked, {figures} quoted "
           f"figure texts recomputed from their rows, {generated} generated files made again by their scripts")
+    unrecorded = {}
+    for c in passed:
+        if isinstance(c, Unrecorded):
+            unrecorded[c.readme] = unrecorded.get(c.readme, 0) + len(coverage.uncovered(c.text, []))
+    if unrecorded:
+        print("check-results: figures quoted from no committed file (each README names where they come from): "
+              + ", ".join(f"{d} {n}" for d, n in sorted(unrecorded.items())))
     open_docs = []
     for d in docs:
         left = coverage.uncovered(read_file(d), quoted.get(d, []))
@@ -75,6 +83,9 @@ def self_test_figure(check):
     """The README with `check`'s figure edited in every place it is quoted; True when the check then fails."""
     if isinstance(check, Embedded):
         return self_test_embedded(check)
+    if isinstance(check, Unrecorded):
+        text = squash(read_file(check.readme)).replace(check.text, alter_digit(check.text))
+        return check.run(lambda path: text if path == check.readme else read_file(path)) is not None
     values = check.value()
     values = values if isinstance(values, (tuple, list)) else (values,)
     want = render(check.text, values, check.minus)
