@@ -1,5 +1,7 @@
 """results/model/*/README.md: the `simt` model (MODELED) beside measured and simulated runs."""
+from results_checks.checks_ncu import launch, per_ray
 from results_checks.core import Figure
+from results_checks.logs import ncu
 from results_checks.rows import ROOT, lo_hi, pct, rate, speedup, total
 
 L1 = "results/model/h100-l1-rule/"
@@ -108,4 +110,34 @@ def h100_l1_rule():
     ]
 
 
-CHECKS = h100_l1_rule()
+def l1_work():
+    """The L1 wavefronts per ray now and with the old rule (the model's columns of gpu/h100-9bc790a-ncu/model.csv)
+    beside Nsight Compute's (gpu/h100-9566ba3/counts-*.log), and the CWBVH kernel's issue slots."""
+    readme, model, old = L1 + "README.md", L1 + "model-sibenik.csv", "results/gpu/h100-9bc790a-ncu/model.csv"
+    field, data = "modeled_l1_wavefronts_per_ray", "l1tex__data_pipe_lsu_wavefronts.sum"
+    local = ("l1tex__t_requests_pipe_lsu_mem_local_op_ld.sum", "l1tex__t_requests_pipe_lsu_mem_local_op_st.sum")
+    batches = ("noopt", "ours", "primary")
+
+    def measured(batch, kernel="bvh2", *metrics):
+        return per_ray(kernel, batch, *(metrics or (data,)))
+
+    def modeled(path, batch):
+        return total(path, field, "sibenik", batch, "simt")
+    miss = [float(r[10]) / float(r[9]) - 1 for r in vs("country_kitchen", ("ours:order=group",))]
+    return [
+        Figure(readme, "against Nsight Compute's {:.1f}, {:.1f} and {:.1f} on the hardware", lambda: tuple(
+            measured(b) for b in batches)),
+        Figure(readme, "the same figures as in `../../gpu/h100-9bc790a-ncu/`): {:.2f}×, {:.2f}× and {:.2f}×, where the "
+               "old rule gave {:.2f}×, {:.2f}× and {:.2f}×", lambda: (
+                   *(modeled(model, b) / measured(b) for b in batches),
+                   *(modeled(old, b) / measured(b) for b in batches))),
+        Figure(readme, "Not tuned: a stated miss. The {:.0%} is measured against one run's medians", lambda: miss[0]),
+        Figure(readme, "so the {:.0%} is not a property of group order", lambda: miss[0]),
+        Figure(readme, "where the hardware does {:.1f} ({:.1f} local requests)", lambda: (
+            measured("noopt", "cwbvh"), measured("noopt", "cwbvh", *local))),
+        Figure(readme, "its issue slots are {:.0f}% busy on hardware", lambda: ncu(
+            "results/gpu/h100-6f75752/ncu-cwbvh.log", launch("noopt"), "Issue Slots Busy")),
+    ]
+
+
+CHECKS = h100_l1_rule() + l1_work()
