@@ -1,5 +1,6 @@
 """results/gpu/*/README.md: the H100 runs (measured `cuda` beside MODELED `simt:preset=h100`)."""
 from results_checks.core import Figure
+from results_checks.logs import ncu
 from results_checks.rows import lo_hi, load, method_of, pct, rate, speedup, total
 
 ENCODERS = ("origin", "reis", "costa", "aila", "twopoint", "mlhcc")
@@ -144,7 +145,36 @@ def e2e_row(readme, path, method):
     return Figure(readme, f"| {method} | {{}} | {{}} | {{}} | {{}} | {{}} | {{:.3f}} | {bold} | {{:.3f}} |", values)
 
 
-CHECKS = run_41d9445()
+def span(values, spec):
+    """A range 'a–b' of `values` formatted by `spec`, one figure where both ends round alike."""
+    lo, hi = (format(v, spec) for v in lo_hi(values))
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
+def ncu_41d9445():
+    """What bounds the BVH2 kernel: ncu.log, launches 2–3 noopt, 4–5 ours; the README quotes the first launch of
+    each batch (2 and 4), a range over the two where it names no batch."""
+    readme, log = files("h100-41d9445")[0], "results/gpu/h100-41d9445/ncu.log"
+
+    def both(metric):
+        return ncu(log, 2, metric), ncu(log, 4, metric)
+
+    def over(metric, spec=".0f"):
+        return span(both(metric), spec)
+    return [
+        Figure(readme, "**L1/TEX throughput {:.1f}% (noopt) and {:.1f}% (ours) of peak**, SM issue {:.0f}% / {:.0f}%, "
+               "IPC {:.2f} / {:.2f}, L1 hit rate {}%, L2 hit {}%, DRAM {}%, achieved occupancy {}% ({:.0f} registers: "
+               "{:.0f} blocks of 128 per SM, {:.0f} warps)", lambda: (
+                   *both("L1/TEX Cache Throughput"), *both("Issue Slots Busy"), *both("Executed Ipc Active"),
+                   over("L1/TEX Hit Rate"), over("L2 Hit Rate"), over("DRAM Throughput"), over("Achieved Occupancy"),
+                   ncu(log, 2, "Registers Per Thread"), ncu(log, 2, "Block Limit Registers"),
+                   ncu(log, 2, "Theoretical Active Warps per SM"))),
+        Figure(readme, "its durations, {:.2f} ms for noopt, are longer than the run's {:.2f} ms", lambda: (
+            ncu(log, 2, "Duration") / 1e6, total(files("h100-41d9445")[1], "trace_ms", "sibenik", "noopt"))),
+    ]
+
+
+CHECKS = run_41d9445() + ncu_41d9445()
 
 
 def run_c3eba59():
