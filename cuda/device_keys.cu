@@ -14,7 +14,7 @@
 #include "core/error.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_keys.h"
-#include "encoders/key_code.h"
+#include "encoders/key_recipe.h"
 #include "encoders/keys.h"
 #include "encoders/mlhcc_cuts.h"
 
@@ -135,8 +135,7 @@ struct DeviceKeys::Impl {
 };
 
 DeviceKeys::DeviceKeys(const KeyRecipe& config, const Bvh* bvh) : impl_(std::make_unique<Impl>()) {
-  if (config.kind == KeyKind::None)
-    throw Error("encoder 'none' makes no keys; GPU encoders: origin, reis, costa, aila, twopoint, mlhcc");
+  if (config.kind == KeyKind::None) throw Error("encoder 'none' makes no keys; GPU encoders: " + key_kind_names());
   Impl& m = *impl_;
   m.config = config;
   m.params = key_args(config);

@@ -244,9 +244,8 @@ std::string device_pipeline_refusal(const std::string& generator_name, const Gen
         "use order=tile or order=group, or cuda:pipeline=device",
         generator_name);
   if (encoder.key_bits() > 0 && (recipe.kind == KeyKind::None || recipe.bits != encoder.key_bits()))
-    return fmt::format(
-        "encoder '{}' has no device version; device encoders: none, origin, reis, costa, aila, twopoint, mlhcc{}",
-        encoder.name(), host);
+    return fmt::format("encoder '{}' has no device version; device encoders: none, {}{}", encoder.name(),
+                       key_kind_names(), host);
   return "";
 }
 

@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "encoders/encoder.h"
-#include "encoders/key_code.h"
+#include "encoders/key_recipe.h"
 #include "encoders/keys.h"
 
 namespace raycoh {

@@ -176,14 +176,22 @@ TEST(Encoders, RecipeHoldsTheTypedParameters) {
   EXPECT_TRUE(d.with_end);
   EXPECT_FALSE(d.global_ranks);
   EXPECT_FLOAT_EQ(make_encoder(parse_plugin_spec("twopoint:L=2"), ctx)->recipe().length_factor, 2.f);
-  const std::vector<std::pair<std::string, KeyKind>> kinds = {
-      {"none", KeyKind::None}, {"origin", KeyKind::Origin},     {"reis", KeyKind::Reis},  {"costa", KeyKind::Costa},
-      {"aila", KeyKind::Aila}, {"twopoint", KeyKind::TwoPoint}, {"mlhcc", KeyKind::Mlhcc}};
-  for (const auto& [name, kind] : kinds) {
-    const auto encoder = make_encoder(parse_plugin_spec(name), ctx);
-    EXPECT_EQ(encoder->recipe().kind, kind) << name;
-    EXPECT_EQ(encoder->recipe().bits, encoder->key_bits()) << name;
+  // Every registered encoder's recipe names its own kind (or none), and every kind of encoders/key_code.h's list
+  // is made by the encoder of its name: the list and the registry cannot drift apart.
+  std::set<std::string> with_kind;
+  for (const auto& info : encoder_infos()) {
+    const auto encoder = make_encoder(parse_plugin_spec(info.name), ctx);
+    const KeyRecipe recipe = encoder->recipe();
+    if (recipe.kind == KeyKind::None) continue;  // e.g. window: keys of its own, no device version
+    EXPECT_EQ(recipe.bits, encoder->key_bits()) << info.name;
+    EXPECT_EQ(key_kind_name(recipe.kind), info.name);
+    with_kind.insert(info.name);
   }
+  EXPECT_EQ(make_encoder(parse_plugin_spec("none"), ctx)->recipe().kind, KeyKind::None);
+  EXPECT_STREQ(key_kind_name(KeyKind::None), "none");
+  for (KeyKind kind : kKeyKinds) EXPECT_EQ(with_kind.count(key_kind_name(kind)), 1u) << key_kind_name(kind);
+  EXPECT_EQ(with_kind.size(), std::size(kKeyKinds));
+  EXPECT_EQ(key_kind_names(), "origin, reis, costa, aila, twopoint, mlhcc");
 }
 
 }  // namespace
