@@ -4,7 +4,8 @@ profile of results/gpu/h100-9bc790a/README.md (`ncu-cwbvh.log` beside the BVH2's
 
 Each batch is launched twice under ncu (launches 0-1 camera rays, 2-3 noopt, 4-5 ours); the READMEs quote the
 first launch of each batch."""
-from results_checks.core import Figure
+from results_checks.checks_gpu import too_fast
+from results_checks.core import Figure, Unrecorded
 from results_checks.logs import ncu
 from results_checks.rows import select, total
 
@@ -81,4 +82,98 @@ def run_9bc790a():
     ]
 
 
-CHECKS = run_9566ba3() + run_9bc790a()
+N = "results/gpu/h100-9bc790a-ncu/"
+METRICS = {"data": "l1tex__data_pipe_lsu_wavefronts.sum", "global": "l1tex__t_requests_pipe_lsu_mem_global_op_ld.sum",
+           "sectors": "l1tex__t_sectors_pipe_lsu_mem_global_op_ld.sum",
+           "local_ld": "l1tex__t_requests_pipe_lsu_mem_local_op_ld.sum",
+           "local_st": "l1tex__t_requests_pipe_lsu_mem_local_op_st.sum", "inst": "smsp__inst_executed.sum",
+           "cycles": "sm__cycles_elapsed.avg"}
+H100_MHZ = 1980  # simt/gpu_presets.cpp, the h100 preset's clock
+
+
+def counted(batch, *names):
+    """The sum of the named metrics of the batch's first launch in ncu-metrics.log."""
+    return sum(ncu(N + "ncu-metrics.log", launch(batch), METRICS[n]) for n in names)
+
+
+def rays(batch):
+    return float(select(N + "model.csv", "sibenik", batch, "simt")[0]["rays"])
+
+
+def ray_count(batch, *names):
+    return counted(batch, *names) / rays(batch)
+
+
+def warp_count(batch, *names):
+    return counted(batch, *names) / (rays(batch) / 32)
+
+
+def modeled(batch, field):
+    return total(N + "model.csv", field, "sibenik", batch, "simt")
+
+
+def most_modeled(batch):
+    """The most L1 wavefronts the model's timeline can hold: one per SM and cycle over its modeled time."""
+    sms = int(dict(p.split("=") for p in select(N + "model.csv", "sibenik", batch, "simt")[0]["tracer_params"]
+                   .split(","))["sms"])
+    return modeled(batch, "modeled_ms") * 1e-3 * H100_MHZ * 1e6 * sms
+
+
+def per_ray_row(batch):
+    def values():
+        wf, local = "modeled_l1_wavefronts_per_ray", "modeled_l1_local_wavefronts_per_ray"
+        return (modeled(batch, wf), ray_count(batch, "data"), ray_count(batch, "data") / modeled(batch, wf),
+                modeled(batch, local), ray_count(batch, "local_ld", "local_st"), ray_count(batch, "global"))
+    return Figure(N + "README.md", f"| {batch} | {{:.1f}} | {{:.1f}} | {{:.2f}} | {{:.1f}} | {{:.1f}} | {{:.1f}} |", values)
+
+
+def run_9bc790a_ncu():
+    readme = N + "README.md"
+    cols = ("data", "global", "sectors", "local_ld", "local_st", "inst", "cycles")
+    gap = {b: ray_count(b, "data") / modeled(b, "modeled_l1_wavefronts_per_ray") for b in ("noopt", "ours")}
+    too_fast = {b: gpu_too_fast(b) for b in ("noopt", "ours")}
+    hw_global = ray_count("noopt", "data") - ray_count("noopt", "local_ld", "local_st")
+    model_global = modeled("noopt", "modeled_l1_wavefronts_per_ray") - modeled("noopt",
+                                                                               "modeled_l1_local_wavefronts_per_ray")
+    return [
+        Unrecorded(readme, "20.5 s on the device", "`gpu-carry` from `scripts/gpu-check prepare` at 9bc790a"),
+        *(Figure(readme, f"| {b} | " + " | ".join(["{:.1f} M"] * 6 + ["{:.2f} M"]) + " |",
+                 lambda b=b: tuple(counted(b, c) / 1e6 for c in cols)) for b in ("noopt", "ours")),
+        Figure(readme, "Per warp of 32 rays (noopt): {:,.0f} wavefronts, {:,.0f} global and {:,.0f} local ({:,.0f} load + "
+               "{:,.0f} store) memory instructions, {:,.0f} instructions", lambda: (
+                   warp_count("noopt", "data"), warp_count("noopt", "global"),
+                   warp_count("noopt", "local_ld", "local_st"), warp_count("noopt", "local_ld"),
+                   warp_count("noopt", "local_st"), warp_count("noopt", "inst"))),
+        Figure(readme, "over its modeled {:.3f} ms (noopt) at its {} MHz on 132 SMs it can have counted at most {:.0f} M "
+               "wavefronts; the hardware needed **{:.0f} M, at least {:.2f}× that** (ours: at most {:.0f} M modeled in "
+               "{:.3f} ms, {:.0f} M measured, at least {:.2f}×)", lambda: (
+                   modeled("noopt", "modeled_ms"), H100_MHZ, most_modeled("noopt") / 1e6, counted("noopt", "data") / 1e6,
+                   counted("noopt", "data") / most_modeled("noopt"), most_modeled("ours") / 1e6,
+                   modeled("ours", "modeled_ms"), counted("ours", "data") / 1e6,
+                   counted("ours", "data") / most_modeled("ours"))),
+        Figure(readme, "({:.2f}× and {:.2f}× on these batches)",
+               lambda: (too_fast["noopt"], too_fast["ours"])),
+        Figure(readme, "half of the kernel's memory instructions ({:,.0f} of {:,.0f} per warp)", lambda: (
+            warp_count("noopt", "local_ld", "local_st"), warp_count("noopt", "global", "local_ld", "local_st"))),
+        *(per_ray_row(b) for b in ("primary", "noopt", "ours")),
+        Figure(readme, "For coherent rays (primary) the model's L1 work is the hardware's within {:.0%}; the incoherent "
+               "batches need {:.2f}–{:.2f}× the model's wavefronts, the same factor as their time ({:.2f}–{:.2f}×)",
+               lambda: (abs(ray_count("primary", "data") / modeled("primary", "modeled_l1_wavefronts_per_ray") - 1),
+                        min(gap.values()), max(gap.values()), min(too_fast.values()), max(too_fast.values()))),
+        Figure(readme, "{:.1f} local requests per ray on hardware against {:.1f} modeled local wavefronts (noopt)",
+               lambda: (ray_count("noopt", "local_ld", "local_st"), modeled("noopt",
+                                                                            "modeled_l1_local_wavefronts_per_ray"))),
+        Figure(readme, "noopt's global loads take {:.0f} wavefronts per ray on the H100 ({:.1f} per request, {:.1f} "
+               "sectors per request) against about {:.0f} in the model", lambda: (
+                   hw_global, hw_global / ray_count("noopt", "global"),
+                   counted("noopt", "sectors") / counted("noopt", "global"), model_global)),
+        Figure(readme, "undercounts divergent loads by about {:.2f}×", lambda: hw_global / model_global),
+    ]
+
+
+def gpu_too_fast(batch):
+    """The MODELED trace speed over the measured one on the same batch (../h100-41d9445/table-comparison.csv)."""
+    return too_fast("results/gpu/h100-41d9445/table-comparison.csv", "sibenik", batch)
+
+
+CHECKS = run_9566ba3() + run_9bc790a() + run_9bc790a_ncu()
