@@ -11,6 +11,7 @@
 #include "generators/generator.h"
 #include "records/csv.h"
 #include "records/experiment_row.h"
+#include "records/hw_columns.h"
 #include "records/result_csv.h"
 #include "tests/test_util.h"
 
@@ -75,7 +76,8 @@ TEST(RecordedColumns, OlderFilesAreReadThroughTheTextOnce) {
   r.tracer_params = "preset=rtx3060";
   set_recorded_params(r);
   const std::vector<std::string> names = column_names(experiment_schema()), fields = write_row(experiment_schema(), r);
-  const size_t old_width = names.size() - recorded_schema().size();
+  // A file written before the typed columns: without them and without the hw_* columns that follow them.
+  const size_t old_width = names.size() - recorded_schema().size() - hw_column_names().size();
   const auto line = [](const std::vector<std::string>& v, size_t n) {
     std::string s;
     for (size_t i = 0; i < n; ++i) s += (i ? "," : "") + csv_escape(v[i]);
