@@ -161,18 +161,20 @@ class Embedded(Figure):
     the README's table lines after the line holding `after`, up to the first line that is not part of the table,
     must each be a line of `source`. Counted and self-tested as figures, one per table line."""
 
-    def __init__(self, readme, source, after):
+    def __init__(self, readme, source, after, prefix="|"):
         super().__init__(readme, "{}", self.lines, "-")
-        self.source, self.after = source, after
+        self.source, self.after, self.prefix = source, after, prefix
 
     def lines(self):
+        """The README's lines after the one holding `after` that start with `prefix` (a table's '|', a list's
+        '- '), up to the first line that does not."""
         text = read_file(self.readme).splitlines()
         start = next(i for i, line in enumerate(text) if self.after in line)
         table = []
         for line in text[start + 1:]:
-            if table and not line.startswith("|"):
+            if table and not line.startswith(self.prefix):
                 break
-            if line.startswith("|"):
+            if line.startswith(self.prefix):
                 table.append(line)
         return table
 

@@ -1,7 +1,8 @@
 """Which numeric figures of the hand-written results documents no check covers (a warning list, not a failure).
 
 A figure here is a decimal number (1.246), or a whole number followed by % or × (15%, 2×), in prose or a table:
-code blocks (indented four spaces or fenced) and `inline code` are commands and names, not figures. A figure is
+code blocks (indented four spaces or fenced) and `inline code` are commands and names, not figures; a band written
+±N% ('within ±15%') is the tolerance a count is taken against, not a measured figure (the count is). A figure is
 covered when it lies inside the text a Figure check quotes, or the README has no figure outside such text.
 """
 import re
@@ -36,4 +37,9 @@ def uncovered(text, quoted):
             spans.append((start, start + len(q)))
             start = body.find(q, start + 1)
     return [m.group(0) for m in FIGURE.finditer(body)
-            if not any(a <= m.start() and m.end() <= b for a, b in spans)]
+            if not any(a <= m.start() and m.end() <= b for a, b in spans) and not band(body, m)]
+
+
+def band(body, m):
+    """A whole-number percentage written ±N%: a tolerance band."""
+    return m.start() > 0 and body[m.start() - 1] == "±" and re.fullmatch(r"\d+%", m.group(0)) is not None
