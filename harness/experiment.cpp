@@ -61,10 +61,11 @@ class ExperimentRun {
     std::vector<Hit> hits;
     RayBatch batch, sorted;  // a method's batch, and its reordered copy (physical permute)
   };
-  // The batch of the last generation in a frame: methods sharing a generator share it (generated once, timed once).
+  // The batch of the last generation in a frame: methods sharing a generator share it (generated and timed once
+  // per host repeat).
   struct Generated {
-    std::string of;  // "generator:params", empty before the first
-    double gen_s = 0.0;
+    std::string of;              // "generator:params", empty before the first
+    std::vector<double> gen_ms;  // each repeat's generation time
     GenerationStats stats;
   };
 
@@ -81,8 +82,9 @@ class ExperimentRun {
   bool frame_resumed(int frame);
   template <class Fn>
   Timing measure(size_t ti, Fn&& trace_once);
-  void record(ExperimentRow row, size_t ti, double gen_s, const Timing& t, const GenerationStats* gs,
-              const ReorderTimings& rt, const ModeledStages& stages);
+  size_t host_repeats(const std::vector<std::pair<size_t, ExperimentRow>>& todo) const;
+  void record(ExperimentRow row, size_t ti, const StageSamples& stages, const Timing& t, const GenerationStats* gs,
+              const ModeledStages& modeled);
   void finish_row(ExperimentRow r, size_t ti, const ModeledStages& stages);
 
   const ExperimentOptions& o_;
@@ -235,15 +237,20 @@ Timing ExperimentRun::measure(size_t ti, Fn&& trace_once) {
   return time_repeats(wall, setup_->repeats[ti]);
 }
 
-void ExperimentRun::record(ExperimentRow r, size_t ti, double gen_s, const Timing& t, const GenerationStats* gs,
-                           const ReorderTimings& rt, const ModeledStages& stages) {
-  r.gen_ms = gen_s * 1e3;
+void ExperimentRun::record(ExperimentRow r, size_t ti, const StageSamples& stages, const Timing& t,
+                           const GenerationStats* gs, const ModeledStages& modeled) {
   if (gs) set_generation(r, *gs);
-  r.key_ms = rt.key_ms;
-  r.sort_ms = rt.sort_ms;
-  r.permute_ms = rt.permute_ms;
-  set_host_times(r, t, r.gen_ms + rt.total_ms());
-  finish_row(std::move(r), ti, stages);
+  set_host_times(r, t, stages);
+  finish_row(std::move(r), ti, modeled);
+}
+
+// How often a method's generation and reordering are timed: the most repeats any of its host tracers traces
+// (models and simulators run once), so each repeat's end to end holds its own generation and sorting.
+size_t ExperimentRun::host_repeats(const std::vector<std::pair<size_t, ExperimentRow>>& todo) const {
+  size_t n = 1;
+  for (const auto& [ti, r] : todo)
+    if (!setup_->models[ti]) n = std::max(n, static_cast<size_t>(std::max(1, setup_->repeats[ti])));
+  return n;
 }
 
 // The counters and model of counting tracers, then the row is written and summed.
@@ -282,7 +289,7 @@ void ExperimentRun::run_primary(int frame, const std::vector<Ray>& rays) {
     begin_measurement(r);
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), buffers_.hits.data()); });
     r.rays = rays.size();
-    record(std::move(r), ti, 0.0, t, nullptr, ReorderTimings{}, ModeledStages{});
+    record(std::move(r), ti, StageSamples{}, t, nullptr, ModeledStages{});
   }
 }
 
@@ -314,18 +321,33 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
     }
   if (todo.empty()) return;
   Buffers& b = buffers_;
+  const size_t repeats = host_repeats(todo);
   const std::string gen_key = o_.methods[mi].generator.name + ":" + generators_[mi]->params();
-  if (gen_key != generated.of) {
+  if (gen_key != generated.of || generated.gen_ms.size() < repeats) {
     where_ = unit + ", generation";
-    const auto t_gen = Clock::now();
-    generators_[mi]->generate(setup_->scene, gbuffer, o_.seed, b.batch, generated.stats);
-    generated.gen_s = seconds_since(t_gen);
+    generated.gen_ms.clear();
+    for (size_t rep = 0; rep < repeats; ++rep) {  // the same batch each time; the stats of one
+      GenerationStats stats;
+      const auto t_gen = Clock::now();
+      generators_[mi]->generate(setup_->scene, gbuffer, o_.seed, b.batch, stats);
+      generated.gen_ms.push_back(seconds_since(t_gen) * 1e3);
+      generated.stats = stats;
+    }
     generated.of = gen_key;
   }
-  ReorderTimings rt;
+  StageSamples stages;
+  stages.gen_ms.assign(generated.gen_ms.begin(), generated.gen_ms.begin() + static_cast<std::ptrdiff_t>(repeats));
   where_ = unit + ", reordering";
   Encoder& enc = *setup_->encoders[mi];
-  const bool reordered = reorder(enc, b.batch, permute_, b.sorted, b.order, rt);
+  bool reordered = false;
+  for (size_t rep = 0; rep < repeats; ++rep) {  // the same order and batch each time
+    ReorderTimings rt;
+    reordered = reorder(enc, b.batch, permute_, b.sorted, b.order, rt);
+    if (!reordered) break;
+    stages.key_ms.push_back(rt.key_ms);
+    stages.sort_ms.push_back(rt.sort_ms);
+    if (permute_ == PermuteMode::Physical) stages.permute_ms.push_back(rt.permute_ms);
+  }
   const bool indirect = reordered && permute_ == PermuteMode::Indirect;
   const std::vector<Ray>& rays = reordered && !indirect ? b.sorted.rays : b.batch.rays;
   b.hits.resize(b.batch.size());
@@ -341,7 +363,7 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
     });
     r.rays = b.batch.size();
     const GpuModelConfig* gpu = tracer.gpu_model();
-    record(std::move(r), ti, generated.gen_s, t, &generated.stats, rt,
+    record(std::move(r), ti, stages, t, &generated.stats,
            gpu ? stage_model(*gpu,
                              stage_work(*generators_[mi], enc, permute_ == PermuteMode::Physical, o_.width, o_.height,
                                         b.batch.size()),

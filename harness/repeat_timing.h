@@ -24,10 +24,20 @@ Timing time_repeats(Fn&& fn, int repeats) {
   return t;
 }
 
-// A row's trace times from `t` (trace_ms, trace_ms_min, mray_s, the trace interval and samples) and its end to end:
-// `overhead_ms` (generation + key + sort + permute, timed once before the repeats) + each repeat's trace. row.rays
-// must be set. One repeat: no interval columns.
-void set_host_times(ExperimentRow& row, const Timing& t, double overhead_ms);
+// The host pipeline's stages before the trace, each timed once per repeat (generation and reordering are
+// deterministic: every repeat makes the same batch and order), ms, in the order they ran. Empty vectors: the
+// stage did not run (a primary pass has none).
+struct StageSamples {
+  std::vector<double> gen_ms, key_ms, sort_ms, permute_ms;
+  // Repeat r's generation + key + sort + permute (a stage with fewer samples gives its last).
+  double overhead_ms(size_t r) const;
+  size_t size() const;
+};
+
+// A row's times from its repeats: the trace's (trace_ms, trace_ms_min, mray_s, its interval and samples), each
+// stage's median (gen_ms, key_ms, sort_ms, permute_ms; samples with two or more repeats) and the end to end: repeat
+// r's stages + repeat r's trace, its median and interval. row.rays must be set. One repeat: no interval columns.
+void set_host_times(ExperimentRow& row, const Timing& t, const StageSamples& stages);
 
 // The interval columns of a row from its samples (trace_samples_ms, e2e_samples_ms): absent below two repeats.
 void set_intervals(ExperimentRow& row);

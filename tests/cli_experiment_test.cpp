@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "generators/tangent_reuse.h"
 #include "tests/cli_util.h"
@@ -100,6 +103,22 @@ TEST(CliExperiment, MeasuredSpeedsCarryIntervals) {
     EXPECT_LE(std::stod(row.at("trace_ms_lo")), std::stod(row.at("trace_ms")) + 1e-4);
     EXPECT_GE(std::stod(row.at("trace_ms_hi")), std::stod(row.at("trace_ms")) - 1e-4);
     EXPECT_LE(std::stod(row.at("e2e_ms_lo")), std::stod(row.at("e2e_ms")) + 1e-4);
+    // Generation is timed with every repeat too: each repeat's end to end is its generation plus its trace.
+    const std::string gen = row.at("gen_samples_ms");
+    if (row.at("pass") == "primary") {
+      EXPECT_EQ(gen, "") << "a primary pass generates nothing";
+      continue;
+    }
+    EXPECT_EQ(std::count(gen.begin(), gen.end(), ';'), 6) << gen;
+    const auto numbers = [](const std::string& text) {
+      std::vector<double> v;
+      std::stringstream in(text);
+      for (std::string w; std::getline(in, w, ';');) v.push_back(std::stod(w));
+      return v;
+    };
+    const std::vector<double> g = numbers(gen), t = numbers(samples), e = numbers(row.at("e2e_samples_ms"));
+    ASSERT_EQ(e.size(), 7u);
+    for (size_t i = 0; i < e.size(); ++i) EXPECT_NEAR(e[i], g[i] + t[i], 2e-3) << i;
   }
   EXPECT_EQ(timed, 2 * 3);  // 2 frames x (primary, noopt, contiguous)
   for (const char* s : {"ratio to noopt [95% interval]); 48x32, 2 frame(s), seed 1, median of 7 traces", "| noopt | ",

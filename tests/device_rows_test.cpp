@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "harness/repeat_timing.h"
 #include "records/experiment_row.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
@@ -98,6 +99,38 @@ TEST(DeviceRows, DeviceRowsHoldMeasuredGpuStagesAndTheSpan) {
   set_device_times(counting, m, true);
   EXPECT_EQ(column(counting, "pipeline"), "device");
   EXPECT_EQ(column(counting, "gpu_e2e_ms"), "");  // the counting kernel is no traversal time
+}
+
+// A host pipeline times generation and reordering once per repeat: each repeat's end to end is its own stages plus
+// its own trace, so the end-to-end interval holds the stages' spread too; each stage's time is its median.
+TEST(HostRows, EachRepeatsEndToEndHoldsItsOwnStages) {
+  Timing trace;
+  trace.samples_s = {0.003, 0.001, 0.002};
+  StageSamples st;
+  st.gen_ms = {10, 40, 20};
+  st.key_ms = {1, 1, 4};
+  st.sort_ms = {2, 2, 2};
+  ExperimentRow row;
+  row.rays = 1000;
+  set_host_times(row, trace, st);
+  EXPECT_EQ(row.e2e_samples_ms, (std::vector<double>{16, 44, 28}));  // 10+1+2+3, 40+1+2+1, 20+4+2+2
+  EXPECT_DOUBLE_EQ(row.gen_ms, 20);
+  EXPECT_DOUBLE_EQ(row.key_ms, 1);
+  EXPECT_DOUBLE_EQ(row.permute_ms, 0);  // indirect: no gather ran
+  EXPECT_DOUBLE_EQ(row.e2e_ms, 28);     // the median of the sums, not the sum of the medians (25)
+  EXPECT_EQ(*row.e2e_ms_lo, 16);
+  EXPECT_EQ(*row.e2e_ms_hi, 44);
+  EXPECT_EQ(row.gen_samples_ms, st.gen_ms);
+  EXPECT_TRUE(row.permute_samples_ms.empty());
+  // One repeat (a model): no samples, the end to end the sum of the stages and the trace.
+  Timing once;
+  once.samples_s = {0.005};
+  ExperimentRow one;
+  one.rays = 1000;
+  set_host_times(one, once, StageSamples{{7}, {}, {}, {}});
+  EXPECT_DOUBLE_EQ(one.e2e_ms, 12);
+  EXPECT_TRUE(one.e2e_samples_ms.empty());
+  EXPECT_TRUE(one.gen_samples_ms.empty());
 }
 
 // Timed passes give every stage's repeats (a stage that did not run: none), the trace's and the span's, and the
