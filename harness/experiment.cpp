@@ -325,29 +325,15 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
   const std::string gen_key = o_.methods[mi].generator.name + ":" + generators_[mi]->params();
   if (gen_key != generated.of || generated.gen_ms.size() < repeats) {
     where_ = unit + ", generation";
-    generated.gen_ms.clear();
-    for (size_t rep = 0; rep < repeats; ++rep) {  // the same batch each time; the stats of one
-      GenerationStats stats;
-      const auto t_gen = Clock::now();
-      generators_[mi]->generate(setup_->scene, gbuffer, o_.seed, b.batch, stats);
-      generated.gen_ms.push_back(seconds_since(t_gen) * 1e3);
-      generated.stats = stats;
-    }
+    generated.gen_ms =
+        time_generation(*generators_[mi], setup_->scene, gbuffer, o_.seed, b.batch, generated.stats, repeats);
     generated.of = gen_key;
   }
   StageSamples stages;
   stages.gen_ms.assign(generated.gen_ms.begin(), generated.gen_ms.begin() + static_cast<std::ptrdiff_t>(repeats));
   where_ = unit + ", reordering";
   Encoder& enc = *setup_->encoders[mi];
-  bool reordered = false;
-  for (size_t rep = 0; rep < repeats; ++rep) {  // the same order and batch each time
-    ReorderTimings rt;
-    reordered = reorder(enc, b.batch, permute_, b.sorted, b.order, rt);
-    if (!reordered) break;
-    stages.key_ms.push_back(rt.key_ms);
-    stages.sort_ms.push_back(rt.sort_ms);
-    if (permute_ == PermuteMode::Physical) stages.permute_ms.push_back(rt.permute_ms);
-  }
+  const bool reordered = time_reordering(enc, b.batch, permute_, b.sorted, b.order, repeats, stages);
   const bool indirect = reordered && permute_ == PermuteMode::Indirect;
   const std::vector<Ray>& rays = reordered && !indirect ? b.sorted.rays : b.batch.rays;
   b.hits.resize(b.batch.size());

@@ -1,6 +1,7 @@
 #include "harness/repeat_timing.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "records/speed_interval.h"
 
@@ -24,6 +25,31 @@ double StageSamples::overhead_ms(size_t r) const {
 
 size_t StageSamples::size() const {
   return std::max({gen_ms.size(), key_ms.size(), sort_ms.size(), permute_ms.size()});
+}
+
+std::vector<double> time_generation(Generator& generator, const Scene& scene, const GBuffer& gbuffer, uint32_t seed,
+                                    RayBatch& out, GenerationStats& stats, size_t repeats) {
+  std::vector<double> ms;
+  for (size_t r = 0; r < repeats; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    generator.generate(scene, gbuffer, seed, out, stats);  // each call resets stats
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return ms;
+}
+
+bool time_reordering(Encoder& encoder, const RayBatch& in, PermuteMode mode, RayBatch& sorted,
+                     std::vector<uint32_t>& order, size_t repeats, StageSamples& stages) {
+  bool reordered = false;
+  for (size_t r = 0; r < repeats; ++r) {
+    ReorderTimings t;
+    reordered = reorder(encoder, in, mode, sorted, order, t);
+    if (!reordered) break;  // no keys: nothing to time
+    stages.key_ms.push_back(t.key_ms);
+    stages.sort_ms.push_back(t.sort_ms);
+    if (mode == PermuteMode::Physical) stages.permute_ms.push_back(t.permute_ms);
+  }
+  return reordered;
 }
 
 void set_host_times(ExperimentRow& row, const Timing& t, const StageSamples& stages) {

@@ -3,8 +3,11 @@
 // device clock. Device pipelines record theirs in harness/device_rows.h.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
+#include "encoders/reorder.h"
+#include "generators/generator.h"
 #include "records/experiment_row.h"
 
 namespace raycoh {
@@ -33,6 +36,15 @@ struct StageSamples {
   double overhead_ms(size_t r) const;
   size_t size() const;
 };
+
+// A host pass's generation, `repeats` times into `out` (deterministic: the same batch each time; `stats` are one
+// generation's): each time, ms.
+std::vector<double> time_generation(Generator& generator, const Scene& scene, const GBuffer& gbuffer, uint32_t seed,
+                                    RayBatch& out, GenerationStats& stats, size_t repeats);
+// A host pass's reordering (encoders/reorder.h), `repeats` times (the same order and batch each time): each time of
+// each stage that ran into `stages` (key, sort; permute in physical mode). Returns whether the batch was reordered.
+bool time_reordering(Encoder& encoder, const RayBatch& in, PermuteMode mode, RayBatch& sorted,
+                     std::vector<uint32_t>& order, size_t repeats, StageSamples& stages);
 
 // A row's times from its repeats: the trace's (trace_ms, trace_ms_min, mray_s, its interval and samples), each
 // stage's median (gen_ms, key_ms, sort_ms, permute_ms; samples with two or more repeats) and the end to end: repeat
