@@ -8,7 +8,7 @@ TABLE.csv: `raycoh table` / `raycoh sweep` CSVs of a `scripts/gpu-check --stages
 Their `cuda` secondary rows of the materialized pipeline (pipeline=device) describe each pass: resolution, rays,
 generator and its tiles, encoder and key bits, and the gather's bytes (modeled_permute_bytes, counted from the
 pass's own order). Only those descriptions go to the model (raycoh_stage_model, built from simt/stage_model_main.cpp;
-default build-h41/simt/, else build/simt/): no measured time is read by `predict`.
+default build/simt/): no measured time is read by `predict`.
 Printed: one line per pass and stage that ran, every figure MODELED (kind = modeled).
 
   scripts/stage_model_check.py compare PREDICTION.csv TABLE.csv... > model-vs-measured.md
@@ -73,7 +73,7 @@ def describe(r, preset, label):
 
 
 def model_binary(given):
-    builds = [ROOT / "build-h41/simt/raycoh_stage_model", ROOT / "build/simt/raycoh_stage_model"]
+    builds = [ROOT / "build/simt/raycoh_stage_model"]
     for c in ([given] if given else []) + builds:
         if c and os.access(c, os.X_OK):
             return str(c)
