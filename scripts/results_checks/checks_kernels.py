@@ -7,7 +7,7 @@ shown as 0 (no access), never as a negative count."""
 import math
 import re
 
-from results_checks.core import Figure, read_file
+from results_checks.core import Figure, Unrecorded, read_file
 from results_checks.logs import sass_step, text_lines
 
 K = "results/kernels/"
@@ -84,3 +84,8 @@ def run_kernels():
 
 
 CHECKS = run_kernels()
+CHECKS += [
+    Unrecorded(K + "README.md", "the issue's goal of CWBVH ≥ 1.3× the new BVH2", "the issue's goal"),
+    Unrecorded(K + "h200-119b66c/README.md", "(4.8 against 3.35 TB/s by the two datasheets; not measured here)",
+               "by the two datasheets"),
+]

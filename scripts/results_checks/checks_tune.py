@@ -1,7 +1,7 @@
 """results/tune/README.md and its h100-* folders: `raycoh tune` decisions (tune CSVs) and the H100 speed runs."""
 import statistics
 
-from results_checks.core import Figure
+from results_checks.core import Figure, Unrecorded
 from results_checks.rows import load, speedup
 
 T = "results/tune/"
@@ -171,3 +171,18 @@ CHECKS += [Figure(T + "h100-01f2ede/README.md", "the paper's default is at best 
                   "country_kitchen, {:.2f}× (slower)", lambda: (
                       *sorted(speed_stage(s)[5] for s in ("sibenik_lamps", "conference_lamps")),
                       speed_stage("country_kitchen")[5]))]
+
+
+def secondary_batch_ms():
+    """The median end-to-end time of a secondary batch over every setting of the three H100 speed stages."""
+    return statistics.median(float(r["gpu_e2e_ms"]) for s in SCENES
+                             for r in load(f"{T}h100-01f2ede/tune-cuda-{s}-speed.csv") if r["pass"] == "secondary")
+
+
+CHECKS += [
+    Figure(README, "At 480×270 a secondary batch takes about {:.1f} ms on the H100", secondary_batch_ms),
+    Figure(T + "h100-01f2ede/README.md", "e.g. sibenik_lamps' paper default ds8 {:.3f}, upper end {:.3f}.", lambda: (
+        float(pick(T + "sibenik_lamps-h100.csv", "paper_default")["ds8_ratio"]),
+        float(pick(T + "sibenik_lamps-h100.csv", "paper_default")["ds8_hi"]))),
+    Unrecorded(H + "README.md", "three device calls (5.3 s, 7.7 s and 20.6 s of command time)", "of command time"),
+]

@@ -2,14 +2,15 @@
 
 A figure here is a decimal number (1.246), or a whole number followed by % or × (15%, 2×), in prose or a table:
 code blocks (indented four spaces or fenced) and `inline code` are commands and names, not figures; a band written
-±N% ('within ±15%') is the tolerance a count is taken against, not a measured figure (the count is). A figure is
-covered when it lies inside the text a Figure check quotes, or the README has no figure outside such text.
+±N% ('within ±15%') is the tolerance a count is taken against, not a measured figure (the count is); a percentage
+that names a confidence level ('the 95% interval', 'the 95% test') is the test's setting, not a result; a number
+written right after × is the second side of a size or tile (640×480, 32×8), not a ratio. A figure is covered when it lies inside the text a Figure check quotes, or the README has no figure outside such text.
 """
 import re
 
 from results_checks.core import squash
 
-FIGURE = re.compile(r"(?<![\w.\-/])[−+\-]?\d[\d,]*(?:\.\d+(?![.\d])|\s?[%×](?! ?\d))")
+FIGURE = re.compile(r"(?<![\w.\-/×])[−+\-]?\d[\d,]*(?:\.\d+(?![.\d])|\s?[%×](?! ?\d))")
 VERSION = re.compile(r"\b(?:CUDA|nvcc|driver|version|Embree|GPGPU-Sim|Denoise|clang-format|g\+\+|Python) [\d.]+")
 
 
@@ -37,9 +38,17 @@ def uncovered(text, quoted):
             spans.append((start, start + len(q)))
             start = body.find(q, start + 1)
     return [m.group(0) for m in FIGURE.finditer(body)
-            if not any(a <= m.start() and m.end() <= b for a, b in spans) and not band(body, m)]
+            if not any(a <= m.start() and m.end() <= b for a, b in spans) and not band(body, m) and not level(body, m)]
 
 
 def band(body, m):
     """A whole-number percentage written ±N%: a tolerance band."""
     return m.start() > 0 and body[m.start() - 1] == "±" and re.fullmatch(r"\d+%", m.group(0)) is not None
+
+
+LEVEL = re.compile(r"\s(?:confidence|intervals?|tests?|CI)\b")
+
+
+def level(body, m):
+    """A whole-number percentage that names a confidence level: 'the 95% interval', 'a 95% test'."""
+    return re.fullmatch(r"\d+%", m.group(0)) is not None and LEVEL.match(body, m.end()) is not None

@@ -4,13 +4,13 @@ import sys
 import time
 
 from results_checks import (checks_denoise, checks_first_run, checks_generated, checks_gpu, checks_kernels, checks_l1,
-                            checks_model, checks_ncu, checks_scaling, checks_shard, checks_stages, checks_top,
-                            checks_tune, coverage)
+                            checks_model, checks_ncu, checks_readme_cwbvh, checks_scaling, checks_shard,
+                            checks_stages, checks_top, checks_tune, coverage)
 from results_checks.core import Embedded, Figure, Generated, Unrecorded, read_file, render, squash
 from results_checks.rows import ROOT
 
 MODULES = (checks_gpu, checks_first_run, checks_ncu, checks_kernels, checks_scaling, checks_stages, checks_model,
-           checks_tune, checks_top, checks_shard, checks_denoise, checks_l1, checks_generated)
+           checks_tune, checks_top, checks_readme_cwbvh, checks_shard, checks_denoise, checks_l1, checks_generated)
 EXTRA_DOCS = ("results/shard-overhead.md",)  # hand-written documents that are not called README.md
 
 
@@ -128,6 +128,8 @@ def self_test(checks):
             bad.append(c.describe())
     if coverage.uncovered("within ±15%: 12 of 14 cells, 1.5× and 3% (`--k 0.5`)", []) != ["1.5", "3%"]:
         bad.append("coverage.py: a ±N% band, code or a result figure counted wrongly")
+    if coverage.uncovered("the 95% interval and a 95% test at 32×8 × K 8: 4% of 2×, 96% intervals", []) != ["4%", "2×"]:
+        bad.append("coverage.py: a confidence level or a size's second side counted as a figure")
     for b in bad:
         print(f"check-results --self-test: an edited figure passed: {b}")
     n = sum(isinstance(c, Figure) for c in checks)
