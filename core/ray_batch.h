@@ -26,7 +26,7 @@ struct ShadingPoint {
   uint32_t material = 0;
   MaterialClass cls = MaterialClass::Diffuse;
   bool front_face = true;  // the camera ray hit the side the triangle's winding faces
-  bool valid() const { return prim != kNoHit; }
+  RAYCOH_HD bool valid() const { return prim != kNoHit; }
 };
 
 // The materials a G-buffer's points index: the scene's materials (entries [0, scene_count)) and, in a scene with

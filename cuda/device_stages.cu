@@ -54,6 +54,7 @@ void DeviceStages::launch_primary(const Camera& camera, int width, int height, i
 }
 
 const Ray* DeviceStages::primary_rays() const { return impl_->primary_rays.get(); }
+const uint32_t* DeviceStages::primary_pixels() const { return impl_->primary_pixels.get(); }
 
 size_t DeviceStages::primary_count() const { return impl_->primary_count; }
 

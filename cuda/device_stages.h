@@ -29,6 +29,7 @@ class DeviceStages {
   void launch_primary(const Camera& camera, int width, int height, int tile_w, int tile_h, uint32_t seed,
                       uint32_t frame, bool jitter);
   const Ray* primary_rays() const;
+  const uint32_t* primary_pixels() const;  // pixel of each camera ray, on the device
   size_t primary_count() const;
   float wait_primary_ms() const;
   void download_primary(PixelRays& out) const;

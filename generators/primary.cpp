@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "core/hit_surface.h"
 #include "core/sampling.h"
 #include "core/surface_textures.h"
 #include "generators/generator.h"
@@ -58,7 +59,16 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
   g.frame = primary.frame;
   g.points.assign(static_cast<size_t>(g.width) * g.height, ShadingPoint{});
   const bool textured = !scene.textures.empty();
-  const SurfaceTexturesView tex = scene.textures.view();
+  std::vector<MaterialClass> classes;
+  for (const Material& m : scene.materials) classes.push_back(m.cls);
+  MeshView mesh;
+  mesh.positions = scene.positions.data();
+  mesh.normals = scene.normals.data();
+  mesh.indices = scene.indices.data();
+  mesh.tri_material = scene.tri_material.data();
+  mesh.material_cls = classes.data();
+  mesh.textures = scene.textures.view();
+  mesh.textured = textured;
   // The material table: the scene's materials, then (textured scenes) one entry per point slot.
   auto table = std::make_shared<HitMaterials>();
   const size_t nm = scene.materials.size();
@@ -76,40 +86,16 @@ GBuffer make_gbuffer(const Scene& scene, const PixelRays& primary, const std::ve
     for (size_t i = r.begin(); i < r.end(); ++i) {
       const Hit& h = hits[i];
       if (!h.valid()) continue;
-      const Ray& ray = primary.rays[i];
-      const uint32_t* idx = &scene.indices[3 * static_cast<size_t>(h.prim)];
-      const Vec3 v0 = scene.positions[idx[0]], v1 = scene.positions[idx[1]], v2 = scene.positions[idx[2]];
-      const float w0 = 1.f - h.u - h.v;
+      // core/hit_surface.h: the same function makes the device path tracer's vertices.
+      const HitSurface surface = hit_surface(mesh, primary.rays[i], h);
       ShadingPoint& sp = g.points[primary.pixel[i]];
-      sp.prim = h.prim;
-      sp.material = scene.tri_material[h.prim];
-      sp.cls = scene.materials[sp.material].cls;
-      sp.position = v0 * w0 + v1 * h.u + v2 * h.v;
-      sp.wo = -ray.dir;
-      Vec3 ng = cross(v1 - v0, v2 - v0);
-      ng = dot(ng, ng) > 0.f ? normalize(ng) : sp.wo;
-      sp.front_face = dot(ng, sp.wo) >= 0.f;
-      if (!sp.front_face) ng = -ng;
-      Vec3 ns = scene.normals[idx[0]] * w0 + scene.normals[idx[1]] * h.u + scene.normals[idx[2]] * h.v;
-      ns = dot(ns, ns) > 0.f ? normalize(ns) : ng;
-      if (!is_finite(ns)) ns = ng;
-      if (textured && tex.tri_material[h.prim] != kNoTexture) {
-        const SurfaceSample s = surface_at(tex, h.prim, h.u, h.v);
+      sp = surface.point;
+      if (surface.textured) {
         const size_t slot = nm + primary.pixel[i];
-        table->bsdf[slot] = s.bsdf;
-        table->emission[slot] = s.emission;
+        table->bsdf[slot] = surface.bsdf;
+        table->emission[slot] = surface.emission;
         sp.material = static_cast<uint32_t>(slot);
-        sp.cls = s.bsdf.cls;
-        // A normal-mapped normal that crosses the geometric surface (or turns away from the interpolated one) is
-        // not used: the interpolated normal stays.
-        if (s.has_normal) {
-          const Vec3 mapped = apply_normal_map(tex, h.prim, ns, s.normal_ts);
-          if (dot(mapped, ns) > 0.f && (dot(mapped, ng) > 0.f) == (dot(ns, ng) > 0.f)) ns = mapped;
-        }
       }
-      if (dot(ns, ng) < 0.f) ns = -ns;
-      sp.ng = ng;
-      sp.ns = ns;
     }
   });
   for (const ShadingPoint& sp : g.points) g.hits += sp.valid();

@@ -64,6 +64,7 @@ struct RenderOptions {
   int frames = 32;                 // --frames [1, 1 << 20]
   std::string out = "render.exr";  // .exr (float), .png (tone-mapped 8-bit) or .pfm
   std::vector<Crop> crops;         // each written as <out stem>-crop<i><out extension>
+  std::string device = "cpu";      // --device cpu | cuda (the device path tracer, cuda/device_path_tracer.h)
 };
 int run_render(const RenderOptions& options, const Provenance& provenance);
 

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "core/alpha_mask.h"
+#include "core/environment_light.h"
+#include "core/light_sampling.h"
 #include "core/material.h"
 #include "core/surface_textures.h"
 #include "core/vec.h"
@@ -52,7 +54,7 @@ struct Camera {
 // light's intensity (candela) is its radiant intensity on the axis, so a surface at distance r facing it receives
 // E = I / r^2, and a directional light's (lux) is the irradiance E on a surface facing it. Emissive materials'
 // radiance (emissiveFactor x strength, nits) is on the same scale, so lights and emitters keep their ratio.
-enum class LightType : uint8_t { Point = 0, Spot = 1, Directional = 2 };
+// LightType: core/light_sampling.h.
 const char* to_string(LightType t);
 
 struct PunctualLight {
@@ -66,15 +68,7 @@ struct PunctualLight {
   float cos_inner = 1.f, cos_outer = 0.f;  // spot cone: full intensity inside cos_inner, none outside cos_outer
 };
 
-// Sky + sun used when a scene has no emitter (or too weak an emitter to light it).
-struct Environment {
-  bool enabled = false;
-  Vec3 sun_dir{0.3f, 0.9f, 0.3f};  // towards the sun; finalize_scene normalises it
-  Vec3 sun_radiance{0.f, 0.f, 0.f};
-  float sun_cos_half_angle = 0.99996f;  // half-angle 0.51 degrees, about 1 degree across
-  Vec3 sky_zenith{0.f, 0.f, 0.f};
-  Vec3 sky_horizon{0.f, 0.f, 0.f};
-};
+// Environment (sky + sun of scenes without emitters): core/environment_light.h.
 
 // Alpha MASK cut-outs that the tracers test at every candidate hit (core/alpha_mask.h): triangles of MASK
 // materials with a base-colour texture. Empty (no arrays at all) when the scene has none, and then every tracer

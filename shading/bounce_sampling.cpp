@@ -30,8 +30,8 @@ void generator_directions(FrameContext& ctx, Generator& generator, const GBuffer
     wave.beta[i] = batch.weight[i];
     // A camera ray arrived here, so a pass through a pane keeps the camera's state (delta: weight 1).
     const ShadingPoint& sp = gbuffer.points[batch.pixel[i]];
-    const bool pass = is_thin_pane(gbuffer.materials->bsdf[sp.material]) && dot(batch.rays[i].dir, sp.ng) < 0.f;
-    wave.mis[i] = pass ? MisState{} : MisState{batch.pdf[i], is_delta(batch.material[i]), 0.f};
+    wave.mis[i] =
+        first_bounce_mis(sp, gbuffer.materials->bsdf[sp.material], batch.rays[i].dir, batch.pdf[i], batch.material[i]);
   });
 }
 
@@ -41,27 +41,13 @@ void sample_directions(FrameContext& ctx, const Vertices& verts, int bounce, Wav
   std::vector<uint8_t> keep(nv, 0);
   const bool roulette = bounce >= ctx.settings.rr_depth;
   parallel_for_index(nv, [&](size_t i) {
-    const ShadingPoint& sp = verts.sp[i];
-    const uint32_t p = verts.pixel[i];
-    const DirectionSample s =
-        sample_direction(verts.bsdf(i), sp.ns, sp.ng, sp.wo, sp.front_face, ctx.rand(p, bounce, kDirU),
-                         ctx.rand(p, bounce, kDirV), ctx.rand(p, bounce, kLobe));
-    Vec3 beta = verts.beta[i] * s.weight;
-    if (!(max_component(beta) > 0.f)) return;
-    if (roulette) {
-      const float survive = std::min(1.f, max_component(beta));
-      if (ctx.rand(p, bounce, kRoulette) >= survive) return;
-      beta = beta * (1.f / survive);
-    }
-    Ray& r = wave.rays.rays[i];
-    r.org = offset_ray_origin(sp.position, dot(s.dir, sp.ng) >= 0.f ? sp.ng : -sp.ng);
-    r.dir = s.dir;
-    r.tmin = 0.f;
-    r.tmax = __builtin_huge_valf();
-    wave.pixel[i] = p;
-    wave.beta[i] = beta;
-    const bool pass = (s.flags & kSampleTransmitted) != 0 && is_thin_pane(verts.bsdf(i));
-    wave.mis[i] = pass ? verts.mis[i] : MisState{s.pdf, is_delta(sp.cls), 0.f};
+    const BounceSample s = sample_bounce(verts.sp[i], verts.bsdf(i), verts.beta[i], verts.mis[i], ctx.settings.seed,
+                                         ctx.frame, verts.pixel[i], bounce, roulette);
+    if (!s.found) return;
+    wave.rays.rays[i] = s.ray;
+    wave.pixel[i] = verts.pixel[i];
+    wave.beta[i] = s.beta;
+    wave.mis[i] = s.mis;
     keep[i] = 1;
   });
   compact(keep, wave.rays.rays, wave.pixel, wave.beta, wave.mis);

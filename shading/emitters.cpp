@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/error.h"
 #include "core/sampling.h"
 
 namespace raycoh {
@@ -30,11 +31,6 @@ void exact_pick_probabilities(const std::vector<double>& power, std::vector<floa
   }
 }
 
-size_t first_above(const std::vector<float>& cdf, float u) {
-  const size_t i = static_cast<size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
-  return std::min(i, cdf.size() - 1);
-}
-
 double light_power(const PunctualLight& l, double scene_radius) {
   constexpr double kPi = 3.14159265358979323846;
   const double i = luminance(l.intensity);
@@ -51,23 +47,25 @@ double light_power(const PunctualLight& l, double scene_radius) {
 
 }  // namespace
 
+PunctualLightView punctual_view(const PunctualLight& l) {
+  PunctualLightView v;
+  v.type = l.type;
+  v.position = l.position;
+  v.direction = l.direction;
+  v.intensity = l.intensity;
+  v.range = l.range;
+  v.cos_inner = l.cos_inner;
+  v.cos_outer = l.cos_outer;
+  return v;
+}
+
 Vec3 punctual_irradiance(const PunctualLight& l, Vec3 dir, float d) {
-  if (l.type == LightType::Directional) return l.intensity;
-  float w = 1.f / (d * d);
-  if (l.range > 0.f) {
-    const float x = d / l.range, x2 = x * x;
-    w *= std::clamp(1.f - x2 * x2, 0.f, 1.f);
-  }
-  if (l.type == LightType::Spot) {
-    const float t =
-        std::clamp((dot(l.direction, dir) - l.cos_outer) / std::max(1e-3f, l.cos_inner - l.cos_outer), 0.f, 1.f);
-    w *= t * t;
-  }
-  return l.intensity * w;
+  return punctual_irradiance(punctual_view(l), dir, d);
 }
 
 PunctualLights::PunctualLights(const Scene& scene) {
   if (scene.lights.empty()) return;
+  for (const PunctualLight& l : scene.lights) lights.push_back(punctual_view(l));
   const double radius = 0.5 * static_cast<double>(length(scene.bounds.extent()));
   std::vector<double> power;
   for (const PunctualLight& l : scene.lights) {
@@ -80,31 +78,20 @@ PunctualLights::PunctualLights(const Scene& scene) {
 }
 
 PunctualSample PunctualLights::sample(const Scene& scene, const ShadingPoint& sp, float u_pick) const {
-  PunctualSample s;
-  const size_t i = first_above(cdf, u_pick);
-  const PunctualLight& l = scene.lights[i];
-  if (!(pmf[i] > 0.f)) return s;
-  if (l.type == LightType::Directional) {
-    s.dir = -l.direction;
-    s.dist = __builtin_huge_valf();
-    s.irradiance_over_pmf = l.intensity * (1.f / pmf[i]);
-    s.found = true;
-    return s;
-  }
-  const Vec3 origin = offset_ray_origin(sp.position, dot(l.position - sp.position, sp.ng) >= 0.f ? sp.ng : -sp.ng);
-  const Vec3 d = l.position - origin;
-  const float dist2 = dot(d, d);
-  if (!(dist2 > 0.f)) return s;
-  s.dist = std::sqrt(dist2);
-  s.dir = d * (1.f / s.dist);
-  const Vec3 e = punctual_irradiance(l, -s.dir, s.dist);
-  if (!(max_component(e) > 0.f)) return s;
-  s.irradiance_over_pmf = e * (1.f / pmf[i]);
-  s.found = true;
-  return s;
+  LightsView v;
+  v.light_cdf = cdf.data();
+  v.light_pmf = pmf.data();
+  v.lights = lights.data();
+  v.light_count = static_cast<uint32_t>(cdf.size());
+  RAYCOH_CHECK(lights.size() == scene.lights.size(), "punctual lights of another scene");
+  return punctual_sample(v, sp, u_pick);
 }
 
 EmitterDistribution::EmitterDistribution(const Scene& scene) : punctual(scene) {
+  for (const Material& m : scene.materials) {
+    material_emission.push_back(m.emission);
+    material_cls.push_back(m.cls);
+  }
   std::vector<double> power, area;
   for (uint32_t t : scene.emissive_tris) {
     const uint32_t* idx = &scene.indices[3 * static_cast<size_t>(t)];
@@ -131,39 +118,36 @@ EmitterDistribution::EmitterDistribution(const Scene& scene) : punctual(scene) {
   }
 }
 
-size_t EmitterDistribution::pick(float u) const { return first_above(cdf, u); }
+size_t EmitterDistribution::pick(float u) const {
+  return first_above(cdf.data(), static_cast<uint32_t>(cdf.size()), u);
+}
+
+LightsView EmitterDistribution::view(const Scene& scene) const {
+  RAYCOH_CHECK(material_emission.size() == scene.materials.size(), "an emitter distribution of another scene");
+  LightsView v;
+  v.mesh.positions = scene.positions.data();
+  v.mesh.normals = scene.normals.data();
+  v.mesh.indices = scene.indices.data();
+  v.mesh.tri_material = scene.tri_material.data();
+  v.mesh.material_cls = material_cls.data();
+  v.mesh.textures = scene.textures.view();
+  v.mesh.textured = !scene.textures.empty();
+  v.material_emission = material_emission.data();
+  v.tris = tris.data();
+  v.cdf = cdf.data();
+  v.count = static_cast<uint32_t>(tris.size());
+  v.pmf_by_prim = pmf_by_prim.data();
+  v.area_by_prim = area_by_prim.data();
+  v.light_cdf = punctual.cdf.data();
+  v.light_pmf = punctual.pmf.data();
+  v.lights = punctual.lights.data();
+  v.light_count = static_cast<uint32_t>(punctual.cdf.size());
+  return v;
+}
 
 EmitterSample EmitterDistribution::sample(const Scene& scene, const ShadingPoint& sp, float u_pick, float u,
                                           float v) const {
-  EmitterSample s;
-  const uint32_t t = tris[pick(u_pick)];
-  const uint32_t* idx = &scene.indices[3 * static_cast<size_t>(t)];
-  const Vec3 v0 = scene.positions[idx[0]], v1 = scene.positions[idx[1]], v2 = scene.positions[idx[2]];
-  const float su = std::sqrt(u);
-  const float b1 = 1.f - su, b2 = v * su;
-  const Vec3 y = v0 * (1.f - b1 - b2) + v1 * b1 + v2 * b2;
-  const Vec3 origin = offset_ray_origin(sp.position, dot(y - sp.position, sp.ng) >= 0.f ? sp.ng : -sp.ng);
-  const Vec3 d = y - origin;
-  const float dist2 = dot(d, d);
-  const float area = area_by_prim[t];
-  if (!(dist2 > 0.f && area > 0.f)) return s;
-  s.dist = std::sqrt(dist2);
-  s.dir = d * (1.f / s.dist);
-  const float cos_y = -dot(normalize(cross(v1 - v0, v2 - v0)), s.dir);
-  if (!(cos_y > 0.f)) return s;
-  // The squared distance of the sample itself: pdf() squares a traced distance instead, which rounds differently.
-  s.pdf = pmf_by_prim[t] / area * dist2 / cos_y;
-  // What a ray hitting this point finds (make_gbuffer): the texel's emission on a textured triangle.
-  if (scene.textures.textured(t)) {
-    const SurfaceTexturesView view = scene.textures.view();
-    float uv[2][2];
-    hit_uv(view, t, b1, b2, uv);
-    s.emission = emission_of(view, view.materials[view.tri_material[t]], uv);
-  } else {
-    s.emission = scene.materials[scene.tri_material[t]].emission;
-  }
-  s.found = true;
-  return s;
+  return emitter_sample(view(scene), sp, u_pick, u, v);
 }
 
 }  // namespace raycoh

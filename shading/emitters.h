@@ -19,31 +19,18 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/light_sampling.h"
 #include "core/ray_batch.h"
 #include "scenes/scene.h"
 
 namespace raycoh {
 
-// A point on an emitter seen from a shading point.
-struct EmitterSample {
-  bool found = false;  // false: no light from this sample (degenerate, or the point sees the emitter's back)
-  Vec3 dir;            // unit, from the offset ray origin towards the point
-  float dist = 0.f;    // from the offset ray origin to the point
-  float pdf = 0.f;     // solid angle, triangle choice included
-  Vec3 emission;
-};
-
-// A light direction from a shading point with what it delivers, divided by the probability of the choice.
-struct PunctualSample {
-  bool found = false;        // false: the point is outside the light's cone or range
-  Vec3 dir;                  // unit, from the offset ray origin towards the light
-  float dist = 0.f;          // to the light; infinite for directional lights
-  Vec3 irradiance_over_pmf;  // irradiance on a surface facing the light, over the choice's probability
-};
+// EmitterSample, PunctualSample and the sampling functions themselves: core/light_sampling.h.
 
 struct PunctualLights {
-  std::vector<float> cdf;  // inclusive, last = 1
-  std::vector<float> pmf;  // exact probability of picking each light
+  std::vector<float> cdf;                 // inclusive, last = 1
+  std::vector<float> pmf;                 // exact probability of picking each light
+  std::vector<PunctualLightView> lights;  // the scene's lights as the sampling functions read them
   explicit PunctualLights(const Scene& scene);
   bool empty() const { return cdf.empty(); }
   // The light for the uniform number u_pick, seen from sp.
@@ -53,13 +40,16 @@ struct PunctualLights {
 // What light l delivers at distance d along unit direction dir (from the light towards the point): I / d^2 with
 // the spot cone and range windows for point and spot lights (d unused for directional lights: E).
 Vec3 punctual_irradiance(const PunctualLight& l, Vec3 dir, float d);
+PunctualLightView punctual_view(const PunctualLight& l);
 
 struct EmitterDistribution {
   std::vector<uint32_t> tris;
   std::vector<float> cdf;          // inclusive, last = 1
   std::vector<float> pmf_by_prim;  // probability of picking triangle prim (0 for non-emitters), sized per triangle
   std::vector<float> area_by_prim;
-  PunctualLights punctual;  // the scene's punctual lights, sampled apart from the triangles
+  PunctualLights punctual;                  // the scene's punctual lights, sampled apart from the triangles
+  std::vector<Vec3> material_emission;      // per scene material (LightsView)
+  std::vector<MaterialClass> material_cls;  // per scene material (LightsView's mesh)
 
   explicit EmitterDistribution(const Scene& scene);
   bool empty() const { return tris.empty(); }
@@ -71,6 +61,9 @@ struct EmitterDistribution {
   float pdf(uint32_t prim, float dist, float cos_y) const {
     return pmf_by_prim[prim] / area_by_prim[prim] * dist * dist / cos_y;
   }
+  // Every array of the distribution and of `scene` (which must be the scene it was made from) that sampling reads,
+  // as host pointers (core/light_sampling.h); valid while both live.
+  LightsView view(const Scene& scene) const;
 };
 
 }  // namespace raycoh

@@ -13,31 +13,6 @@
 
 namespace raycoh::path_tracing {
 
-namespace {
-
-// Sky and sun seen by a ray that left the scene.
-Vec3 missed_light(const Environment& env, Vec3 dir, const MisState& mis) {
-  Vec3 light = sky_radiance(env, dir);
-  if (in_sun_cone(env, dir))
-    light += env.sun_radiance * (mis.delta ? 1.f : power_heuristic(mis.pdf, sun_cone_pdf(env)));
-  return light;
-}
-
-// Emission seen at a hit t along a ray with MIS state mis.
-Vec3 emitted_light(const FrameContext& ctx, const HitMaterials& table, const ShadingPoint& sp, const MisState& mis,
-                   float t) {
-  const Vec3 le = FrameContext::emission(table, sp);
-  if (!(max_component(le) > 0.f)) return Vec3(0.f);
-  float w = 1.f;
-  if (!mis.delta && !ctx.emitters.empty() && ctx.emitters.pmf_by_prim[sp.prim] > 0.f) {
-    const float cos_y = dot(sp.ng, sp.wo), dist = mis.dist + t;
-    w = power_heuristic(mis.pdf, ctx.emitters.pdf(sp.prim, dist, cos_y));
-  }
-  return le * w;
-}
-
-}  // namespace
-
 void FrameContext::trace(const std::vector<Ray>& rays, uint64_t& counter) {
   hits.resize(rays.size());
   if (rays.empty()) return;
@@ -64,6 +39,7 @@ void gather_hits(FrameContext& ctx, Wave& wave, int bounce, Vertices& verts) {
   const GBuffer next = shade_hits(ctx.scene, wave.rays, hits, ctx.frame);
   const bool last = bounce + 1 >= ctx.settings.max_depth;
   std::vector<uint8_t> keep(nr, 0);
+  const LightsView lights = ctx.emitters.view(ctx.scene);
   parallel_for_index(nr, [&](size_t i) {
     const Vec3 beta = wave.beta[i];
     if (!(max_component(beta) > 0.f)) return;
@@ -71,7 +47,8 @@ void gather_hits(FrameContext& ctx, Wave& wave, int bounce, Vertices& verts) {
     if (!hits[i].valid()) {
       light = missed_light(ctx.scene.env, wave.rays.rays[i].dir, wave.mis[i]);
     } else {
-      light = emitted_light(ctx, *next.materials, next.points[i], wave.mis[i], hits[i].t);
+      const ShadingPoint& sp = next.points[i];
+      light = emitted_light(lights, sp, next.materials->emission[sp.material], wave.mis[i], hits[i].t);
       keep[i] = !last;
     }
     ctx.radiance[wave.pixel[i]] += beta * light;  // one ray per pixel in a wave

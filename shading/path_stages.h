@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/bsdf.h"
+#include "core/path_vertex.h"
 #include "core/rng.h"
 #include "generators/generator.h"
 #include "generators/primary.h"
@@ -27,42 +28,8 @@ namespace raycoh::path_tracing {
 using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Random numbers of the vertex of bounce b: dimension kDimFirstFree + 16 b + k (the generator uses its own
-// dimensions, core/rng.h, for the first bounce).
-constexpr uint32_t kDimsPerBounce = 16;
-enum BounceDim : uint32_t {
-  kEmitterPick = 0,
-  kEmitterU = 1,
-  kEmitterV = 2,
-  kSunU = 3,
-  kSunV = 4,
-  kDirU = 5,
-  kDirV = 6,
-  kLobe = 7,
-  kRoulette = 8,
-  kLightPick = 9
-};
-
-// Power heuristic (beta = 2) weight of the strategy with pdf a against b, written so that it never divides
-// infinities: 1 / (1 + (b/a)^2).
-inline float power_heuristic(float a, float b) {
-  if (!(a > 0.f)) return 0.f;
-  const float r = b / a;
-  return 1.f / (1.f + r * r);
-}
-
-// Transmissive surfaces are a smooth dielectric: delta lobes only, so no NEE there and MIS weight 1 after them.
-inline bool is_delta(MaterialClass c) { return c == MaterialClass::Transmissive; }
-inline bool is_thin_pane(const BsdfParams& m) { return m.cls == MaterialClass::Transmissive && m.thin_walled; }
-
-// How the light a ray finds is weighted (MIS state): the pdf and delta flag of the direction chosen at the
-// last scattering event that was not a straight pass through a thin pane, and the distance travelled since that
-// event before this ray's origin (the light pdf of an emitter is measured from there).
-struct MisState {
-  float pdf = 0.f;
-  uint8_t delta = 1;  // a camera ray: nothing else could have found the light
-  float dist = 0.f;
-};
+// Per-vertex decisions (random-number dimensions, MIS state and weights, next-event and bounce samples, the light a
+// ray finds) are the host/device functions of core/path_vertex.h, shared with the device path tracer.
 
 // Rays of one batch with what shading needs next to each.
 struct Wave {
@@ -111,13 +78,11 @@ struct FrameContext {
   // Closest hits of rays into hits; the call is timed into stats.trace_s and the rays counted into counter.
   void trace(const std::vector<Ray>& rays, uint64_t& counter);
   // The uniform number k of pixel p's vertex of bounce b.
-  float rand(uint32_t p, int bounce, BounceDim k) const {
-    return rng_float(settings.seed, frame, p, kDimFirstFree + kDimsPerBounce * static_cast<uint32_t>(bounce) + k);
-  }
+  float rand(uint32_t p, int bounce, BounceDim k) const { return bounce_rand(settings.seed, frame, p, bounce, k); }
   // Radiance a shading point of a G-buffer with material table t emits towards wo: emitters emit from the front
   // side of their winding only.
   static Vec3 emission(const HitMaterials& t, const ShadingPoint& sp) {
-    return sp.cls == MaterialClass::Emissive && sp.front_face ? t.emission[sp.material] : Vec3(0.f);
+    return emission_seen(sp, t.emission[sp.material]);
   }
 };
 
