@@ -39,6 +39,7 @@
 #include "plugins/tracer_registry.h"
 #include "records/converge_row.h"
 #include "records/record_csv.h"
+#include "records/recorded_columns.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
 
@@ -156,8 +157,9 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   }
   r.non_finite_samples = run.total.non_finite;
   if (run.model) {
-    r.gpu_model = "simt[" + gpu_model_->params() + "]";
-    r.gpu_preset = recorded_tracer("simt", gpu_model_->params()).preset;
+    const ResultKey model = result_key("simt", gpu_model_->params(), gpu_model_->bvh_layout());
+    r.gpu_model = model.label(true);
+    r.gpu_preset = model.preset;
     r.modeled_frame = modeled ? 1 : 0;
     r.frame_modeled_gen_ms = run.modeled.gen_ms;
     r.frame_modeled_trace_ms = run.modeled.trace_ms;

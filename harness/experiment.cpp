@@ -78,7 +78,7 @@ class ExperimentRun {
   void run_method(const Unit& u, const GBuffer& gbuffer, Generated& generated);
   void run_device_row(ExperimentRow r, size_t ti, size_t mi);
   ExperimentRow head(const Unit& u, size_t ti) const;
-  bool resumed(const ExperimentRow& head, size_t ti);
+  bool resumed(const ExperimentRow& head);
   bool frame_resumed(int frame);
   template <class Fn>
   Timing measure(size_t ti, Fn&& trace_once);
@@ -151,7 +151,7 @@ void ExperimentRun::run_scene(size_t si) {
   where_ = "scene " + o_.scenes[si] + ", loading it and setting up the tracers";
   res_ = SceneResult{};
   setup_.reset();  // the previous scene's tracers go before the next scene is loaded
-  setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, generators_, res_.tracer_labels);
+  setup_ = std::make_unique<SceneSetup>(o_.scenes[si], o_, generators_, res_.tracers);
   res_.scene = setup_->scene.name;
   res_.triangles = setup_->scene.triangle_count();
   for (int frame = 0; frame < o_.frames; ++frame) run_frame(frame);
@@ -195,10 +195,10 @@ ExperimentRow ExperimentRun::head(const Unit& u, size_t ti) const {
 }
 
 // Rows already measured by an interrupted run count as measured now.
-bool ExperimentRun::resumed(const ExperimentRow& head, size_t ti) {
+bool ExperimentRun::resumed(const ExperimentRow& head) {
   const ExperimentRow* row = units_.take(head);
   if (!row) return false;
-  accumulate(*row, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
+  accumulate(*row, o_.frames, res_);
   return true;
 }
 
@@ -211,7 +211,7 @@ bool ExperimentRun::frame_resumed(int frame) {
     for (const Unit& u : owned)
       if (!units_.done(head(u, ti))) return false;
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
-    for (const Unit& u : owned) resumed(head(u, ti), ti);
+    for (const Unit& u : owned) resumed(head(u, ti));
   return true;
 }
 
@@ -259,7 +259,7 @@ void ExperimentRun::finish_row(ExperimentRow r, size_t ti, const ModeledStages& 
   if (const HwCounters* h = last_hw_counters(*setup_->tracers[ti])) set_hw_counters(r, *h);
   read_gpu_clocks(r.gpu, false);
   csv_.write(r);
-  accumulate(r, res_.tracer_labels[ti], ti == 0, o_.frames, res_);
+  accumulate(r, o_.frames, res_);
 }
 
 void ExperimentRun::run_frame(int frame) {
@@ -284,7 +284,7 @@ void ExperimentRun::run_primary(int frame, const std::vector<Ray>& rays) {
   if (!units_.owns(u)) return;
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti) {
     ExperimentRow r = head(u, ti);
-    if (setup_->pipelines[ti] || resumed(r, ti)) continue;  // device pipelines: run_device_primary
+    if (setup_->pipelines[ti] || resumed(r)) continue;  // device pipelines: run_device_primary
     where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, trace", res_.scene, frame, r.tracer);
     begin_measurement(r);
     const Timing t = measure(ti, [&] { setup_->tracers[ti]->trace(rays.data(), rays.size(), buffers_.hits.data()); });
@@ -312,7 +312,7 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
   const std::string unit = fmt::format("scene {}, frame {}, method {}", res_.scene, u.frame, o_.methods[mi].label);
   std::vector<std::pair<size_t, ExperimentRow>> todo;  // host-pipeline tracer index, row head
   for (size_t ti = 0; ti < o_.tracers.size(); ++ti)
-    if (ExperimentRow r = head(u, ti); !resumed(r, ti)) {
+    if (ExperimentRow r = head(u, ti); !resumed(r)) {
       where_ = fmt::format("{}, tracer {}, device pass", unit, r.tracer);
       if (setup_->pipelines[ti])
         run_device_row(std::move(r), ti, mi);
@@ -368,7 +368,7 @@ void ExperimentRun::run_device_primary(int frame) {
     auto pass = [&] { return p->primary(o_.width, o_.height, kPrimaryTile, kPrimaryTile, o_.seed, f, true); };
     ExperimentRow r = head(u, ti);
     where_ = fmt::format("scene {}, frame {}, primary pass, tracer {}, device pass", res_.scene, frame, r.tracer);
-    if (units_.owns(u) && !resumed(r, ti)) {
+    if (units_.owns(u) && !resumed(r)) {
       r.rays = size_t(o_.width) * size_t(o_.height);
       begin_measurement(r);
       set_device_times(r, measure_device(pass, setup_->repeats[ti], setup_->models[ti]), setup_->models[ti]);

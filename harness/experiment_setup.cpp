@@ -14,6 +14,7 @@
 #include "harness/memory_check.h"
 #include "plugins/tracer_registry.h"
 #include "records/record_csv.h"
+#include "records/recorded_columns.h"
 #include "shading/reference.h"
 #include "tracers/hw_counters.h"
 
@@ -115,7 +116,7 @@ int tracer_repeats(const ExperimentOptions& o, const PluginSpec& tracer, bool mo
 }
 
 SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o,
-                       const std::vector<std::unique_ptr<Generator>>& generators, std::vector<std::string>& labels) {
+                       const std::vector<std::unique_ptr<Generator>>& generators, std::vector<ResultKey>& keys) {
   const auto t_load = std::chrono::steady_clock::now();
   fingerprint = experiment_fingerprint(spec);
   scene = load_scene(spec);
@@ -130,8 +131,7 @@ SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o,
   for (const std::string& s : scene.load_notes) std::fprintf(stderr, "    loader: %s\n", s.c_str());
   for (const PluginSpec& t : o.tracers) {
     tracers.push_back(make_tracer(t, scene, bvh));
-    const std::string p = tracers.back()->params();
-    labels.push_back(p.empty() ? t.name : t.name + "[" + p + "]");
+    keys.push_back(result_key(t.name, tracers.back()->params(), tracers.back()->bvh_layout()));
     // Counting tracers, and tracers whose kernels a profiler replays (cuda:counters=hw), run once per row.
     models.push_back(tracers.back()->last_counters() != nullptr || !hw_run_under(*tracers.back()).empty());
     repeats.push_back(tracer_repeats(o, t, models.back()));
@@ -145,7 +145,7 @@ SceneSetup::SceneSetup(const std::string& spec, const ExperimentOptions& o,
   for (size_t ti = 0; ti < tracers.size(); ++ti)
     for (size_t mi = 0; pipelines[ti] && mi < o.methods.size(); ++mi) {
       const std::string why = pipelines[ti]->refusal(o.methods[mi].generator.name, *generators[mi], *encoders[mi]);
-      if (!why.empty()) throw Error(fmt::format("tracer '{}' (device pipeline): {}", labels[ti], why));
+      if (!why.empty()) throw Error(fmt::format("tracer '{}' (device pipeline): {}", keys[ti].label(true), why));
     }
 }
 

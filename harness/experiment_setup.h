@@ -48,10 +48,10 @@ struct SceneSetup {
   std::vector<int> repeats;                // per tracer: tracer_repeats
   std::vector<GpuProvenance> gpu;          // per tracer: its GPU's facts (records/provenance.h), empty on the CPU
   std::vector<DevicePipeline*> pipelines;  // per tracer: its device pipeline, or null (it traces host-made batches)
-  // Loads and builds; labels receives each tracer's label. Throws raycoh::Error when a tracer's device pipeline
-  // has no device version of a method's generator or encoder (DevicePipeline::refusal).
+  // Loads and builds; keys receives each tracer's result key (records/result_key.h). Throws raycoh::Error when a
+  // tracer's device pipeline has no device version of a method's generator or encoder (DevicePipeline::refusal).
   SceneSetup(const std::string& spec, const ExperimentOptions& o,
-             const std::vector<std::unique_ptr<Generator>>& generators, std::vector<std::string>& labels);
+             const std::vector<std::unique_ptr<Generator>>& generators, std::vector<ResultKey>& keys);
   SceneSetup(const SceneSetup&) = delete;
   SceneSetup& operator=(const SceneSetup&) = delete;
 };

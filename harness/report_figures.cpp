@@ -23,10 +23,10 @@ std::string older_gpu_preset(const std::string& gpu_model) {
   return recorded_tracer("simt", gpu_model.substr(open + 1, close - open - 1)).preset;
 }
 
-// "simt[preset=rtx3060,...]": the GPU model of a converge row (the CSV keeps every parameter in gpu_model).
+// "simt[preset=rtx3060]": the GPU model of a converge row (the CSV keeps every parameter in gpu_model).
 std::string short_model(const ResultCsv& c, const std::vector<std::string>& row) {
-  return "simt[preset=" + (c.has("gpu_preset") ? c.get(row, "gpu_preset") : older_gpu_preset(c.get(row, "gpu_model"))) +
-         ",...]";
+  const std::string preset = c.has("gpu_preset") ? c.get(row, "gpu_preset") : older_gpu_preset(c.get(row, "gpu_model"));
+  return ResultKey{"simt", preset, "", "", ""}.label();
 }
 
 }  // namespace
@@ -111,11 +111,11 @@ std::vector<double> ticks(double hi) {
   return t;
 }
 
-std::string footer_of(const Experiment& e, const std::string& tracer) {
+std::string footer_of(const Experiment& e, const ResultKey* tracer) {
   std::string tracers;
-  for (const std::string& t : e.tracers)
-    if (tracer.empty() || t == tracer)
-      tracers += (tracers.empty() ? "" : ", ") + t + (e.modeled.at(t) ? " (modeled)" : " (measured)");
+  for (const ResultKey& t : e.tracers)
+    if (!tracer || t == *tracer)
+      tracers += (tracers.empty() ? "" : ", ") + e.label(t) + (e.modeled(t) ? " (modeled)" : " (measured)");
   return fmt::format("{}, {} frame(s), tracer {}, revision {}", join_set(e.resolutions), join_set(e.frames), tracers,
                      join_set(e.revisions));
 }
@@ -128,11 +128,11 @@ struct TableMethods {
   std::vector<std::string> generators, encoders, methods;
 };
 
-TableMethods table_methods(const Experiment& e, const std::string& tl, bool e2e) {
+TableMethods table_methods(const Experiment& e, bool e2e) {
   TableMethods t;
   for (const std::string& m : e.methods) {
     if (m == "primary" && e2e) continue;
-    const Sums& s = e.sums.at(e.scenes.front()).at(tl).at(m);
+    const MethodColumns& s = e.method_of.at(m);
     add_unique(t.generators, s.generator);
     add_unique(t.encoders, s.encoder);
   }
@@ -140,19 +140,19 @@ TableMethods table_methods(const Experiment& e, const std::string& tl, bool e2e)
     for (const std::string& enc : t.encoders)
       for (const std::string& m : e.methods) {
         if (m == "primary" && e2e) continue;
-        const Sums& s = e.sums.at(e.scenes.front()).at(tl).at(m);
+        const MethodColumns& s = e.method_of.at(m);
         if (s.generator == g && s.encoder == enc) t.methods.push_back(m);
       }
   return t;
 }
 
 // The highest ratio to noopt of any bar, at least 1.
-double highest_ratio(const Experiment& e, const std::string& tl, bool e2e, const std::vector<std::string>& methods) {
-  const bool modeled = e.modeled.at(tl);
+double highest_ratio(const Experiment& e, const ResultKey& tl, bool e2e, const std::vector<std::string>& methods) {
+  const bool modeled = e.modeled(tl);
   double hi = 1.0;
   for (const std::string& scene : e.scenes)
     for (const std::string& m : methods) {
-      const auto& t = e.sums.at(scene).at(tl);
+      const auto& t = e.sums(scene, tl);
       if (!t.count(m)) continue;
       hi = std::max(hi, t.at(m).speed(modeled, e2e) / std::max(t.at("noopt").speed(modeled, e2e), 1e-30));
     }
@@ -198,18 +198,18 @@ std::string table_axes(const TableLayout& l, const std::vector<double>& tk, bool
 }
 
 // Every scene's bars with the scene's name below them, then the axis at 0.
-std::string table_bars(const Experiment& e, const std::string& tl, bool e2e, const TableMethods& tm,
+std::string table_bars(const Experiment& e, const ResultKey& tl, bool e2e, const TableMethods& tm,
                        const TableLayout& l) {
-  const bool modeled = e.modeled.at(tl);
+  const bool modeled = e.modeled(tl);
   std::string svg;
   double x = l.left + l.scene_gap / 2;
   for (const std::string& scene : e.scenes) {
-    const auto& t = e.sums.at(scene).at(tl);
+    const auto& t = e.sums(scene, tl);
     const double base = std::max(t.at("noopt").speed(modeled, e2e), 1e-30);
     double bx = x;
     std::string prev;
     for (const std::string& m : tm.methods) {
-      const Sums& s = e.sums.at(e.scenes.front()).at(tl).at(m);
+      const MethodColumns& s = e.method_of.at(m);
       if (!prev.empty() && s.generator != prev) bx += l.gap;
       prev = s.generator;
       if (t.count(m)) {
@@ -263,29 +263,29 @@ std::string table_legend(const TableMethods& tm, const TableLayout& l) {
 
 // The Table 1 layout as bars: scenes across, in each scene the methods grouped by generator (one hue each, a gap
 // between groups), encoders as shades of the hue (none the full colour); the value is the ratio to noopt.
-std::string table_figure(const Experiment& e, const std::string& tl, bool e2e, const std::string& title) {
-  const TableMethods methods = table_methods(e, tl, e2e);
+std::string table_figure(const Experiment& e, const ResultKey& tl, bool e2e, const std::string& title) {
+  const TableMethods methods = table_methods(e, e2e);
   const std::vector<double> tk = ticks(highest_ratio(e, tl, e2e, methods.methods) * 1.05);
   const TableLayout layout(e, methods, tk.back());
-  std::string svg = table_axes(layout, tk, e.modeled.at(tl), title);
+  std::string svg = table_axes(layout, tk, e.modeled(tl), title);
   svg += table_bars(e, tl, e2e, methods, layout);
   svg += table_legend(methods, layout);
-  svg += text(layout.left, layout.height - 6, footer_of(e, tl), "start", 10, " fill=\"#555\"");
+  svg += text(layout.left, layout.height - 6, footer_of(e, &tl), "start", 10, " fill=\"#555\"");
   return svg + "</svg>\n";
 }
 
 // Table 3 as a heatmap: tile W×H down, K across, the ratio to noopt in every cell.
-std::string sweep_figure(const Experiment& e, const std::string& scene, const std::string& tl) {
+std::string sweep_figure(const Experiment& e, const std::string& scene, const ResultKey& tl) {
   std::vector<std::string> tiles;
   std::vector<int> ks;
   std::map<std::pair<std::string, int>, double> value;
-  const bool modeled = e.modeled.at(tl);
-  const auto& t = e.sums.at(scene).at(tl);
+  const bool modeled = e.modeled(tl);
+  const auto& t = e.sums(scene, tl);
   const double base = std::max(t.at("noopt").speed(modeled, false), 1e-30);
   double lo = 1e30, hi = 0;
   for (const std::string& m : e.methods) {
     if (!t.count(m)) continue;
-    const auto sc = sweep_cell(m, t.at(m).generator, t.at(m).recorded);
+    const auto sc = sweep_cell(m, e.method_of.at(m).generator, e.method_of.at(m).recorded);
     if (!sc) continue;
     const std::string tile = fmt::format("{}×{}", sc->tile_w, sc->tile_h);
     const int k = sc->k;
@@ -299,7 +299,7 @@ std::string sweep_figure(const Experiment& e, const std::string& scene, const st
   std::sort(ks.begin(), ks.end());
   const double cw = 70, ch = 28, left = 70, top = 64;
   const double width = std::max(left + cw * ks.size() + 20, 440.0), height = top + ch * tiles.size() + 40;
-  const std::string title = fmt::format("{} — {} ({})", scene, tl, modeled ? "modeled" : "measured");
+  const std::string title = fmt::format("{} — {} ({})", scene, e.label(tl), modeled ? "modeled" : "measured");
   std::string svg = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0f}\" height=\"{:.0f}\" viewBox=\"0 0 {:.0f} {:.0f}\" "
       "role=\"img\" font-family=\"sans-serif\">\n<title>{}</title>\n",
@@ -328,7 +328,7 @@ std::string sweep_figure(const Experiment& e, const std::string& scene, const st
   }
   svg += text(10, height - 22, fmt::format("speed / noopt, trace only; darker = faster ({:.2f}x to {:.2f}x)", lo, hi),
               "start", 10, " fill=\"#555\"");
-  svg += text(10, height - 8, footer_of(e, tl), "start", 10, " fill=\"#555\"");
+  svg += text(10, height - 8, footer_of(e, &tl), "start", 10, " fill=\"#555\"");
   return svg + "</svg>\n";
 }
 

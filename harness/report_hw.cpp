@@ -29,7 +29,7 @@ HwRows read_hw_rows(const ResultCsv& c, const std::vector<std::string>& names) {
   HwRows h;
   for (const auto& r : c.rows) {
     if (c.get(r, "run_under") != kHwCountersRunUnder) continue;
-    const std::string tracer = c.get(r, "tracer") + "[" + c.get(r, "tracer_params") + "]";
+    const std::string tracer = result_key_of(c, r).label(true);
     const std::string scene = c.get(r, "scene"), method = c.get(r, "method");
     HwSums& s = h.sums[tracer][scene][method];
     s.w.resize(names.size(), 0.0);

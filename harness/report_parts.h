@@ -24,9 +24,9 @@ std::string text(double x, double y, const std::string& s, const char* anchor = 
 std::vector<double> ticks(double hi);
 
 // The footer of a figure: resolution, frames and revision, then the tracers (two lines of SVG text).
-std::string footer_of(const Experiment& e, const std::string& tracer = "");
-std::string table_figure(const Experiment& e, const std::string& tl, bool e2e, const std::string& title);
-std::string sweep_figure(const Experiment& e, const std::string& scene, const std::string& tl);
+std::string footer_of(const Experiment& e, const ResultKey* tracer = nullptr);
+std::string table_figure(const Experiment& e, const ResultKey& tl, bool e2e, const std::string& title);
+std::string sweep_figure(const Experiment& e, const std::string& scene, const ResultKey& tl);
 std::string converge_figure(const ResultCsv& c, const std::string& clock, const std::string& metric);
 
 struct Page {

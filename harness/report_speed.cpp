@@ -18,30 +18,26 @@ namespace {
 std::string ratio(double v, double base) { return fmt::format("{:.2f}x", base > 0 ? v / base : 0.0); }
 
 // A method's trace / end-to-end ratios to noopt: measured ones with their paired intervals, modeled ones alone.
-std::string speed_cells(const std::map<std::string, Sums>& t, const std::string& m, bool modeled) {
-  const Sums& a = t.at(m);
-  const Sums& base = t.at("noopt");
+std::string speed_cells(const std::map<std::string, Accumulated>& t, const std::string& m, bool modeled) {
+  const Accumulated& a = t.at(m);
+  const Accumulated& base = t.at("noopt");
   if (modeled)
     return ratio(a.speed(true, false), base.speed(true, false)) +
            (m == "primary" ? "" : " / " + ratio(a.speed(true, true), base.speed(true, true)));
   if (m == "noopt") return "1.00x / 1.00x";
-  return ratio_text(paired_ratio(base.trace_times, a.trace_times)) +
-         (m == "primary" ? "" : " / " + ratio_text(paired_ratio(base.e2e_times, a.e2e_times)));
+  return ratio_text(measured_ratio(base, a, false)) +
+         (m == "primary" ? "" : " / " + ratio_text(measured_ratio(base, a, true)));
 }
 
 // One scene's fastest end to end: modeled, the highest modeled speed; measured, top_of_ranking over its intervals.
-std::string top(const Experiment& e, const std::string& scene, const std::string& tl) {
-  const auto& t = e.sums.at(scene).at(tl);
-  if (e.modeled.at(tl)) {
-    std::pair<std::string, double> best{"", 0.0};
-    for (const auto& [m, a] : t)
-      if (m != "primary" && a.speed(true, true) > best.second) best = {m, a.speed(true, true)};
-    return fmt::format("{} ({})", best.first, ratio(best.second, t.at("noopt").speed(true, true)));
-  }
-  std::vector<std::pair<std::string, const FrameSeries*>> ranked;
+std::string top(const Experiment& e, const std::string& scene, const ResultKey& tl) {
+  const auto& t = e.sums(scene, tl);
+  std::vector<std::string> methods;
   for (const std::string& m : e.methods)
-    if (m != "primary" && t.count(m)) ranked.emplace_back(m, &t.at(m).e2e_times);
-  return top_of_ranking(ranked, t.at("noopt").e2e_times);
+    if (m != "primary" && t.count(m)) methods.push_back(m);
+  if (!e.modeled(tl)) return measured_top(t, methods);
+  const std::string best = fastest_modeled(t, methods);
+  return fmt::format("{} ({})", best, ratio(t.at(best).speed(true, true), t.at("noopt").speed(true, true)));
 }
 
 }  // namespace
@@ -67,12 +63,13 @@ void add_table(Page& p, const ResultCsv& c) {
   if (note_not_timings(p, e, c.path)) return;
   p.html += fmt::format("<h2>Table 1 layout: {}</h2>\n", html_escape(c.path));
   p.md += fmt::format("## Table 1 layout: {}\n\n{}\n\n", c.path, footer_of(e));
-  for (const std::string& tl : e.tracers) {
-    const bool modeled = e.modeled.at(tl);
+  for (const ResultKey& key : e.tracers) {
+    const std::string tl = e.label(key);
+    const bool modeled = e.modeled(key);
     const std::string kind = modeled ? "MODELED GPU (not measured)" : "measured";
     p.html += fmt::format("<h3>{} — {}</h3>\n<div class=\"figs\">\n", html_escape(tl), kind);
-    p.html += table_figure(e, tl, false, tl + ": trace only, " + (modeled ? "modeled" : "measured"));
-    p.html += table_figure(e, tl, true, tl + ": end to end (generation + keys + sort + permute + trace)");
+    p.html += table_figure(e, key, false, tl + ": trace only, " + (modeled ? "modeled" : "measured"));
+    p.html += table_figure(e, key, true, tl + ": end to end (generation + keys + sort + permute + trace)");
     p.html += "</div>\n";
     // Markdown: methods down, scenes across, trace and end-to-end ratios to noopt.
     p.md += fmt::format("### {} ({}): speed / noopt, trace only / end to end\n\n| method |", tl, kind);
@@ -82,13 +79,13 @@ void add_table(Page& p, const ResultCsv& c) {
     for (const std::string& m : e.methods) {
       p.md += "| " + m + " |";
       for (const std::string& s : e.scenes) {
-        const auto& t = e.sums.at(s).at(tl);
+        const auto& t = e.sums(s, key);
         p.md += t.count(m) ? " " + speed_cells(t, m, modeled) + " |" : " — |";
       }
       p.md += "\n";
     }
     std::string line;
-    for (const std::string& s : e.scenes) line += fmt::format("{} {}: {}", line.empty() ? "" : ";", s, top(e, s, tl));
+    for (const std::string& s : e.scenes) line += fmt::format("{} {}: {}", line.empty() ? "" : ";", s, top(e, s, key));
     p.md += fmt::format("\nFastest end to end{}:{}\n\n", modeled ? "" : " (ratio to noopt [95% interval])", line);
     p.html += fmt::format("<p class=\"win\">Fastest end to end ({}):{}</p>\n", modeled ? "modeled" : "measured",
                           html_escape(line));
@@ -102,7 +99,7 @@ void add_sweep(Page& p, const ResultCsv& c) {
   p.html += fmt::format("<h2>Table 3 layout: {}</h2>\n<div class=\"figs\">\n", html_escape(c.path));
   p.md += fmt::format("## Table 3 layout: {}\n\n{}\n\n", c.path, footer_of(e));
   for (const std::string& scene : e.scenes)
-    for (const std::string& tl : e.tracers) p.html += sweep_figure(e, scene, tl);
+    for (const ResultKey& key : e.tracers) p.html += sweep_figure(e, scene, key);
   p.html += "</div>\n";
 }
 

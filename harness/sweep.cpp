@@ -44,11 +44,12 @@ void check_sweep(const SweepOptions& o) {
 }
 
 // One tracer's tile x K table.
-void print_sweep(const SweepOptions& o, const SceneResult& r, const std::string& tl,
+void print_sweep(const SweepOptions& o, const SceneResult& r, const ResultKey& key,
                  const std::vector<std::vector<std::string>>& labels) {
   const ExperimentOptions& e = o.experiment;
-  const auto& m = r.by_tracer.at(tl);
-  if (m.at("noopt").hw_counters) {  // cuda:counters=hw: replayed kernels, no speeds; the counters are in the CSV
+  const auto& m = r.by_tracer.at(key);
+  const std::string tl = key.label(true);
+  if (m.at("noopt").hw.replayed) {  // cuda:counters=hw: replayed kernels, no speeds; the counters are in the CSV
     std::printf(
         "\n%s, tracer %s: MEASURED hardware counters only (kernels replayed by CUPTI: no speeds; hw_* columns "
         "of %s)\n",
@@ -56,7 +57,7 @@ void print_sweep(const SweepOptions& o, const SceneResult& r, const std::string&
     return;
   }
   // A modelling tracer's wall time is the model's: its cells are the timing model's modeled MRay/s.
-  const bool model = m.at("noopt").has_model;
+  const bool model = m.at("noopt").model.any;
   auto value = [&](const Accumulated& a) { return model ? a.modeled_mray_s() : a.mray_s(); };
   const double base = value(m.at("noopt"));
   if (model)
@@ -109,7 +110,7 @@ int run_sweep(const SweepOptions& o, const Provenance& provenance) {
   e.tracers = expand_auto(e.tracers);
   const std::vector<SceneResult> results = run_experiment(e, provenance);
   if (!e.shard.whole()) return print_shard_done(e, provenance);
-  for (const std::string& tl : results.front().tracer_labels) print_sweep(o, results.front(), tl, labels);
+  for (const ResultKey& key : results.front().tracers) print_sweep(o, results.front(), key, labels);
   std::printf("\nWrote %s (%s)\n", e.out.c_str(), provenance.git_revision.c_str());
   return 0;
 }

@@ -63,7 +63,7 @@ void print_generation(const std::vector<SceneResult>& results, const std::vector
 
 // The rows of an end-to-end table: methods down, scenes across; speed and share pick measured or modeled figures.
 // `interval`: the measured end to end's ratio interval (host pipelines; a device pipeline's is on its span).
-void print_e2e_rows(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
+void print_e2e_rows(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const ResultKey& tl,
                     double (Accumulated::*speed)() const, double (Accumulated::*share)() const, bool interval) {
   for (const Method& method : methods) {
     std::string line = "| " + method.label + " |";
@@ -82,9 +82,9 @@ void print_e2e_rows(const std::vector<SceneResult>& results, const std::vector<M
 // Counting and modelling tracers (`simt`, `cuda:counters=on`): the coherence counters per ray, and for `simt` the
 // GPU timing model's figures, labelled modeled: trace-only MRay/s with the ratio to noopt and the port that
 // bounded the kernel, then end to end with every stage modeled on the same GPU (never a CPU time).
-void print_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
+void print_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const ResultKey& tl,
                     const std::string& name, const std::string& header) {
-  const bool model = results.front().by_tracer.at(tl).at("noopt").has_model;
+  const bool model = results.front().by_tracer.at(tl).at("noopt").model.any;
   std::printf("\n### %s: %sSIMT efficiency, L1 / L2 sector misses per ray\n\n%s\n", name.c_str(),
               model ? "MODELED GPU trace, not measured: modeled MRay/s (ratio to noopt), limiter; " : "",
               header.c_str());
@@ -95,8 +95,9 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
       const Accumulated& a = m.at(label);
       if (model)
         line +=
-            fmt::format(" {}, {};", ratio_cell(a.modeled_mray_s(), m.at("noopt").modeled_mray_s()), a.modeled_limiter);
-      line += fmt::format(" {:.3f}, {:.2f} / {:.2f} |", a.per_ray(a.simt_eff_w), a.per_ray(a.l1_w), a.per_ray(a.l2_w));
+            fmt::format(" {}, {};", ratio_cell(a.modeled_mray_s(), m.at("noopt").modeled_mray_s()), a.model.limiter);
+      line += fmt::format(" {:.3f}, {:.2f} / {:.2f} |", a.per_ray(a.counters.simt_eff_w), a.per_ray(a.counters.l1_w),
+                          a.per_ray(a.counters.l2_w));
     }
     std::printf("%s\n", line.c_str());
   }
@@ -110,16 +111,16 @@ void print_counters(const std::vector<SceneResult>& results, const std::vector<M
 
 // What a device pipeline's times are: measured on a GPU, or simulated (a simulator build: GPGPU-Sim's times are a
 // second model's, never hardware's).
-std::string device_times(const std::string& tl) {
-  return simulated_device(PluginSpec{tl.substr(0, tl.find('[')), ""}) ? "SIMULATED" : "MEASURED";
+std::string device_times(const ResultKey& tl) {
+  return simulated_device(PluginSpec{tl.tracer, ""}) ? "SIMULATED" : "MEASURED";
 }
 
 // Timing tracers: trace-only MRay/s, then end to end with the overhead share. A device pipeline's figures are
 // measured on the GPU, every stage; its end to end is also given as the measured span of the whole pass.
-void print_speeds(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const std::string& tl,
+void print_speeds(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const ResultKey& tl,
                   const std::string& name, const std::string& header, const ExperimentOptions& o) {
-  const bool device = results.front().by_tracer.at(tl).at("noopt").on_device;
-  const int repeats = results.front().by_tracer.at(tl).at("noopt").repeats;
+  const bool device = results.front().by_tracer.at(tl).at("noopt").measured.on_device;
+  const int repeats = results.front().by_tracer.at(tl).at("noopt").measured.repeats;
   const std::string where =
       device ? " (" + device_times(tl) + " on the GPU: every stage on the device, CUDA events)" : "";
   std::printf(
@@ -162,35 +163,35 @@ void print_speeds(const std::vector<SceneResult>& results, const std::vector<Met
 // Device pipelines beside GPU models: per method and scene, ms per frame of generation / reordering (key + sort +
 // permute) / trace / end to end, measured on the GPU (end to end: the measured span) and modeled on each model.
 void print_measured_vs_modeled(const std::vector<SceneResult>& results, const std::vector<Method>& methods,
-                               const std::map<std::string, std::string>& names) {
-  std::vector<std::string> measured, modeled;
-  for (const std::string& tl : results.front().tracer_labels) {
+                               const std::map<ResultKey, std::string>& names) {
+  std::vector<ResultKey> measured, modeled;
+  for (const ResultKey& tl : results.front().tracers) {
     const Accumulated& a = results.front().by_tracer.at(tl).at("noopt");
-    if (a.on_device && !a.has_counters && !a.hw_counters) measured.push_back(tl);
-    if (a.has_model) modeled.push_back(tl);
+    if (a.measured.on_device && !a.counters.any && !a.hw.replayed) measured.push_back(tl);
+    if (a.model.any) modeled.push_back(tl);
   }
   if (measured.empty()) return;
   std::printf(
       "\n### Device pipeline (MEASURED on a GPU, SIMULATED in a simulator build) vs modeled GPU, ms per frame: "
       "generation / key+sort+permute / trace / end to end "
       "(measured: CUDA events, end to end the span; modeled: never added to a measured time)\n\n| scene | method |");
-  for (const std::string& tl : measured) std::printf(" %s %s |", names.at(tl).c_str(), device_times(tl).c_str());
-  for (const std::string& tl : modeled) std::printf(" %s MODELED |", names.at(tl).c_str());
+  for (const ResultKey& tl : measured) std::printf(" %s %s |", names.at(tl).c_str(), device_times(tl).c_str());
+  for (const ResultKey& tl : modeled) std::printf(" %s MODELED |", names.at(tl).c_str());
   std::printf("\n|---|---|%s\n", std::string(3 * (measured.size() + modeled.size()), '-').c_str());
   for (const SceneResult& r : results)
     for (const Method& method : methods) {
       std::string line = "| " + r.scene + " | " + method.label + " |";
-      for (const std::string& tl : measured) {
+      for (const ResultKey& tl : measured) {
         const Accumulated& a = r.by_tracer.at(tl).at(method.label);
         const double f = 1e3 / std::max(a.frames, 1);
-        line += fmt::format(" {:.3f} / {:.3f} / {:.3f} / {:.3f} |", a.gen_s * f, a.reorder_s * f, a.trace_s * f,
-                            a.gpu_span_s * f);
+        line += fmt::format(" {:.3f} / {:.3f} / {:.3f} / {:.3f} |", a.measured.gen_s * f, a.measured.reorder_s * f,
+                            a.measured.trace_s * f, a.measured.gpu_span_s * f);
       }
-      for (const std::string& tl : modeled) {
+      for (const ResultKey& tl : modeled) {
         const Accumulated& a = r.by_tracer.at(tl).at(method.label);
         const double f = 1e3 / std::max(a.frames, 1);
-        line += fmt::format(" {:.3f} / {:.3f} / {:.3f} / {:.3f} |", a.modeled_gen_s * f, a.modeled_reorder_s * f,
-                            a.modeled_s * f, a.modeled_e2e_s * f);
+        line += fmt::format(" {:.3f} / {:.3f} / {:.3f} / {:.3f} |", a.model.gen_s * f, a.model.reorder_s * f,
+                            a.model.trace_s * f, a.model.e2e_s * f);
       }
       std::printf("%s\n", line.c_str());
     }
@@ -208,37 +209,25 @@ std::string scene_header(const std::vector<SceneResult>& results) {
   return header + "\n" + rule;
 }
 
-// Tracer labels in headings: the name, and a GPU model's preset; the full parameters are printed once, above the
-// tables (print_tracers). Labels two tracers would share stay whole.
-std::map<std::string, std::string> short_labels(const SceneResult& first) {
-  std::map<std::string, std::string> names;
-  std::map<std::string, int> uses;
-  for (const std::string& tl : first.tracer_labels) {
-    const std::string& name = first.tracer_names.at(tl);
-    names[tl] = name;
-    ++uses[name];
-  }
-  for (auto& [tl, name] : names)
-    if (uses[name] > 1) name = tl;
-  return names;
-}
-
-void print_tracers(const SceneResult& first, const std::map<std::string, std::string>& names,
+// Every tracer with what its figures are, by its name in the headings (records/result_key.h heading_labels) and,
+// where that leaves parameters out, every parameter.
+void print_tracers(const SceneResult& first, const std::map<ResultKey, std::string>& names,
                    const ExperimentOptions& o) {
   std::printf("## raycoh table: %dx%d, %d frame(s), seed %u\n\n", o.width, o.height, o.frames, o.seed);
-  for (const std::string& tl : first.tracer_labels) {
+  for (const ResultKey& tl : first.tracers) {
     const Accumulated& a = first.by_tracer.at(tl).at("noopt");
-    const PluginSpec tracer{tl.substr(0, tl.find('[')), ""};
-    const std::string what = a.has_model ? "MODELED GPU figures (the GPU timing model, not measured)"
-                             : simulated_device(tracer)
-                                 ? std::string(a.has_counters ? "coherence counters; " : "") +
-                                       "SIMULATED GPU figures, not hardware (" + device_of(tracer) + ")"
-                             : a.hw_counters  ? "MEASURED hardware counters (CUPTI; kernels replayed, no speeds)"
-                             : a.has_counters ? "coherence counters"
-                             : a.on_device    ? "MEASURED on the GPU: every batch made, sorted and traced on the device"
-                                              : "measured on this machine";
+    const PluginSpec tracer{tl.tracer, ""};
+    const std::string what =
+        a.model.any                ? "MODELED GPU figures (the GPU timing model, not measured)"
+        : simulated_device(tracer) ? std::string(a.counters.any ? "coherence counters; " : "") +
+                                         "SIMULATED GPU figures, not hardware (" + device_of(tracer) + ")"
+        : a.hw.replayed        ? "MEASURED hardware counters (CUPTI; kernels replayed, no speeds)"
+        : a.counters.any       ? "coherence counters"
+        : a.measured.on_device ? "MEASURED on the GPU: every batch made, sorted and traced on the device"
+                               : "measured on this machine";
     const std::string& name = names.at(tl);
-    std::printf("- %s: %s%s\n", name.c_str(), what.c_str(), name == tl ? "" : ("; " + tl).c_str());
+    const std::string full = tl.label(true);
+    std::printf("- %s: %s%s\n", name.c_str(), what.c_str(), name == full ? "" : ("; " + full).c_str());
   }
 }
 
@@ -246,29 +235,26 @@ void print_tracers(const SceneResult& first, const std::map<std::string, std::st
 // sort + permute + trace; modeled for a GPU model, the measured span for a device pipeline) and its ratio to
 // noopt. A measured winner is called fastest only where its paired interval over every other method excludes 1.
 void print_winners(const std::vector<SceneResult>& results, const std::vector<Method>& methods,
-                   const std::map<std::string, std::string>& names) {
+                   const std::map<ResultKey, std::string>& names) {
+  std::vector<std::string> labels;
+  for (const Method& method : methods) labels.push_back(method.label);
   std::string lines;
-  for (const std::string& tl : results.front().tracer_labels) {
+  for (const ResultKey& tl : results.front().tracers) {
     const Accumulated& first = results.front().by_tracer.at(tl).at("noopt");
-    if ((first.has_counters && !first.has_model) || first.hw_counters) continue;  // counters only: no time
-    const std::string kind = first.has_model ? "modeled"
-                             : first.on_device
+    if ((first.counters.any && !first.model.any) || first.hw.replayed) continue;  // counters only: no time
+    const std::string kind = first.model.any ? "modeled"
+                             : first.measured.on_device
                                  ? (device_times(tl) == "SIMULATED" ? "simulated GPU" : "measured on the GPU")
                                  : "measured";
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
       std::string verdict;
-      if (first.has_model) {
-        const Method* best = &methods.front();
-        for (const Method& method : methods)
-          if (m.at(method.label).modeled_e2e_mray_s() > m.at(best->label).modeled_e2e_mray_s()) best = &method;
-        verdict =
-            fmt::format("{} {:.2f}x", best->label,
-                        m.at(best->label).modeled_e2e_mray_s() / std::max(m.at("noopt").modeled_e2e_mray_s(), 1e-30));
+      if (first.model.any) {
+        const std::string best = fastest_modeled(m, labels);
+        verdict = fmt::format("{} {:.2f}x", best,
+                              m.at(best).modeled_e2e_mray_s() / std::max(m.at("noopt").modeled_e2e_mray_s(), 1e-30));
       } else {
-        std::vector<std::pair<std::string, const FrameSeries*>> ranked;
-        for (const Method& method : methods) ranked.emplace_back(method.label, &m.at(method.label).e2e_times);
-        verdict = top_of_ranking(ranked, m.at("noopt").e2e_times);
+        verdict = measured_top(m, labels);
       }
       lines += fmt::format("- {} ({}), {}: {}\n", names.at(tl), kind, r.scene, verdict);
     }
@@ -314,12 +300,12 @@ int run_table(const TableOptions& options, const Provenance& provenance) {
   if (!e.shard.whole()) return print_shard_done(e, provenance);
 
   const std::string header = scene_header(results);
-  const std::map<std::string, std::string> names = short_labels(results.front());
+  const std::map<ResultKey, std::string> names = heading_labels(results.front().tracers);
   print_tracers(results.front(), names, e);
-  for (const std::string& tl : results.front().tracer_labels) {
-    if (results.front().by_tracer.at(tl).at("noopt").hw_counters)
+  for (const ResultKey& tl : results.front().tracers) {
+    if (results.front().by_tracer.at(tl).at("noopt").hw.replayed)
       print_hw_counters(results, e.methods, tl, names.at(tl), header);
-    else if (results.front().by_tracer.at(tl).at("noopt").has_counters)
+    else if (results.front().by_tracer.at(tl).at("noopt").counters.any)
       print_counters(results, e.methods, tl, names.at(tl), header);
     else
       print_speeds(results, e.methods, tl, names.at(tl), header, e);

@@ -29,8 +29,8 @@ int run_table(const TableOptions& options, const Provenance& provenance);
 
 // A tracer that read the GPU's own counters (cuda:counters=hw; harness/table_hw.cpp): its measured hw columns per
 // method (down) and scene (across), in place of speeds its replayed kernels do not have.
-void print_hw_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods,
-                       const std::string& tl, const std::string& name, const std::string& header);
+void print_hw_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const ResultKey& tl,
+                       const std::string& name, const std::string& header);
 
 // A shard's run (--shard I/N) prints no tables (they need every row): one line saying what was written. Returns 0.
 int print_shard_done(const ExperimentOptions& e, const Provenance& provenance);

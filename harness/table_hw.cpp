@@ -17,7 +17,7 @@ std::string hw_cell(const Accumulated& a, const std::string& name, const char* f
   const std::vector<std::string> names = hw_column_names();
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) {
-      const std::optional<double> v = a.hw(i);
+      const std::optional<double> v = a.hw.value(i);
       return v ? fmt::format(fmt::runtime(format), *v) : std::string("—");
     }
   return "—";
@@ -25,8 +25,8 @@ std::string hw_cell(const Accumulated& a, const std::string& name, const char* f
 
 }  // namespace
 
-void print_hw_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods,
-                       const std::string& tl, const std::string& name, const std::string& header) {
+void print_hw_counters(const std::vector<SceneResult>& results, const std::vector<Method>& methods, const ResultKey& tl,
+                       const std::string& name, const std::string& header) {
   std::printf(
       "\n### %s: MEASURED hardware counters of the trace kernels (CUPTI range profiler; kernels replayed, so no "
       "speed): L1 / L2 sector hit %%; per ray: L1 data / tag wavefronts, L2 / DRAM bytes, local requests, warp "

@@ -84,7 +84,7 @@ TuneSpeeds read_tune_speeds(const TuneOptions& o, const std::string& path, const
     const std::string& method = c.get(r, "method");
     if (method == "primary") continue;
     s.scene = c.get(r, "scene");
-    s.tracer_label = tracer_label(c.get(r, "tracer"), recorded_of(c, r));
+    s.tracer_label = result_key_of(c, r).label();
     tracer = c.get(r, "tracer"), tracer_params = c.get(r, "tracer_params");
     s.repeats = std::max(s.repeats, static_cast<int>(c.num(r, "repeats")));
     const int frame = static_cast<int>(c.num(r, "frame"));

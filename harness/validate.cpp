@@ -91,7 +91,7 @@ ExperimentOptions experiment_of(const ValidateOptions& o, std::vector<std::strin
 // One compared cell of scene result r (the paper's column `col`) for our method `label`.
 ValidateRow compare_cell(const ValidateOptions& o, const SceneResult& r, const paper::Table1Column& col,
                          const std::string& label, double paper_mray_s) {
-  const auto& m = r.by_tracer.at(r.tracer_labels.front());
+  const auto& m = r.by_tracer.at(r.tracers.front());
   ValidateRow v;
   v.row = label;
   v.paper_scene = col.paper_scene;
@@ -102,7 +102,7 @@ ValidateRow compare_cell(const ValidateOptions& o, const SceneResult& r, const p
   if (v.kind == "modeled") {
     v.modeled_mray_s = m.at(label).modeled_mray_s();
     v.modeled_ratio = ours = v.modeled_mray_s / m.at("noopt").modeled_mray_s();
-    v.limiter = m.at(label).modeled_limiter;
+    v.limiter = m.at(label).model.limiter;
   } else {
     const SpeedRatio ratio = measured_ratio(m.at("noopt"), m.at(label), false);
     v.measured_mray_s = m.at(label).mray_s();
@@ -117,7 +117,7 @@ ValidateRow compare_cell(const ValidateOptions& o, const SceneResult& r, const p
   v.ratio_error = std::isnan(v.paper_ratio) ? NAN : ours / v.paper_ratio - 1.0;
   v.scene = r.scene;
   v.preset = modeled(o) ? o.preset : "";
-  v.tracer_params = r.tracer_labels.front();
+  v.tracer_params = r.tracers.front().label(true);
   v.order = o.order;
   v.width = o.width;
   v.height = o.height;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "generators/generator.h"
 #include "records/hw_columns.h"
 #include "simt/timed_replay.h"
 
@@ -154,71 +155,96 @@ GenerationStats generation_of(const ExperimentRow& row) {
 
 namespace {
 
-void add_frame_times(const ExperimentRow& row, Accumulated& acc) {
+void add_frame_times(const ExperimentRow& row, MeasuredSums& m) {
   const double rays = static_cast<double>(row.rays);
   const double e2e = row.gpu_e2e_ms.value_or(row.e2e_ms);
-  acc.trace_times[row.frame] = {row.trace_samples_ms.empty() ? std::vector<double>{row.trace_ms} : row.trace_samples_ms,
-                                rays};
-  acc.e2e_times[row.frame] = {row.e2e_samples_ms.empty() ? std::vector<double>{e2e} : row.e2e_samples_ms, rays};
+  m.trace_times[row.frame] = {row.trace_samples_ms.empty() ? std::vector<double>{row.trace_ms} : row.trace_samples_ms,
+                              rays};
+  m.e2e_times[row.frame] = {row.e2e_samples_ms.empty() ? std::vector<double>{e2e} : row.e2e_samples_ms, rays};
+}
+
+void add_measured(const ExperimentRow& row, MeasuredSums& m) {
+  m.trace_s += row.trace_ms * 1e-3;
+  m.gen_s += row.gen_ms * 1e-3;
+  m.reorder_s += (row.key_ms + row.sort_ms + row.permute_ms) * 1e-3;
+  m.e2e_s += row.e2e_ms * 1e-3;
+  m.repeats = row.repeats;
+  if (row.pipeline != "host") {  // device or fused: every stage on the device
+    m.on_device = true;
+    m.gpu_span_s += row.gpu_e2e_ms.value_or(0) * 1e-3;
+  }
+  add_frame_times(row, m);
+}
+
+void add_counters(const ExperimentRow& row, double rays, CounterSums& c) {
+  if (!row.simt_efficiency) return;
+  c.any = true;
+  c.simt_eff_w += rays * *row.simt_efficiency;
+  c.lines_w += rays * row.lines_per_ray.value_or(0);
+  c.l1_w += rays * row.l1_misses_per_ray.value_or(0);
+  c.l2_w += rays * row.l2_misses_per_ray.value_or(0);
+  c.dram_w += rays * row.dram_bytes_per_ray.value_or(0);
+}
+
+void add_modeled(const ExperimentRow& row, ModeledSums& m) {
+  if (!row.modeled_ms) return;
+  m.any = true;
+  m.trace_s += *row.modeled_ms * 1e-3;
+  m.e2e_s += row.modeled_e2e_ms.value_or(0) * 1e-3;
+  m.limiter = row.modeled_limiter;
+  m.gen_s += row.modeled_gen_ms.value_or(0) * 1e-3;
+  m.reorder_s +=
+      (row.modeled_key_ms.value_or(0) + row.modeled_sort_ms.value_or(0) + row.modeled_permute_ms.value_or(0)) * 1e-3;
+}
+
+void add_hw(const ExperimentRow& row, double rays, HwCounterSums& h) {
+  if (row.provenance.run_under == kHwCountersRunUnder) h.replayed = true;
+  h.w.resize(std::max(h.w.size(), row.hw.size()), 0.0);
+  h.rays.resize(h.w.size(), 0.0);
+  for (size_t i = 0; i < row.hw.size(); ++i)
+    if (row.hw[i]) h.w[i] += rays * *row.hw[i], h.rays[i] += rays;
 }
 
 }  // namespace
 
 SpeedRatio measured_ratio(const Accumulated& base, const Accumulated& method, bool e2e) {
-  return e2e ? paired_ratio(base.e2e_times, method.e2e_times) : paired_ratio(base.trace_times, method.trace_times);
+  return e2e ? paired_ratio(base.measured.e2e_times, method.measured.e2e_times)
+             : paired_ratio(base.measured.trace_times, method.measured.trace_times);
 }
 
-void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,
-                SceneResult& res) {
-  Accumulated& acc = res.by_tracer[tracer_label][row.method];
-  res.tracer_names[tracer_label] =
-      row.recorded.preset.empty() ? row.tracer : row.tracer + "[preset=" + row.recorded.preset + "]";
+ResultKey result_key(const ExperimentRow& row) {
+  return result_key(row.tracer, row.tracer_params, row.bvh, row.recorded);
+}
+
+std::string fastest_modeled(const std::map<std::string, Accumulated>& sums, const std::vector<std::string>& methods) {
+  const std::string* best = &methods.front();
+  for (const std::string& m : methods)
+    if (sums.at(m).modeled_e2e_mray_s() > sums.at(*best).modeled_e2e_mray_s()) best = &m;
+  return *best;
+}
+
+std::string measured_top(const std::map<std::string, Accumulated>& sums, const std::vector<std::string>& methods) {
+  std::vector<std::pair<std::string, const FrameSeries*>> ranked;
+  for (const std::string& m : methods) ranked.emplace_back(m, &sums.at(m).measured.e2e_times);
+  return top_of_ranking(ranked, sums.at("noopt").measured.e2e_times);
+}
+
+void accumulate(const ExperimentRow& row, int frames, SceneResult& res) {
+  const ResultKey key = result_key(row);
+  if (std::find(res.tracers.begin(), res.tracers.end(), key) == res.tracers.end()) res.tracers.push_back(key);
+  const bool first_tracer = key == res.tracers.front();
+  Accumulated& acc = res.by_tracer[key][row.method];
   const double rays = static_cast<double>(row.rays);
   acc.rays += rays;
-  acc.trace_s += row.trace_ms * 1e-3;
-  acc.gen_s += row.gen_ms * 1e-3;
-  acc.reorder_s += (row.key_ms + row.sort_ms + row.permute_ms) * 1e-3;
   ++acc.frames;
-  acc.repeats = row.repeats;
-  if (row.simt_efficiency) {
-    acc.has_counters = true;
-    acc.simt_eff_w += rays * *row.simt_efficiency;
-    acc.lines_w += rays * row.lines_per_ray.value_or(0);
-    acc.l1_w += rays * row.l1_misses_per_ray.value_or(0);
-    acc.l2_w += rays * row.l2_misses_per_ray.value_or(0);
-    acc.dram_w += rays * row.dram_bytes_per_ray.value_or(0);
-  }
-  if (row.modeled_ms) {
-    acc.has_model = true;
-    acc.modeled_s += *row.modeled_ms * 1e-3;
-    acc.modeled_e2e_s += row.modeled_e2e_ms.value_or(0) * 1e-3;
-    acc.modeled_limiter = row.modeled_limiter;
-    acc.modeled_gen_s += row.modeled_gen_ms.value_or(0) * 1e-3;
-    acc.modeled_reorder_s +=
-        (row.modeled_key_ms.value_or(0) + row.modeled_sort_ms.value_or(0) + row.modeled_permute_ms.value_or(0)) * 1e-3;
-  }
-  if (row.provenance.run_under == kHwCountersRunUnder) acc.hw_counters = true;
-  acc.hw_w.resize(std::max(acc.hw_w.size(), row.hw.size()), 0.0);
-  acc.hw_rays.resize(acc.hw_w.size(), 0.0);
-  for (size_t i = 0; i < row.hw.size(); ++i)
-    if (row.hw[i]) acc.hw_w[i] += rays * *row.hw[i], acc.hw_rays[i] += rays;
-  if (row.pipeline != "host") {  // device or fused: every stage on the device
-    acc.on_device = true;
-    acc.gpu_span_s += row.gpu_e2e_ms.value_or(0) * 1e-3;
-  }
-  add_frame_times(row, acc);
+  add_measured(row, acc.measured);
+  add_counters(row, rays, acc.counters);
+  add_modeled(row, acc.model);
+  add_hw(row, rays, acc.hw);
   if (row.pass != "secondary" || !first_tracer) return;
   res.rays_per_frame = rays;
   res.gen_ms[row.method] += row.gen_ms / frames;
-  const GenerationStats g = generation_of(row);
-  GenerationStats& sum = res.generation[row.method];
-  sum.rays += g.rays;
-  sum.below_geometric += g.below_geometric;
-  sum.below_shading += g.below_shading;
-  sum.non_finite += g.non_finite;
-  for (int i = 0; i < 5; ++i) sum.groups[i] += g.groups[i];
-  sum.hybrid_mean_fallback += g.hybrid_mean_fallback;
-  sum.reused_rays += g.reused_rays;
+  merge_stats(res.generation[row.method], generation_of(row));
 }
 
 void set_counters(ExperimentRow& r, const CoherenceCounters& c, const ModeledStages& stages) {

@@ -90,64 +90,98 @@ void set_generation(ExperimentRow& row, const GenerationStats& g);
 void set_counters(ExperimentRow& row, const CoherenceCounters& c, const ModeledStages& stages);
 GenerationStats generation_of(const ExperimentRow& row);
 
-// Sums over frames for one tracer and method.
-struct Accumulated {
-  double rays = 0, trace_s = 0, gen_s = 0, reorder_s = 0;  // reorder = key + sort + permute
-  int frames = 0;
+// Measured times of one tracer and method, summed over frames (seconds).
+struct MeasuredSums {
+  double trace_s = 0, gen_s = 0, reorder_s = 0;  // reorder = key + sort + permute
+  // End to end: generation + reordering + trace, as each row recorded it (e2e_ms: the median over repeats of
+  // their sums).
+  double e2e_s = 0;
   int repeats = 0;  // timed repeats per frame (of the last row)
-  double mray_s() const { return trace_s > 0 ? rays / trace_s * 1e-6 : 0.0; }
-  // End to end: generation + reordering + trace.
-  double e2e_s() const { return gen_s + reorder_s + trace_s; }
-  // Device pipelines (measured GPU): the pass's span, summed over frames; the stages' sums are the fields above.
+  // Device pipelines (measured GPU): the pass's span; the stages' sums are the fields above.
   bool on_device = false;
   double gpu_span_s = 0;
-  double gpu_span_mray_s() const { return gpu_span_s > 0 ? rays / gpu_span_s * 1e-6 : 0.0; }
-  // Modeled stages (modelling tracers), summed over frames: generation, key + sort + permute.
-  double modeled_gen_s = 0, modeled_reorder_s = 0;
-  double e2e_mray_s() const { return e2e_s() > 0 ? rays / e2e_s() * 1e-6 : 0.0; }
-  double overhead_share() const { return e2e_s() > 0 ? (gen_s + reorder_s) / e2e_s() : 0.0; }
-  // Coherence counters of modelling tracers (`simt`), per ray, weighted by rays over frames.
-  bool has_counters = false;
-  double simt_eff_w = 0, lines_w = 0, l1_w = 0, l2_w = 0, dram_w = 0;
-  // The timing model's figures (modeled seconds, summed over frames): trace, and end to end.
-  bool has_model = false;
-  double modeled_s = 0, modeled_e2e_s = 0;
-  std::string modeled_limiter;  // of the last frame
-  double modeled_mray_s() const { return modeled_s > 0 ? rays / modeled_s * 1e-6 : 0.0; }
-  double modeled_e2e_mray_s() const { return modeled_e2e_s > 0 ? rays / modeled_e2e_s * 1e-6 : 0.0; }
-  double modeled_overhead_share() const { return modeled_e2e_s > 0 ? 1.0 - modeled_s / modeled_e2e_s : 0.0; }
-  double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
-  // Rows whose kernels CUPTI replayed (run_under cupti-counters: no timings) and their measured hw columns, per
-  // hw_column_names() entry: the sum of value x rays over the rows holding it, and those rows' rays.
-  bool hw_counters = false;
-  std::vector<double> hw_w, hw_rays;
-  std::optional<double> hw(size_t i) const {
-    return i < hw_rays.size() && hw_rays[i] > 0 ? std::optional<double>(hw_w[i] / hw_rays[i]) : std::nullopt;
-  }
-  // Measured times of every repeat by frame (a row without repeats: its median alone), for the ratio intervals:
-  // the trace, and end to end (device pipelines: the measured span).
+  // Every repeat by frame (a row without repeats: its median alone), for the ratio intervals: the trace, and end
+  // to end (device pipelines: the measured span).
   FrameSeries trace_times, e2e_times;
+};
+
+// Coherence counters of counting tracers (`simt`, `cuda:counters=on`), each weighted by rays over frames.
+struct CounterSums {
+  bool any = false;
+  double simt_eff_w = 0, lines_w = 0, l1_w = 0, l2_w = 0, dram_w = 0;
+};
+
+// The GPU timing model's figures (modelling tracers), modeled seconds summed over frames, never mixed with the
+// measured ones: the trace kernel, end to end, and the modeled stages (generation, key + sort + permute).
+struct ModeledSums {
+  bool any = false;
+  double trace_s = 0, e2e_s = 0, gen_s = 0, reorder_s = 0;
+  std::string limiter;  // of the last frame
+};
+
+// Rows whose kernels CUPTI replayed (run_under cupti-counters: no timings) and their measured hw columns, per
+// hw_column_names() entry: the sum of value x rays over the rows holding it, and those rows' rays.
+struct HwCounterSums {
+  bool replayed = false;
+  std::vector<double> w, rays;
+  std::optional<double> value(size_t i) const {
+    return i < rays.size() && rays[i] > 0 ? std::optional<double>(w[i] / rays[i]) : std::nullopt;
+  }
+};
+
+// Sums over frames for one tracer and method: what the console tables print live and the report reads back from
+// a CSV (records/experiment_sums.h), one aggregator.
+struct Accumulated {
+  double rays = 0;
+  int frames = 0;
+  MeasuredSums measured;
+  CounterSums counters;
+  ModeledSums model;
+  HwCounterSums hw;
+
+  double mray_s() const { return mray_s_of(measured.trace_s); }
+  double e2e_mray_s() const { return mray_s_of(measured.e2e_s); }
+  double gpu_span_mray_s() const { return mray_s_of(measured.gpu_span_s); }
+  double overhead_share() const {
+    return measured.e2e_s > 0 ? (measured.gen_s + measured.reorder_s) / measured.e2e_s : 0.0;
+  }
+  double modeled_mray_s() const { return mray_s_of(model.trace_s); }
+  double modeled_e2e_mray_s() const { return mray_s_of(model.e2e_s); }
+  double modeled_overhead_share() const { return model.e2e_s > 0 ? 1.0 - model.trace_s / model.e2e_s : 0.0; }
+  // Trace only or end to end, measured or modeled, MRay/s.
+  double speed(bool modeled, bool e2e) const {
+    return modeled ? (e2e ? modeled_e2e_mray_s() : modeled_mray_s()) : (e2e ? e2e_mray_s() : mray_s());
+  }
+  double per_ray(double weighted) const { return rays > 0 ? weighted / rays : 0.0; }
+  double mray_s_of(double seconds) const { return seconds > 0 ? rays / seconds * 1e-6 : 0.0; }
 };
 
 // Speed of `method` over `base` with its paired interval (records/speed_interval.h), over the frames both hold:
 // the trace, or end to end (e2e; device pipelines: the measured span).
 SpeedRatio measured_ratio(const Accumulated& base, const Accumulated& method, bool e2e);
 
+// Which of `methods` is fastest end to end, over one scene's sums of one tracer (method label -> sums, noopt among
+// them), as the table's closing lines and the report name it. Modeled: the highest modeled speed (the first on a
+// tie). Measured: the top of the paired-interval ranking against noopt (records/speed_interval.h top_of_ranking).
+std::string fastest_modeled(const std::map<std::string, Accumulated>& sums, const std::vector<std::string>& methods);
+std::string measured_top(const std::map<std::string, Accumulated>& sums, const std::vector<std::string>& methods);
+
 struct SceneResult {
   std::string scene;
   size_t triangles = 0;
   double rays_per_frame = 0;
-  std::vector<std::string> tracer_labels;
-  // tracer label -> the tracer's name and, for a GPU model, its preset ("simt[preset=h100]"), from the typed column.
-  std::map<std::string, std::string> tracer_names;
-  std::map<std::string, std::map<std::string, Accumulated>> by_tracer;  // tracer label -> method label ("primary" too)
-  std::map<std::string, GenerationStats> generation;                    // method label -> sums over frames
-  std::map<std::string, double> gen_ms;                                 // method label -> mean per frame
+  std::vector<ResultKey> tracers;                                     // in run (or file) order
+  std::map<ResultKey, std::map<std::string, Accumulated>> by_tracer;  // tracer -> method label ("primary" too)
+  std::map<std::string, GenerationStats> generation;                  // method label -> sums over frames
+  std::map<std::string, double> gen_ms;                               // method label -> mean per frame
 };
 
-// Adds one row (measured now or resumed) to the scene's sums. The generation statistics are the same in every
-// tracer's row of a batch, so only the first tracer's rows count them.
-void accumulate(const ExperimentRow& row, const std::string& tracer_label, bool first_tracer, int frames,
-                SceneResult& res);
+// The key of a row's results: its tracer, typed preset and mode, bvh and tracer_params.
+ResultKey result_key(const ExperimentRow& row);
+
+// Adds one row (measured now or resumed) to the scene's sums under result_key(row), a tracer not yet in
+// res.tracers last. The generation statistics are the same in every tracer's row of a batch, so only the rows of
+// the first tracer count them.
+void accumulate(const ExperimentRow& row, int frames, SceneResult& res);
 
 }  // namespace raycoh

@@ -1,65 +1,56 @@
 #include "records/experiment_sums.h"
 
-#include <cmath>
+#include <stdexcept>
 
 #include "records/schema.h"
 
 namespace raycoh {
 
-namespace {
-
-// A row's repeats from its samples column, or its median alone (older rows, one repeat).
-std::vector<double> repeats_of(const ResultCsv& c, const std::vector<std::string>& r, const char* samples,
-                               double median) {
-  if (c.has(samples) && !c.get(r, samples).empty()) return csv_format::Numbers::read(c.get(r, samples));
-  return {median};
+bool Experiment::modeled(const ResultKey& tracer) const {
+  for (const auto& [scene, r] : results)
+    if (const auto it = r.by_tracer.find(tracer); it != r.by_tracer.end())
+      for (const auto& [method, a] : it->second)
+        if (a.model.any) return true;
+  return false;
 }
 
-void add_times(const ResultCsv& c, const std::vector<std::string>& r, Sums& s) {
-  const int frame = static_cast<int>(c.num(r, "frame"));
-  const double rays = c.num(r, "rays");
-  const double gpu_e2e = c.has("gpu_e2e_ms") ? c.num(r, "gpu_e2e_ms") : std::nan("");
-  s.trace_times[frame] = {repeats_of(c, r, "trace_samples_ms", c.num(r, "trace_ms")), rays};
-  s.e2e_times[frame] = {repeats_of(c, r, "e2e_samples_ms", std::isnan(gpu_e2e) ? c.num(r, "e2e_ms") : gpu_e2e), rays};
+ExperimentRow experiment_row_of(const ResultCsv& c, const std::vector<std::string>& row) {
+  ExperimentRow r;
+  for (const Column<ExperimentRow>& col : experiment_schema()) {
+    if (!c.has(col.name)) continue;
+    try {
+      col.read(r, c.get(row, col.name));
+    } catch (const std::invalid_argument&) {  // left at its default
+    }
+  }
+  r.recorded = recorded_of(c, row);
+  return r;
 }
-
-}  // namespace
 
 Experiment read_experiment(const ResultCsv& c) {
   Experiment e;
   std::map<std::string, std::set<std::string>> frames_of;
-  for (const auto& r : c.rows) {
-    if (c.has("run_under") && !c.get(r, "run_under").empty()) {
+  for (const auto& cells : c.rows) {
+    const ExperimentRow r = experiment_row_of(c, cells);
+    if (!r.provenance.run_under.empty()) {
       ++e.not_timings;
-      e.run_under.insert(c.get(r, "run_under"));
+      e.run_under.insert(r.provenance.run_under);
       continue;
     }
-    const RecordedColumns recorded = recorded_of(c, r);
-    const std::string scene = c.get(r, "scene"), tl = tracer_label(c.get(r, "tracer"), recorded),
-                      method = c.get(r, "method");
-    add_unique(e.scenes, scene);
-    add_unique(e.tracers, tl);
-    add_unique(e.methods, method);
-    const bool modeled = !std::isnan(c.num(r, "modeled_ms"));
-    e.modeled[tl] = modeled;
-    Sums& s = e.sums[scene][tl][method];
-    s.generator = c.get(r, "generator");
-    s.recorded = recorded;
-    s.encoder = c.get(r, "encoder").empty() ? "none" : c.get(r, "encoder");
-    s.rays += c.num(r, "rays");
-    s.trace_ms += c.num(r, "trace_ms");
-    s.e2e_ms += c.num(r, "e2e_ms");
-    if (!std::isnan(c.num(r, "gpu_e2e_ms"))) s.gpu_e2e_ms += c.num(r, "gpu_e2e_ms");
-    add_times(c, r, s);
-    if (modeled) {
-      s.modeled_ms += c.num(r, "modeled_ms");
-      s.modeled_e2e_ms += c.num(r, "modeled_e2e_ms");
-    }
-    e.revisions.insert(c.get(r, "git_revision"));
-    e.resolutions.insert(c.get(r, "width") + "×" + c.get(r, "height"));
-    frames_of[scene].insert(c.get(r, "frame"));
-    e.cpus.insert(c.get(r, "cpu") + ", " + c.get(r, "threads") + " threads");
-    e.commands.insert(c.get(r, "command_line"));
+    add_unique(e.scenes, r.scene);
+    add_unique(e.methods, r.method);
+    SceneResult& res = e.results[r.scene];
+    res.scene = r.scene;
+    res.triangles = r.scene_triangles;
+    accumulate(r, 1, res);
+    if (const ResultKey key = result_key(r); std::find(e.tracers.begin(), e.tracers.end(), key) == e.tracers.end())
+      e.tracers.push_back(key);
+    e.method_of[r.method] = {r.generator, r.encoder.empty() ? "none" : r.encoder, r.recorded};
+    e.revisions.insert(r.provenance.git_revision);
+    e.resolutions.insert(c.get(cells, "width") + "×" + c.get(cells, "height"));
+    frames_of[r.scene].insert(c.get(cells, "frame"));
+    e.cpus.insert(r.provenance.cpu + ", " + c.get(cells, "threads") + " threads");
+    e.commands.insert(r.provenance.command_line);
   }
   for (const auto& [scene, f] : frames_of) e.frames.insert(std::to_string(f.size()));
   return e;

@@ -1,5 +1,6 @@
-// The experiment CSVs (table, sweep) read back for figures: per scene, tracer label and method, the sums over
-// frames of rays and of measured and modeled times, with the run's provenance (records/result_csv.h reads them).
+// The experiment CSVs (table, sweep) read back for the report and tune: every row read into an ExperimentRow and
+// summed by the aggregator the console tables fill live (records/experiment_row.h: SceneResult, Accumulated, keyed
+// by records/result_key.h), with the run's provenance (records/result_csv.h reads the files).
 #pragma once
 
 #include <map>
@@ -7,34 +8,42 @@
 #include <string>
 #include <vector>
 
+#include "records/experiment_row.h"
 #include "records/result_csv.h"
-#include "records/speed_interval.h"
 
 namespace raycoh {
 
-struct Sums {
-  double rays = 0, trace_ms = 0, e2e_ms = 0, modeled_ms = 0, modeled_e2e_ms = 0;
-  double gpu_e2e_ms = 0;  // device pipelines (cuda): the pass's measured span on the device, 0 elsewhere
+// What a method is, the same in each of its rows: its generator, its encoder ("none" without one), and the typed
+// layout of its batch (tile, K, order).
+struct MethodColumns {
   std::string generator, encoder;
-  // Every repeat by frame, for the ratio intervals (records/speed_interval.h): the trace, and end to end (device
-  // pipelines: the measured span). Rows written before repeats were kept give their median alone.
-  FrameSeries trace_times, e2e_times;
-  RecordedColumns recorded;  // of the method's rows (the same in each)
-  double speed(bool modeled, bool e2e) const {
-    const double ms = modeled ? (e2e ? modeled_e2e_ms : modeled_ms) : (e2e ? e2e_ms : trace_ms);
-    return ms > 0 ? rays / ms * 1e-3 : 0.0;
-  }
+  RecordedColumns recorded;
 };
 
 struct Experiment {
-  std::vector<std::string> scenes, tracers, methods;  // in file order
-  std::map<std::string, bool> modeled;                // tracer label -> figures are the GPU model's
-  std::map<std::string, std::map<std::string, std::map<std::string, Sums>>> sums;  // scene, tracer, method
+  std::vector<std::string> scenes, methods;        // in file order
+  std::vector<ResultKey> tracers;                  // in file order
+  std::map<std::string, SceneResult> results;      // scene -> its sums
+  std::map<std::string, MethodColumns> method_of;  // method label -> what it is
   std::set<std::string> revisions, resolutions, frames, cpus, commands;
   // Rows run under a profiler or sanitizer (the run_under column): not timings, so left out of every sum above.
   size_t not_timings = 0;
   std::set<std::string> run_under;
+
+  // A scene's sums of one tracer: method label -> sums.
+  const std::map<std::string, Accumulated>& sums(const std::string& scene, const ResultKey& tracer) const {
+    return results.at(scene).by_tracer.at(tracer);
+  }
+  // Whether the tracer's figures are a GPU model's (modeled, never measured).
+  bool modeled(const ResultKey& tracer) const;
+  // The tracer's name in headings and figures (records/result_key.h heading_labels).
+  std::string label(const ResultKey& tracer) const { return heading_labels(tracers).at(tracer); }
 };
+
+// A row of a table or sweep CSV as the record it was written from. Columns the file lacks (an older file) keep
+// their defaults, the typed recorded columns are read through the plugins' tables (recorded_of), and a value its
+// column cannot hold is left at its default, as the report always read one.
+ExperimentRow experiment_row_of(const ResultCsv& c, const std::vector<std::string>& row);
 
 Experiment read_experiment(const ResultCsv& c);
 

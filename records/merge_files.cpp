@@ -231,7 +231,7 @@ RunFacts facts_of(const Input& in, const Kind& kind, const MergeCommands& comman
     const size_t c = column_index(columns, name);
     for (const auto& row : in.rows) {
       std::string v = row[c];
-      if (name == "tracer_params") v = row[column_index(columns, "tracer")] + "[" + v + "]";
+      if (name == "tracer_params") v = ResultKey{row[column_index(columns, "tracer")], "", "", "", v}.label(true);
       if (name == "reference") v = std::filesystem::path(v).filename().string();  // caches may be node-local
       per_scene[row[scene]].insert(v);
     }

@@ -38,10 +38,14 @@ std::string sweep_method_label(const std::string& generator, int tile_w, int til
   return fmt::format("{}:tile={}x{},k={}", generator, tile_w, tile_h, k);
 }
 
-std::string tracer_label(const std::string& tracer, const RecordedColumns& recorded) {
-  if (!recorded.preset.empty()) return tracer + "[preset=" + recorded.preset + "]";
-  if (!recorded.mode.empty()) return tracer + "[mode=" + recorded.mode + "]";
-  return tracer;
+ResultKey result_key(const std::string& tracer, const std::string& tracer_params, const std::string& bvh,
+                     const RecordedColumns& recorded) {
+  return {tracer, recorded.preset, recorded.mode, bvh, tracer_params};
+}
+
+ResultKey result_key(const std::string& tracer, const std::string& tracer_params, const std::string& bvh) {
+  const RecordedTracer t = recorded_tracer(tracer, tracer_params);
+  return {tracer, t.preset, t.mode, bvh, tracer_params};
 }
 
 }  // namespace raycoh

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "records/result_key.h"
 #include "records/schema.h"
 
 namespace raycoh {
@@ -34,7 +35,11 @@ const Schema<RecordedColumns>& recorded_schema();
 // knows a sweep's cells by it (with the typed tile and K of their rows).
 std::string sweep_method_label(const std::string& generator, int tile_w, int tile_h, int k);
 
-// "simt[preset=rtx3060]", "embree[mode=packet16]", "cpu": a tracer as figures and tables name it.
-std::string tracer_label(const std::string& tracer, const RecordedColumns& recorded);
+// The key of the results of a tracer (records/result_key.h): its name, typed preset and mode (the recorded
+// columns), acceleration structure and canonical parameters.
+ResultKey result_key(const std::string& tracer, const std::string& tracer_params, const std::string& bvh,
+                     const RecordedColumns& recorded);
+// The same for a tracer that runs, its preset and mode read through its own table (plugins/recorded_params.h).
+ResultKey result_key(const std::string& tracer, const std::string& tracer_params, const std::string& bvh);
 
 }  // namespace raycoh

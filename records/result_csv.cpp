@@ -70,6 +70,10 @@ RecordedColumns recorded_of(const ResultCsv& c, const std::vector<std::string>& 
   return r;
 }
 
+ResultKey result_key_of(const ResultCsv& c, const std::vector<std::string>& row) {
+  return result_key(c.get(row, "tracer"), c.get(row, "tracer_params"), c.get(row, "bvh"), recorded_of(c, row));
+}
+
 std::optional<SweepCell> sweep_cell(const std::string& method, const std::string& generator,
                                     const RecordedColumns& recorded) {
   if (!recorded.tile_w || !recorded.tile_h || !recorded.k) return std::nullopt;

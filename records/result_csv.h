@@ -46,6 +46,8 @@ ResultKind result_kind(const ResultCsv& c);
 
 // A row's tile, K, order, preset and mode (table/sweep, quality and converge CSVs).
 RecordedColumns recorded_of(const ResultCsv& c, const std::vector<std::string>& row);
+// The key of a row's results (records/result_key.h): tracer, typed preset and mode, bvh, tracer_params.
+ResultKey result_key_of(const ResultCsv& c, const std::vector<std::string>& row);
 
 // The tile and K of a sweep cell's row: set when `method` is the sweep's label of that tile and K
 // (sweep_method_label), empty otherwise.

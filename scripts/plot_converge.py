@@ -18,6 +18,7 @@ import os
 from collections import defaultdict
 
 from plotlib import TRACER_COLUMNS, fail, footer, number, plt, read_csv, save
+from result_key import result_label
 
 CLOCKS = {
     "wall_s": "CPU wall-clock time of the frames (s), measured",
@@ -28,7 +29,7 @@ CLOCKS = {
 
 def short_model(row):
     """'simt[preset=rtx3060]' from the typed gpu_preset column (gpu_model keeps every parameter); '' without one."""
-    return f"simt[preset={row['gpu_preset']}]" if row.get("gpu_preset") else row.get("gpu_model", "")
+    return result_label("simt", preset=row["gpu_preset"]) if row.get("gpu_preset") else row.get("gpu_model", "")
 
 
 def summary_notes(path, clock):

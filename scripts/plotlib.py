@@ -61,19 +61,14 @@ def parse_params(text):
     return out
 
 
-# The typed columns of a tracer's row (results/README.md) that tracer_label reads; a script that labels tracers
-# requires them, so that a CSV written before them is refused with one line naming the file and the column.
-TRACER_COLUMNS = ["preset", "mode"]
+from result_key import TRACER_COLUMNS, row_label  # noqa: E402,F401  (re-exported for the scripts)
 
 
 def tracer_label(row):
-    """The tracer as a title can hold it: the name and, for a GPU model, its preset (simt[preset=rtx3060]); an
-    embree mode (embree[mode=single]), from the typed preset and mode columns (the full parameters are in the
-    CSV's tracer_params column)."""
-    for key in TRACER_COLUMNS:
-        if row.get(key):
-            return f"{row['tracer']}[{key}={row[key]}]"
-    return row["tracer"]
+    """The tracer as a title can hold it (scripts/result_key.py): the name and, for a GPU model, its preset
+    (simt[preset=rtx3060]); an embree mode (embree[mode=single]). A script that labels tracers requires
+    TRACER_COLUMNS, so that a CSV written before them is refused with one line naming the file and the column."""
+    return row_label(row)
 
 
 # Okabe & Ito (2008): colour-blind-safe hues; noopt, the baseline, is grey.

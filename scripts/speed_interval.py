@@ -13,6 +13,8 @@ import csv
 import sys
 from collections import defaultdict
 
+from result_key import row_label
+
 RESAMPLES = 2000
 SEED = 0x5EED1E550FA11
 CONFIDENCE = 0.95
@@ -174,7 +176,7 @@ def main(argv):
     with open(argv[1], newline="") as f:
         for r in csv.DictReader(f):
             if r.get("modeled_ms", "") == "":  # measured rows: the primary pass and every method
-                groups[(r["scene"], r["tracer"] + "[" + r["tracer_params"] + "]")][r["method"]].append(r)
+                groups[(r["scene"], row_label(r, every_parameter=True))][r["method"]].append(r)
     for (scene, tracer), by_method in groups.items():
         base = series(by_method["noopt"], e2e)
         print(f"{scene}, {tracer}:")

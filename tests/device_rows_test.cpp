@@ -167,12 +167,13 @@ TEST(DeviceRows, TheConsoleSumsTheSpanOfDeviceRowsOnly) {
   DeviceMeasurement m;
   m.median = stages(1, 0, 0, 0, 2, 4);
   set_device_times(row, m, false);
-  accumulate(row, "cuda", true, 2, res);
-  accumulate(row, "cuda", true, 2, res);
-  const Accumulated& a = res.by_tracer.at("cuda").at("noopt");
-  EXPECT_TRUE(a.on_device);
-  EXPECT_DOUBLE_EQ(a.gpu_span_s, 8e-3);
-  EXPECT_DOUBLE_EQ(a.e2e_s(), 6e-3);
+  row.tracer = "cuda";
+  accumulate(row, 2, res);
+  accumulate(row, 2, res);
+  const Accumulated& a = res.by_tracer.at(result_key(row)).at("noopt");
+  EXPECT_TRUE(a.measured.on_device);
+  EXPECT_DOUBLE_EQ(a.measured.gpu_span_s, 8e-3);
+  EXPECT_DOUBLE_EQ(a.measured.e2e_s, 6e-3);
   EXPECT_DOUBLE_EQ(a.gpu_span_mray_s(), 2000 / 8e-3 * 1e-6);
   ExperimentRow host;
   host.pass = "secondary";
@@ -184,11 +185,12 @@ TEST(DeviceRows, TheConsoleSumsTheSpanOfDeviceRowsOnly) {
   host.modeled_key_ms = 0.25;
   host.modeled_sort_ms = 0.75;
   host.modeled_permute_ms = 0.5;
-  accumulate(host, "simt", false, 1, res);
-  const Accumulated& s = res.by_tracer.at("simt").at("noopt");
-  EXPECT_FALSE(s.on_device);
-  EXPECT_DOUBLE_EQ(s.modeled_gen_s, 0.5e-3);
-  EXPECT_DOUBLE_EQ(s.modeled_reorder_s, 1.5e-3);
+  host.tracer = "simt";
+  accumulate(host, 1, res);
+  const Accumulated& s = res.by_tracer.at(result_key(host)).at("noopt");
+  EXPECT_FALSE(s.measured.on_device);
+  EXPECT_DOUBLE_EQ(s.model.gen_s, 0.5e-3);
+  EXPECT_DOUBLE_EQ(s.model.reorder_s, 1.5e-3);
 }
 
 TEST(ModeledStages, EachReorderingModelsItsOwnStages) {

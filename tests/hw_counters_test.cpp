@@ -226,16 +226,17 @@ TEST(HwCounters, ColumnsRoundTripThroughTheCsv) {
 
 TEST(HwCounters, RowsSumAsCountersNotTimes) {
   SceneResult res;
-  accumulate(counter_row(0, 200000), "cuda[counters=hw]", true, 2, res);
-  accumulate(counter_row(1, 400000), "cuda[counters=hw]", true, 2, res);
-  const Accumulated& a = res.by_tracer.at("cuda[counters=hw]").at("noopt");
-  EXPECT_TRUE(a.hw_counters);
+  accumulate(counter_row(0, 200000), 2, res);
+  accumulate(counter_row(1, 400000), 2, res);
+  ASSERT_EQ(res.tracers.size(), 1u);
+  const Accumulated& a = res.by_tracer.at(res.tracers.front()).at("noopt");
+  EXPECT_TRUE(a.hw.replayed);
   const std::vector<std::string> cols = hw_column_names();
   for (size_t i = 0; i < cols.size(); ++i)
     if (cols[i] == "hw_inst_per_ray") {
-      EXPECT_DOUBLE_EQ(*a.hw(i), 300);
+      EXPECT_DOUBLE_EQ(*a.hw.value(i), 300);
     }
-  EXPECT_FALSE(a.hw(1).has_value());  // hw_l2_hit_pct was not read
+  EXPECT_FALSE(a.hw.value(1).has_value());  // hw_l2_hit_pct was not read
 }
 
 // A CSV of counter rows: read_experiment leaves them out as timings, the report's counter section shows them.

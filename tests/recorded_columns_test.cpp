@@ -39,9 +39,22 @@ TEST(RecordedColumns, ReadThroughThePluginTables) {
   const RecordedColumns unknown = recorded_columns("gone", "k=3", "gone", "preset=x");
   EXPECT_FALSE(unknown.k.has_value());
   EXPECT_EQ(unknown.preset, "");
-  EXPECT_EQ(tracer_label("simt", ours), "simt[preset=h100]");
-  EXPECT_EQ(tracer_label("embree", noopt), "embree[mode=packet16]");
+  EXPECT_EQ(result_key("simt", "preset=h100,l1_tags=4", "bvh2", ours).label(), "simt[preset=h100]");
+  EXPECT_EQ(result_key("simt", "preset=h100,l1_tags=4", "bvh2", ours).label(true), "simt[preset=h100,l1_tags=4]");
+  EXPECT_EQ(result_key("embree", "mode=packet16", "", noopt).label(), "embree[mode=packet16]");
+  EXPECT_EQ(result_key("cpu", "", "bvh2", recorded_columns("noopt", "", "cpu", "")).label(true), "cpu");
   EXPECT_EQ(sweep_method_label("ours", 16, 8, 32), "ours:tile=16x8,k=32");
+}
+
+// Headings name a tracer by its short label, or by every parameter where two tracers would share it.
+TEST(RecordedColumns, HeadingLabelsAreShortUnlessShared) {
+  const ResultKey cuda{"cuda", "", "", "bvh2", "kernel=persistent"}, cwbvh{"cuda", "", "", "cwbvh", "bvh=cwbvh"},
+      simt{"simt", "h100", "", "bvh2", "preset=h100"};
+  const std::map<ResultKey, std::string> names = heading_labels({cuda, cwbvh, simt, cuda});
+  EXPECT_EQ(names.at(cuda), "cuda[kernel=persistent]");
+  EXPECT_EQ(names.at(cwbvh), "cuda[bvh=cwbvh]");
+  EXPECT_EQ(names.at(simt), "simt[preset=h100]");
+  EXPECT_EQ(heading_labels({cuda}).at(cuda), "cuda");
 }
 
 // A CSV of the experiment schema with its typed columns, and the same rows without them (an older file): the
