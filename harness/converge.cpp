@@ -88,9 +88,9 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
   if (std::find(owned_.begin(), owned_.end(), true) == owned_.end()) return;  // a shard with no unit: empty files
   ls_ = load(o.scene, o.common.tracer);
   fingerprint_ = scene_fingerprint(o.scene);
-  ref_ = obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference);
-  tm_ = resolved(o.common.tone_map, ref_.image);
-  noise_ = noise_of_reference(ref_, tm_, o.common.metrics);
+  against_.ref = obtain_reference(*ls_, o.scene, o.common, o.ref_frames, o.cache_dir, o.reference);
+  against_.tm = resolved(o.common.tone_map, against_.ref.image);
+  against_.noise = noise_of_reference(against_.ref, against_.tm, o.common.metrics);
   provenance_.device = device_of(o.common.tracer);
   if (o.gpu_model != "none") gpu_model_ = make_tracer(parse_plugin_spec(o.gpu_model), ls_->scene, ls_->bvh);
   for (size_t gi = 0; gi < generators_.size(); ++gi) {
@@ -103,7 +103,7 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
       run.acc = Accumulator(o.common.width, o.common.height);
       if (denoise_.active()) run.aux = AuxAccumulators(o.common.width, o.common.height);
       if (gpu_model_)
-        run.model =
+        run.gpu.model =
             std::make_unique<FrameModel>(ls_->scene, *ls_->tracer, *gpu_model_, make_generator(o.generators[gi]),
                                          settings_of(o.common, o.common.seed));
     }
@@ -129,8 +129,8 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   if (o_.ref_frames_known) r.ref_frames = o_.ref_frames;
   r.max_depth = o_.common.max_depth;
   r.rr_depth = o_.common.rr_depth;
-  r.tone_map = describe(tm_);
-  r.reference = ref_.path;
+  r.tone_map = describe(against_.tm);
+  r.reference = against_.ref.path;
   r.protocol = o_.common.protocol;
   r.metrics = metric_space_name(o_.common.metrics);
   r.frame = run.frames;
@@ -145,26 +145,26 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.rmse = m.rmse;
   r.psnr = m.psnr;
   r.ssim = m.ssim;
-  if (noise_) {
+  if (against_.noise) {
     const NoiseCorrected c =
-        correct_for_noise(*noise_, m.mse, m.rel_mse, std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
-    r.ref_noise_mse = noise_->mse;
-    r.ref_noise_rel_mse = noise_->rel_mse;
+        correct_for_noise(*against_.noise, m.mse, m.rel_mse, std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+    r.ref_noise_mse = against_.noise->mse;
+    r.ref_noise_rel_mse = against_.noise->rel_mse;
     r.ref_noise_share = c.share;
     r.mse_corr = c.mse;
     r.rel_mse_corr = c.rel_mse;
     r.psnr_corr = c.psnr;
   }
   r.non_finite_samples = run.total.non_finite;
-  if (run.model) {
+  if (run.gpu.model) {
     const ResultKey model = result_key("simt", gpu_model_->params(), gpu_model_->bvh_layout());
     r.gpu_model = model.label(true);
     r.gpu_preset = model.preset;
     r.modeled_frame = modeled ? 1 : 0;
-    r.frame_modeled_gen_ms = run.modeled.gen_ms;
-    r.frame_modeled_trace_ms = run.modeled.trace_ms;
-    r.frame_modeled_gpu_ms = run.modeled.ms();
-    r.modeled_gpu_s = run.modeled_s;
+    r.frame_modeled_gen_ms = run.gpu.last.gen_ms;
+    r.frame_modeled_trace_ms = run.gpu.last.trace_ms;
+    r.frame_modeled_gpu_ms = run.gpu.last.ms();
+    r.modeled_gpu_s = run.gpu.s;
   }
   r.provenance = provenance_;
   r.denoise = denoiser_name(o_.denoise);
@@ -174,16 +174,17 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
 void ConvergeRun::add_denoised(const Run& run, const Image& mean, ConvergeRow& r) const {
   if (!denoise_.active() || (run.frames & (run.frames - 1)) != 0) return;
   double seconds = 0;
-  const ErrorMetrics m = compare_images(denoise_.denoise(mean, run.aux, &seconds), ref_.image, tm_, o_.common.metrics);
+  const ErrorMetrics m =
+      compare_images(denoise_.denoise(mean, run.aux, &seconds), against_.ref.image, against_.tm, o_.common.metrics);
   r.denoised_rel_mse = m.rel_mse;
   r.denoised_mse = m.mse;
   r.denoised_rmse = m.rmse;
   r.denoised_psnr = m.psnr;
   r.denoised_ssim = m.ssim;
   r.denoise_ms = seconds * 1e3;
-  if (noise_) {
+  if (against_.noise) {
     const NoiseCorrected c =
-        correct_for_noise(*noise_, m.mse, m.rel_mse, std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+        correct_for_noise(*against_.noise, m.mse, m.rel_mse, std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
     r.denoised_mse_corr = c.mse;
     r.denoised_rel_mse_corr = c.rel_mse;
     r.denoised_psnr_corr = c.psnr;
@@ -200,16 +201,16 @@ bool ConvergeRun::render_round() {
         run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc, denoise_.active() ? &run.aux : nullptr);
     run.total.add(f);
     // The modeled GPU clock, after the timed frame: its own sum, never added to a measured time.
-    const bool modeled = run.model && (run.frames % o_.model_every == 0);
-    if (modeled) run.modeled = run.model->model(static_cast<uint32_t>(run.frames), f);
+    const bool modeled = run.gpu.model && (run.frames % o_.model_every == 0);
+    if (modeled) run.gpu.last = run.gpu.model->model(static_cast<uint32_t>(run.frames), f);
     ++run.frames;
     const Image mean = run.acc.mean();
-    const ErrorMetrics m = compare_images(mean, ref_.image, tm_, o_.common.metrics);
+    const ErrorMetrics m = compare_images(mean, against_.ref.image, against_.tm, o_.common.metrics);
     run.by_wall.push_back({run.total.wall_s, m.rel_mse});
     run.by_trace.push_back({run.total.trace_s, m.rel_mse});
-    if (run.model) {
-      run.modeled_s += run.modeled.ms() * 1e-3;
-      run.by_gpu.push_back({run.modeled_s, m.rel_mse});
+    if (run.gpu.model) {
+      run.gpu.s += run.gpu.last.ms() * 1e-3;
+      run.gpu.curve.push_back({run.gpu.s, m.rel_mse});
     }
     if (owns(gi)) {
       ConvergeRow row = row_of(gi, f, m, modeled);

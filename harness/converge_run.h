@@ -23,6 +23,23 @@ namespace raycoh {
 // <out stem>-summary.csv.
 std::string summary_path_of(const ConvergeOptions& o);
 
+// A generator's modeled GPU clock: its frames modeled on the `simt` tracer of --gpu-model, a sum of its own, never
+// added to a measured time.
+struct ModeledClock {
+  std::unique_ptr<FrameModel> model;  // null without --gpu-model
+  ModeledFrame last;                  // the last modeled frame
+  double s = 0;                       // modeled GPU seconds so far
+  std::vector<CurvePoint> curve;      // error against modeled seconds
+};
+
+// What every frame's error is measured against: the reference, the tone map resolved on it (the same for every
+// generator), and the reference's own noise, from its half image.
+struct ErrorBasis {
+  ReferenceImage ref;
+  ToneMap tm;
+  std::optional<ReferenceNoise> noise;
+};
+
 // One generator's progress.
 struct Run {
   std::string label;
@@ -32,11 +49,7 @@ struct Run {
   int frames = 0;
   std::vector<CurvePoint> by_wall, by_trace;
   bool active = true;
-  // The modeled GPU clock (absent without --gpu-model).
-  std::unique_ptr<FrameModel> model;
-  ModeledFrame modeled;  // the last modeled frame
-  double modeled_s = 0;
-  std::vector<CurvePoint> by_gpu;
+  ModeledClock gpu;     // absent (no model) without --gpu-model
   AuxAccumulators aux;  // --denoise: the first hits' albedo and normal over the same frames
 };
 
@@ -67,10 +80,8 @@ class ConvergeRun {
   RecordCsv<SummaryRow> summary_;
   std::vector<std::unique_ptr<Generator>> generators_;
   std::unique_ptr<LoadedScene> ls_;
-  ReferenceImage ref_;
-  ToneMap tm_;                           // resolved on the reference, the same for every generator
-  std::optional<ReferenceNoise> noise_;  // the reference's own noise, from its half image
-  std::unique_ptr<Tracer> gpu_model_;    // the `simt` tracer of --gpu-model, null for none
+  ErrorBasis against_;
+  std::unique_ptr<Tracer> gpu_model_;  // the `simt` tracer of --gpu-model, null for none
   DenoiseEval denoise_;
   std::vector<Run> runs_;
   std::vector<bool> owned_;

@@ -18,7 +18,7 @@ std::vector<std::string> ConvergeRun::clocks() const {
 SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const {
   const Run& base = runs_[0];
   auto curve = [&clock](const Run& x) -> const std::vector<CurvePoint>& {
-    return clock == "wall" ? x.by_wall : clock == "trace" ? x.by_trace : x.by_gpu;
+    return clock == "wall" ? x.by_wall : clock == "trace" ? x.by_trace : x.gpu.curve;
   };
   const CurveComparison cc = compare_curves(curve(run), curve(base));
   SummaryRow r;
@@ -35,12 +35,12 @@ SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const 
   r.time_s = cc.time;
   r.baseline_time_s = cc.baseline_time;
   r.equal_error_speedup = cc.equal_error_speedup;
-  if (noise_) {
-    const double n = noise_->rel_mse, smaller = std::min(cc.error, cc.baseline_error);
+  if (against_.noise) {
+    const double n = against_.noise->rel_mse, smaller = std::min(cc.error, cc.baseline_error);
     r.ref_noise_rel_mse = n;
     ReferenceNoise relative;  // the summary's figures are relMSE
     relative.rel_mse = n;
-    relative.rel_mse_se = noise_->rel_mse_se;
+    relative.rel_mse_se = against_.noise->rel_mse_se;
     const NoiseCorrected c = correct_for_noise(relative, 0, smaller, 0);
     r.ref_noise_share = c.share;
     r.ref_noise_residual_share = c.residual_share;
@@ -70,8 +70,9 @@ void ConvergeRun::summarize() {
   std::printf(
       "\n%s, %dx%d, %.3g s per generator, reference %s (%s); error = relMSE (eps %.2g), "
       "baseline %s; protocol %s, PSNR on %s\n\n",
-      ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, ref_frames_text.c_str(), ref_.kind.c_str(),
-      kRelMseEpsilon, runs_[0].label.c_str(), o_.common.protocol.c_str(), metric_space_name(o_.common.metrics));
+      ls_->scene.name.c_str(), o_.common.width, o_.common.height, o_.time_s, ref_frames_text.c_str(),
+      against_.ref.kind.c_str(), kRelMseEpsilon, runs_[0].label.c_str(), o_.common.protocol.c_str(),
+      metric_space_name(o_.common.metrics));
   std::printf(
       "| generator | frames | final relMSE | relMSE−ref noise | ref noise share | final PSNR | wall s | modeled GPU ms "
       "per "
@@ -80,11 +81,11 @@ void ConvergeRun::summarize() {
   for (const Run& r : runs_)
     if (r.frames > 0) {
       const double e = r.by_wall.back().error;
-      const double share = noise_ ? (e > 0 ? noise_->rel_mse / e : 1.0) : nan;
+      const double share = against_.noise ? (e > 0 ? against_.noise->rel_mse / e : 1.0) : nan;
       std::printf("| %s | %d | %.4g | %.4g | %.1f%% | %.2f | %.3g | %s |\n", r.label.c_str(), r.frames, e,
-                  noise_ ? minus_noise(e, noise_->rel_mse) : nan, 100 * share,
-                  psnr(r.acc.mean(), ref_.image, tm_, o_.common.metrics), r.total.wall_s,
-                  r.model ? fmt::format("{:.3g}", r.modeled_s * 1e3 / r.frames).c_str() : "-");
+                  against_.noise ? minus_noise(e, against_.noise->rel_mse) : nan, 100 * share,
+                  psnr(r.acc.mean(), against_.ref.image, against_.tm, o_.common.metrics), r.total.wall_s,
+                  r.gpu.model ? fmt::format("{:.3g}", r.gpu.s * 1e3 / r.frames).c_str() : "-");
       warn_reference_noise(fmt::format("{} after {} frames (relMSE)", r.label, r.frames), share);
     }
   if (gpu_model_)

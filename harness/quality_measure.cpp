@@ -34,15 +34,9 @@ void add_denoised(Renders& m, const DenoiseEval& dn, const Image& img, const Aux
                   const ReferenceImage& ref, const ToneMap& tm, MetricSpace space, const ImageSink& sink) {
   double seconds = 0;
   const Image d = dn.denoise(img, aux, &seconds);
-  m.denoise_s += seconds;
-  const ErrorMetrics e = compare_images(d, ref.image, tm, space);
-  m.dn_psnr.push_back(e.psnr);
-  m.dn_ssim.push_back(e.ssim);
-  m.dn_rmse.push_back(e.rmse);
-  m.dn_rel_mse.push_back(e.rel_mse);
-  m.dn_mse.push_back(e.mse);
-  m.dn_metric_mse.push_back(std::pow(10.0, -e.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
-  m.dn_ds8.push_back(downsampled_rel_mse(d, ref.image, 8));
+  m.denoised.seconds += seconds;
+  m.denoised.renders.add(compare_images(d, ref.image, tm, space));
+  m.denoised.ds8.push_back(downsampled_rel_mse(d, ref.image, 8));
   if (r != 0) return;
   ImageSink{sink.dir, sink.base + "-denoised", sink.crops}.write(d, tm);
   const std::string stem = (fs::path(sink.dir) / sink.base).string();
@@ -81,12 +75,7 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
     out.non_finite_pixels += acc.pixels_with_non_finite();
     const Image img = acc.mean();
     const ErrorMetrics m = compare_images(img, ref.image, tm, o.common.metrics);
-    out.psnr.push_back(m.psnr);
-    out.ssim.push_back(m.ssim);
-    out.rmse.push_back(m.rmse);
-    out.rel_mse.push_back(m.rel_mse);
-    out.mse.push_back(m.mse);
-    out.metric_mse.push_back(std::pow(10.0, -m.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+    out.renders.add(m);
     for (int k = 0; k < 3; ++k) out.ds[k].push_back(downsampled_rel_mse(img, ref.image, kDownsample[k]));
     for (size_t p = 0; p < img.pixels(); ++p) mean_acc.add(p, img.at(p));
     if (r == 0) sink.write(img, tm);
@@ -95,9 +84,9 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
   }
   bar.clear();
   const Image mean_image = mean_acc.mean();
-  out.mse_of_mean = mse(mean_image, ref.image);
-  out.rel_mse_of_mean = rel_mse(mean_image, ref.image);
-  out.ds8_of_mean = downsampled_rel_mse(mean_image, ref.image, 8);
+  out.of_mean.mse = mse(mean_image, ref.image);
+  out.of_mean.rel_mse = rel_mse(mean_image, ref.image);
+  out.of_mean.ds8 = downsampled_rel_mse(mean_image, ref.image, 8);
   if (samples.frames() >= 2) {
     out.bias = bias_test(samples, ref.image, ref.first_half.empty() ? nullptr : &ref.first_half);
     out.has_bias = true;
@@ -113,24 +102,24 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
 }
 
 void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, const ReferenceNoise* noise) {
-  row.psnr = mean_of(m.psnr);
+  row.psnr = mean_of(m.renders.psnr);
   row.psnr_std = std::nan("");
   if (R > 1) {
     double s2 = 0;
-    for (double x : m.psnr) s2 += (x - row.psnr) * (x - row.psnr);
+    for (double x : m.renders.psnr) s2 += (x - row.psnr) * (x - row.psnr);
     row.psnr_std = std::sqrt(s2 / (R - 1));
   }
-  row.ssim = mean_of(m.ssim);
-  row.rmse = mean_of(m.rmse);
-  row.rel_mse = mean_of(m.rel_mse);
-  row.mse = mean_of(m.mse);
-  row.mse_of_mean = m.mse_of_mean;
-  row.bias2 = R > 1 ? (R * m.mse_of_mean - row.mse) / (R - 1) : std::nan("");
-  row.variance = R > 1 ? (row.mse - m.mse_of_mean) * R / (R - 1) : std::nan("");
+  row.ssim = mean_of(m.renders.ssim);
+  row.rmse = mean_of(m.renders.rmse);
+  row.rel_mse = mean_of(m.renders.rel_mse);
+  row.mse = mean_of(m.renders.mse);
+  row.mse_of_mean = m.of_mean.mse;
+  row.bias2 = R > 1 ? (R * m.of_mean.mse - row.mse) / (R - 1) : std::nan("");
+  row.variance = R > 1 ? (row.mse - m.of_mean.mse) * R / (R - 1) : std::nan("");
   const double nan = std::nan("");
   row.ref_noise_mse = noise ? noise->mse : nan;
   row.ref_noise_rel_mse = noise ? noise->rel_mse : nan;
-  const NoiseCorrected corr = noise ? correct_for_noise(*noise, row.mse, row.rel_mse, mean_of(m.metric_mse))
+  const NoiseCorrected corr = noise ? correct_for_noise(*noise, row.mse, row.rel_mse, mean_of(m.renders.metric_mse))
                                     : NoiseCorrected{nan, nan, nan, nan, nan};
   row.ref_noise_share = corr.share;
   row.ref_noise_residual_share = corr.residual_share;
@@ -141,11 +130,11 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.rel_mse_ds2 = mean_of(m.ds[0]);
   row.rel_mse_ds4 = mean_of(m.ds[1]);
   row.rel_mse_ds8 = mean_of(m.ds[2]);
-  row.rel_mse_renders = m.rel_mse;
+  row.rel_mse_renders = m.renders.rel_mse;
   row.rel_mse_ds8_renders = m.ds[2];
   // The variance part alone (as `variance` above, on relMSE): bias, which survives downsampling too, left out.
-  row.rel_var = R > 1 ? (row.rel_mse - m.rel_mse_of_mean) * R / (R - 1) : nan;
-  row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.ds8_of_mean) * R / (R - 1) : nan;
+  row.rel_var = R > 1 ? (row.rel_mse - m.of_mean.rel_mse) * R / (R - 1) : nan;
+  row.rel_var_ds8 = R > 1 ? (row.rel_mse_ds8 - m.of_mean.ds8) * R / (R - 1) : nan;
   row.bias_excluded = m.has_bias ? m.bias.excluded_fraction : nan;
   row.bias_excluded_dark = m.has_bias ? m.bias.excluded_dark : nan;
   row.bias_excluded_bright = m.has_bias ? m.bias.excluded_bright : nan;
@@ -171,23 +160,23 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
 }
 
 void fill_denoised(QualityRow& row, const Renders& m, const ReferenceNoise* noise) {
-  if (m.dn_psnr.empty()) return;
-  const size_t R = m.dn_psnr.size();
-  row.denoised_psnr = mean_of(m.dn_psnr);
+  if (m.denoised.renders.psnr.empty()) return;
+  const size_t R = m.denoised.renders.psnr.size();
+  row.denoised_psnr = mean_of(m.denoised.renders.psnr);
   if (R > 1) {
     double s2 = 0;
-    for (double x : m.dn_psnr) s2 += (x - row.denoised_psnr) * (x - row.denoised_psnr);
+    for (double x : m.denoised.renders.psnr) s2 += (x - row.denoised_psnr) * (x - row.denoised_psnr);
     row.denoised_psnr_std = std::sqrt(s2 / static_cast<double>(R - 1));
   }
-  row.denoised_ssim = mean_of(m.dn_ssim);
-  row.denoised_rmse = mean_of(m.dn_rmse);
-  row.denoised_rel_mse = mean_of(m.dn_rel_mse);
-  row.denoised_mse = mean_of(m.dn_mse);
-  row.denoised_rel_mse_ds8 = mean_of(m.dn_ds8);
-  row.denoise_s = m.denoise_s;
+  row.denoised_ssim = mean_of(m.denoised.renders.ssim);
+  row.denoised_rmse = mean_of(m.denoised.renders.rmse);
+  row.denoised_rel_mse = mean_of(m.denoised.renders.rel_mse);
+  row.denoised_mse = mean_of(m.denoised.renders.mse);
+  row.denoised_rel_mse_ds8 = mean_of(m.denoised.ds8);
+  row.denoise_s = m.denoised.seconds;
   if (noise) {
     const NoiseCorrected c =
-        correct_for_noise(*noise, row.denoised_mse, row.denoised_rel_mse, mean_of(m.dn_metric_mse));
+        correct_for_noise(*noise, row.denoised_mse, row.denoised_rel_mse, mean_of(m.denoised.renders.metric_mse));
     row.denoised_mse_corr = c.mse;
     row.denoised_rel_mse_corr = c.rel_mse;
     row.denoised_psnr_corr = c.psnr;

@@ -19,20 +19,44 @@
 
 namespace raycoh {
 
+// The error figures of each of R renders (or of their denoised images), one entry per render.
+struct PerRender {
+  std::vector<double> psnr, ssim, rmse, rel_mse, mse;
+  std::vector<double> metric_mse;  // the MSE the PSNR was computed from (in the metric space)
+  void add(const ErrorMetrics& e) {
+    psnr.push_back(e.psnr);
+    ssim.push_back(e.ssim);
+    rmse.push_back(e.rmse);
+    rel_mse.push_back(e.rel_mse);
+    mse.push_back(e.mse);
+    metric_mse.push_back(std::pow(10.0, -e.psnr / 10.0) * kPsnrPeak * kPsnrPeak);
+  }
+};
+
+// The error of the mean of the R renders: MSE, relMSE, and relMSE 8x box-downsampled.
+struct OfMean {
+  double mse = 0, rel_mse = 0, ds8 = 0;
+};
+
+// --denoise: every render's denoised image (empty without a denoiser), its relMSE 8x downsampled, the denoiser's
+// seconds.
+struct DenoisedRenders {
+  PerRender renders;
+  std::vector<double> ds8;
+  double seconds = 0;
+};
+
 // R independent renders of one generator against the reference.
 struct Renders {
-  std::vector<double> psnr, ssim, rmse, rel_mse, mse, metric_mse;  // per render
-  std::vector<double> ds[3];                                       // per render: rel_mse of the 2x/4x/8x images
-  double mse_of_mean = 0;                                          // MSE of the mean of the R renders
-  double rel_mse_of_mean = 0, ds8_of_mean = 0;                     // relMSE of the mean, full and 8x downsampled
+  PerRender renders;
+  std::vector<double> ds[3];  // per render: rel_mse of the 2x/4x/8x images
+  OfMean of_mean;
   BiasReport bias;
   double bias_excluded_ds4 = std::nan("");  // bias_test's share on the 4 x 4 box-downsampled frames
   bool has_bias = false;
   FrameStats total;
   uint64_t non_finite_pixels = 0;
-  // --denoise: per render, the figures of its denoised image (empty without a denoiser), the denoiser's seconds.
-  std::vector<double> dn_psnr, dn_ssim, dn_rmse, dn_rel_mse, dn_mse, dn_metric_mse, dn_ds8;
-  double denoise_s = 0;
+  DenoisedRenders denoised;
 };
 
 // Where a generator's renders are written: render 0 and its crops, tone-mapped for display.
