@@ -83,10 +83,12 @@ int run_render(const RenderOptions& o, const Provenance& provenance) {
     write_image(crop(image, o.crops[i]), path, tm);
     std::printf("crop %d,%d,%d,%d -> %s\n", o.crops[i].x, o.crops[i].y, o.crops[i].w, o.crops[i].h, path.c_str());
   }
-  std::printf("%s, %s [%s], tracer %s [%s]: %d frames of %dx%d, seed %u, max depth %d\n", ls->scene.name.c_str(),
-              o.generator.name.c_str(), generator->params().c_str(), o.common.tracer.name.c_str(),
-              ls->tracer->params().c_str(), o.frames, o.common.width, o.common.height, o.common.seed,
-              o.common.max_depth);
+  // --device cuda traces every batch with the device trace kernel (BVH2), not with --tracer.
+  const std::string tracer = o.device == "cuda" ? std::string("device trace kernel [bvh=bvh2]")
+                                                : fmt::format("{} [{}]", o.common.tracer.name, ls->tracer->params());
+  std::printf("%s, %s [%s], tracer %s: %d frames of %dx%d, seed %u, max depth %d\n", ls->scene.name.c_str(),
+              o.generator.name.c_str(), generator->params().c_str(), tracer.c_str(), o.frames, o.common.width,
+              o.common.height, o.common.seed, o.common.max_depth);
   std::printf("%s\n", timing.c_str());
   if (acc.non_finite_samples() > 0)
     std::printf("warning: %llu NaN/Inf frame samples in %llu pixels were left out of the image (counted, not added)\n",
