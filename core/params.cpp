@@ -163,6 +163,13 @@ ParamSet::ParamSet(std::string owner, const std::string& text) : owner_(std::mov
   }
 }
 
+// Records a value read; a plugin reads each of its parameters once (a second read would repeat it in params()).
+void ParamSet::use(const std::string& key, std::string value) {
+  for (const auto& [k, v] : used_)
+    if (k == key) throw Error(fmt::format("internal error: {} reads its parameter '{}' twice", owner_, key));
+  used_.emplace_back(key, std::move(value));
+}
+
 const std::string* ParamSet::take(const std::string& key) {
   auto it = given_.find(key);
   return it == given_.end() ? nullptr : &it->second;
@@ -176,7 +183,7 @@ Int ParamSet::get_integer(const std::string& key, Int def, Int lo, Int hi) {
     if (ec != std::errc() || p != s->data() + s->size() || value < lo || value > hi)
       throw Error(fmt::format("{}: {}={} is not valid; expected an integer in [{}, {}]", owner_, key, *s, lo, hi));
   }
-  used_.emplace_back(key, std::to_string(value));
+  use(key, std::to_string(value));
   return value;
 }
 
@@ -194,7 +201,7 @@ float ParamSet::get_float(const std::string& key, float def, float lo, float hi)
     if (s->empty() || end != s->c_str() + s->size() || !std::isfinite(value) || value < lo || value > hi)
       throw Error(fmt::format("{}: {}={} is not valid; expected a number in [{}, {}]", owner_, key, *s, lo, hi));
   }
-  used_.emplace_back(key, fmt::format("{}", value));
+  use(key, fmt::format("{}", value));
   return value;
 }
 
@@ -206,7 +213,7 @@ std::string ParamSet::get_choice(const std::string& key, const std::string& def,
       throw Error(fmt::format("{}: {}={} is not valid; choose one of: {}", owner_, key, *s, join(choices)));
     value = *s;
   }
-  used_.emplace_back(key, value);
+  use(key, value);
   return value;
 }
 
@@ -226,14 +233,14 @@ Vec3 ParamSet::get_vec3(const std::string& key, Vec3 def, float lo, float hi) {
       throw Error(fmt::format("{}: {}={} is not valid; expected x/y/z with each in [{}, {}]", owner_, key, *s, lo, hi));
     value = {c[0], c[1], c[2]};
   }
-  used_.emplace_back(key, fmt::format("{}/{}/{}", value.x, value.y, value.z));
+  use(key, fmt::format("{}/{}/{}", value.x, value.y, value.z));
   return value;
 }
 
 std::pair<int, int> ParamSet::get_size(const std::string& key, std::pair<int, int> def, int lo, int hi) {
   std::pair<int, int> value = def;
   if (const std::string* s = take(key)) value = parse_size(fmt::format("{}: {}", owner_, key), *s, lo, hi);
-  used_.emplace_back(key, fmt::format("{}x{}", value.first, value.second));
+  use(key, fmt::format("{}x{}", value.first, value.second));
   return value;
 }
 

@@ -85,6 +85,7 @@ class ParamSet {
   const ParamTable* table_ = nullptr;
   std::map<std::string, std::string> given_;
   std::vector<std::pair<std::string, std::string>> used_;
+  void use(const std::string& key, std::string value);
 };
 
 // "name" or "name:key=val,key=val".

@@ -220,7 +220,8 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   if (launch.block % 32 != 0)
     throw Error(
         fmt::format("{}: block={} is not a multiple of 32 (a block holds whole warps)", params.owner(), launch.block));
-  const bool counting = params.get_choice("counters") == "on", hw = params.get_choice("counters") == "hw";
+  const std::string counters = params.get_choice("counters");
+  const bool counting = counters == "on", hw = counters == "hw";
   const uint32_t line = static_cast<uint32_t>(std::stoi(params.get_choice("line")));
   const bool cwbvh = params.get_choice("bvh") == "cwbvh";
   launch.traversal =

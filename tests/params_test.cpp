@@ -98,6 +98,19 @@ TEST(Params, TableRowsThePluginDoesNotReadOrDeclareAreInternalErrors) {
   EXPECT_THROW(undeclared.get_float("k"), Error);  // declared as an int
 }
 
+// A plugin reads each parameter once: a second read would write the key twice into its canonical params(), which a
+// row's tracer_params must hold once (a cuda factory reading `counters` twice made every cuda row unreadable).
+TEST(Params, ReadingAParameterTwiceIsAnInternalError) {
+  ParamSet twice("g", "tile=4x4", test_table());
+  twice.get_size("tile");
+  try {
+    twice.get_size("tile");
+    ADD_FAILURE() << "a second read of 'tile' passed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("reads its parameter 'tile' twice"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Params, TablesPrintNameTypeDefaultRangeAndDoc) {
   const std::string text = format_param_table(test_table(), "  ");
   EXPECT_NE(text.find("  tile    WxH     8x8    [1, 64] each"), std::string::npos) << text;
