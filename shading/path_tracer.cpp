@@ -3,7 +3,7 @@
 //   1. Camera pass (camera_pass.cpp): camera rays in 8x8 tile order, traced; the G-buffer of their hits; emitters
 //      and the environment seen directly.
 //   2. Next-event estimation (next_event.cpp) at every path vertex with a non-delta BSDF: one shadow ray towards
-//      an emitter (emitters.cpp) and one towards the sun (environment.cpp) or a punctual light (emitters.cpp),
+//      an emitter (emitters.cpp) and one towards the sun (core/environment_light.h) or a punctual light (emitters.cpp),
 //      MIS-weighted (punctual lights: weight 1), through thin panes.
 //   3. Bounce sampling (bounce_sampling.cpp): the generator's directions at the first hit, BSDF sampling and
 //      Russian roulette at later ones.
