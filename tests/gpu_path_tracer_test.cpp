@@ -4,10 +4,12 @@
 // (8x8-pixel blocks, per-frame variance, no block and channel beyond |z| = 4) between the CPU renderer with seed 1
 // and the device one with seed 2 (independent estimates), on built-in scenes and sibenik_lamps when the shared
 // scenes are present; the same test must reject the CPU image made 10% brighter (50% at the simulator size). Label
-// `gpu`; skips without a device. RAYCOH_GPU_TEST_SIZE=sim: 16x16 pixels, 16 frames, paths of 3 scattering events.
+// `gpu`; skips without a device. glTF samples with textures, alpha masks and punctual lights are tested too when
+// they are there. RAYCOH_GPU_TEST_SIZE=sim: 16x16 pixels, 16 frames, paths of 3 scattering events.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -120,7 +122,8 @@ TEST(GpuPathTracer, SameSeedFramesEqualTheCpuBitForBitWithoutTextures) {
 }
 
 // The z-test of the device image (seed 2) against the CPU one (seed 1) and against the CPU one made brighter.
-void expect_images_agree(const std::string& spec) {
+// require_power: also require that the CPU image made brighter is rejected (the test's power at this size).
+void expect_images_agree(const std::string& spec, bool require_power = true) {
   const int frames = test::gpu_test_size(128, 16);
   // 10% brighter must be rejected at the full size; the simulator's 4 blocks of 16 frames need a larger step.
   const float kBrighter = test::gpu_test_size(1.1f, 1.5f);
@@ -158,7 +161,7 @@ void expect_images_agree(const std::string& spec) {
   EXPECT_GT(same.max_abs_z, 0.0);
   EXPECT_EQ(gpu.non_finite(), 0u);
   const BlockZTest apart = block_z_test(gpu, brighter, 4.0);
-  EXPECT_GT(apart.beyond, 0u) << apart.summary();
+  if (require_power) EXPECT_GT(apart.beyond, 0u) << apart.summary();
   std::printf("%s: device vs cpu %s; vs cpu x%.1f %s\n", spec.c_str(), same.summary().c_str(), kBrighter,
               apart.summary().c_str());
 }
@@ -178,6 +181,28 @@ TEST(GpuPathTracer, ImagesAgreeWithTheCpuWithinTheirNoiseOnSibenikLamps) {
   const std::vector<std::string> scenes = test_scenes();
   if (scenes.size() < 3) GTEST_SKIP() << "no shared scene sibenik_lamps";
   expect_images_agree(scenes[2]);
+}
+
+// Textures (base colour, metallic-roughness, emissive and normal maps: DamagedHelmet), alpha MASK cut-outs traced
+// by the device kernel's any-hit test (AlphaBlendModeTest) and punctual lights (LightsPunctualLamp), from the glTF
+// samples beside the shared scenes when they are there.
+TEST(GpuPathTracer, ImagesAgreeWithTheCpuWithinTheirNoiseOnTexturedMaskedAndPunctualSamples) {
+  SKIP_WITHOUT_GPU();
+  const std::filesystem::path dir = test::gltf_samples_dir();
+  const std::vector<std::filesystem::path> samples = {
+      dir / "DamagedHelmet" / "glTF-Binary" / "DamagedHelmet.glb",
+      dir / "AlphaBlendModeTest" / "glTF-Binary" / "AlphaBlendModeTest.glb",
+      dir / "LightsPunctualLamp" / "glTF" / "LightsPunctualLamp.gltf"};
+  int found = 0;
+  for (const auto& path : samples) {
+    if (dir.empty() || !std::filesystem::exists(path)) continue;
+    ++found;
+    // LightsPunctualLamp at the simulator's 16 frames of 16x16 is too noisy to reject a 1.5x brighter image (max
+    // |z| 2.46 under GPGPU-Sim, 2026-11-29): its agreement is checked there, its power only at the full size.
+    const bool lamp = path.filename() == "LightsPunctualLamp.gltf";
+    expect_images_agree(path.string(), !(lamp && test::gpu_test_sim_size()));
+  }
+  if (found == 0) GTEST_SKIP() << "no glTF samples";
 }
 
 }  // namespace
