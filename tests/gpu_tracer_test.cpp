@@ -169,7 +169,7 @@ TEST(GpuTracerRegistry, ListedInCudaBuildsWithItsParameters) {
   ASSERT_NE(it, infos.end());
   EXPECT_EQ(default_params(it->table()),
             "kernel=persistent,block=128,counters=off,line=64,bvh=bvh2,traversal=tuned,stack=local,pipeline=device");
-  EXPECT_EQ(it->table()[2].choices, (std::vector<std::string>{"off", "on"}));
+  EXPECT_EQ(it->table()[2].choices, (std::vector<std::string>{"off", "on", "hw"}));
 }
 
 TEST(GpuTracerRegistry, BadParametersAndMissingDeviceAreClearErrors) {
