@@ -160,38 +160,7 @@ void ExperimentRun::run_scene(size_t si) {
 
 // The identifying fields of a row: everything known before measuring, the resume key included.
 ExperimentRow ExperimentRun::head(const Unit& u, size_t ti) const {
-  const bool primary = u.primary();
-  const Encoder* enc = primary ? nullptr : setup_->encoders[u.method].get();
-  ExperimentRow r;
-  r.scene = setup_->scene.name;
-  r.scene_triangles = setup_->scene.triangle_count();
-  r.scene_fingerprint = setup_->fingerprint;
-  r.pass = pass_name(u.pass);
-  r.method = primary ? "primary" : o_.methods[u.method].label;
-  r.generator = primary ? "primary" : o_.methods[u.method].generator.name;
-  r.generator_params = primary ? kPrimaryParams : generators_[u.method]->params();
-  r.tracer = o_.tracers[ti].name;
-  r.tracer_params = setup_->tracers[ti]->params();
-  r.bvh = setup_->tracers[ti]->bvh_layout();
-  r.width = o_.width;
-  r.height = o_.height;
-  r.frame = u.frame;
-  r.seed = o_.seed;
-  r.repeats = setup_->repeats[ti];
-  r.encoder = enc ? enc->name() : "";
-  r.encoder_params = enc ? enc->params() : "";
-  // Reorderings record how they were applied; `none` and the primary pass have nothing to apply.
-  r.permute = enc && enc->key_bits() > 0 ? o_.permute : "";
-  r.provenance = provenance_;
-  r.provenance.device = device_of(o_.tracers[ti]);
-  // A tracer whose kernels a profiler replays (cuda:counters=hw) marks its rows: their times are not timings.
-  if (const std::string under = hw_run_under(*setup_->tracers[ti]); !under.empty()) r.provenance.run_under = under;
-  r.gpu = setup_->gpu[ti];
-  if (primary)
-    set_recorded_params(r);
-  else
-    set_recorded_params(r, *generators_[u.method]);  // the generator's typed K, tile and order
-  return r;
+  return unit_head(o_, *setup_, provenance_, generators_, u, ti);
 }
 
 // Rows already measured by an interrupted run count as measured now.

@@ -1,11 +1,52 @@
 #include "harness/experiment_units.h"
 
+#include "encoders/encoder.h"
+#include "generators/generator.h"
+#include "harness/experiment_setup.h"
 #include "records/shard.h"
 #include "scenes/scene.h"
+#include "tracers/hw_counters.h"
+#include "tracers/tracer.h"
 
 namespace raycoh {
 
 const char* pass_name(Pass pass) { return pass == Pass::Primary ? "primary" : "secondary"; }
+
+ExperimentRow unit_head(const ExperimentOptions& o, const SceneSetup& setup, const Provenance& provenance,
+                        const std::vector<std::unique_ptr<Generator>>& generators, const Unit& u, size_t ti) {
+  const bool primary = u.primary();
+  const Encoder* enc = primary ? nullptr : setup.encoders[u.method].get();
+  ExperimentRow r;
+  r.scene = setup.scene.name;
+  r.scene_triangles = setup.scene.triangle_count();
+  r.scene_fingerprint = setup.fingerprint;
+  r.pass = pass_name(u.pass);
+  r.method = primary ? "primary" : o.methods[u.method].label;
+  r.generator = primary ? "primary" : o.methods[u.method].generator.name;
+  r.generator_params = primary ? kPrimaryParams : generators[u.method]->params();
+  r.tracer = o.tracers[ti].name;
+  r.tracer_params = setup.tracers[ti]->params();
+  r.bvh = setup.tracers[ti]->bvh_layout();
+  r.width = o.width;
+  r.height = o.height;
+  r.frame = u.frame;
+  r.seed = o.seed;
+  r.repeats = setup.repeats[ti];
+  r.encoder = enc ? enc->name() : "";
+  r.encoder_params = enc ? enc->params() : "";
+  // Reorderings record how they were applied; `none` and the primary pass have nothing to apply.
+  r.permute = enc && enc->key_bits() > 0 ? o.permute : "";
+  r.provenance = provenance;
+  r.provenance.device = device_of(o.tracers[ti]);
+  // A tracer whose kernels a profiler replays (cuda:counters=hw) marks its rows: their times are not timings.
+  if (const std::string under = hw_run_under(*setup.tracers[ti]); !under.empty()) r.provenance.run_under = under;
+  r.gpu = setup.gpu[ti];
+  if (primary)
+    set_recorded_params(r);
+  else
+    set_recorded_params(r, *generators[u.method]);  // the generator's typed K, tile and order
+  return r;
+}
 
 std::vector<Unit> frame_units(const ExperimentOptions& o, size_t scene, int frame) {
   std::vector<Unit> units = {{scene, frame, Pass::Primary, 0}};

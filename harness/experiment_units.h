@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -29,6 +30,15 @@ struct Unit {
   size_t method = 0;  // index into ExperimentOptions::methods; the secondary pass only
   bool primary() const { return pass == Pass::Primary; }
 };
+
+class Generator;
+struct SceneSetup;
+
+// A unit's row as far as it is known before measuring: its identity and resume key (scene, pass, method, tracer
+// and their parameters, size, frame, seed, repeats, provenance, the GPU's facts). `setup` is the scene's tracers and
+// encoders (harness/experiment_setup.h), `generators` one per method.
+ExperimentRow unit_head(const ExperimentOptions& o, const SceneSetup& setup, const Provenance& provenance,
+                        const std::vector<std::unique_ptr<Generator>>& generators, const Unit& u, size_t ti);
 
 // A frame's units in the order they are measured: the primary pass, then every method.
 std::vector<Unit> frame_units(const ExperimentOptions& o, size_t scene, int frame);
