@@ -46,6 +46,12 @@ using GeneratorInfo = PluginInfo<GeneratorFactory>;
 const std::vector<GeneratorInfo>& generator_infos();
 // Throws raycoh::Error for unknown names or bad parameters, naming the valid choices.
 std::unique_ptr<Generator> make_generator(const PluginSpec& spec);
+// The registered name a generator name stands for: `tile` is the old name of `contiguous` (kept so that existing
+// command lines and CSV files still read); every other name is itself.
+std::string generator_name(const std::string& name);
+// The group size row `k` of a registered generator's parameter table (ours, contiguous: generators that group a
+// tile's pixels), or null for a generator that does not group or an unknown name.
+const ParamSpec* group_size_row(const std::string& name);
 
 // Helpers shared by generators (generators/common.cpp).
 BsdfParams bsdf_params(const Material& m);

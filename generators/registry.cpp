@@ -39,13 +39,24 @@ const std::vector<GeneratorInfo>& generator_infos() {
   return infos;
 }
 
+std::string generator_name(const std::string& name) { return name == "tile" ? "contiguous" : name; }
+
+const ParamSpec* group_size_row(const std::string& name) {
+  const std::string registered = generator_name(name);
+  for (const GeneratorInfo& info : generator_infos())
+    if (info.name == registered)
+      for (const ParamSpec& row : info.table())
+        if (row.name == "k") return &row;
+  return nullptr;
+}
+
 std::unique_ptr<Generator> make_generator(const PluginSpec& spec) {
-  std::string name = spec.name;
-  if (name == "tile") {  // the old name of `contiguous`, kept so that existing command lines still run
+  const std::string name = generator_name(spec.name);
+  if (name != spec.name) {
     static std::atomic<bool> warned{false};  // once per process, however many times a run makes it
     if (!warned.exchange(true))
-      std::fprintf(stderr, "warning: generator 'tile' is now called 'contiguous'; running 'contiguous'\n");
-    name = "contiguous";
+      std::fprintf(stderr, "warning: generator '%s' is now called '%s'; running '%s'\n", spec.name.c_str(),
+                   name.c_str(), name.c_str());
   }
   const GeneratorInfo& info = find_plugin(generator_infos(), "generator", name);
   ParamSet params(fmt::format("generator '{}'", name), spec.params, info.table());

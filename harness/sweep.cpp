@@ -17,25 +17,22 @@ namespace raycoh {
 
 namespace {
 
-void check_generator(const std::string& generator) {
-  if (generator != "ours" && generator != "contiguous" && generator != "tile")
+// The generator must group pixels (its parameter table has a group size k: ours, contiguous); K's range is the one
+// that table states, and --groups is read through it.
+const ParamSpec& group_size_row_of(const std::string& generator) {
+  const ParamSpec* row = group_size_row(generator);
+  if (!row)
     throw Error(fmt::format("--generator {}: sweep varies tile and group size; choose ours or contiguous", generator));
+  return *row;
 }
 
-// K's range is the one the generator's parameter table states (ours_params(), row `k`; `tile` is the old name of
-// `contiguous`): --groups is read through it, and no other rule checks K here.
 int parse_group_size(const std::string& generator, const std::string& text) {
-  check_generator(generator);
-  const std::string name = generator == "tile" ? "contiguous" : generator;
-  for (const GeneratorInfo& info : generator_infos())
-    if (info.name == name)
-      for (const ParamSpec& row : info.table())
-        if (row.name == "k") return parse_int("--groups", text, static_cast<int>(row.lo), static_cast<int>(row.hi));
-  throw Error(fmt::format("--generator {}: its parameter table has no group size k", generator));
+  const ParamSpec& row = group_size_row_of(generator);
+  return parse_int("--groups", text, static_cast<int>(row.lo), static_cast<int>(row.hi));
 }
 
 void check_sweep(const SweepOptions& o) {
-  check_generator(o.generator);
+  group_size_row_of(o.generator);
   if (o.tiles.empty()) throw Error("--tiles: empty list");
   if (o.groups.empty()) throw Error("--groups: empty list");
   for (const auto& [w, h] : o.tiles)

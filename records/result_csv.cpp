@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "generators/generator.h"
 #include "records/csv.h"
 
 namespace raycoh {
@@ -42,7 +43,7 @@ ResultKind result_kind(const ResultCsv& c) {
     for (const auto& r : c.rows) {
       if (c.get(r, "pass") != "secondary" || c.get(r, "method") == "noopt") continue;
       const std::string& g = c.get(r, "generator");
-      const bool grouping = g == "ours" || g == "contiguous" || g == "tile";
+      const bool grouping = group_size_row(g) != nullptr;
       ++(grouping && sweep_cell(c.get(r, "method"), g, recorded_of(c, r)) ? cells : others);
     }
     return cells > 0 && others == 0 ? ResultKind::Sweep : ResultKind::Table;

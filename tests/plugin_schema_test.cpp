@@ -24,6 +24,23 @@ std::string error_of(auto fn) {
   return "no error";
 }
 
+// The old generator name `tile` stands for `contiguous` in one rule (generator_name), and whether a generator groups
+// pixels is asked of its parameter table (a group size k), never of its name.
+TEST(PluginSchema, TheTileAliasAndGroupingAreAskedOfTheRegistry) {
+  EXPECT_EQ(generator_name("tile"), "contiguous");
+  EXPECT_EQ(generator_name("ours"), "ours");
+  EXPECT_EQ(make_generator(parse_plugin_spec("tile:k=4"))->params(),
+            make_generator(parse_plugin_spec("contiguous:k=4"))->params());
+  for (const char* g : {"ours", "contiguous", "tile"}) {
+    const ParamSpec* k = group_size_row(g);
+    ASSERT_NE(k, nullptr) << g;
+    EXPECT_EQ(k->name, "k");
+    EXPECT_GE(k->hi, 64) << g;
+  }
+  for (const char* g : {"noopt", "direct", "sadeghi", "microjitter", "nonesuch"})
+    EXPECT_EQ(group_size_row(g), nullptr) << g;
+}
+
 TEST(PluginSchema, GeneratorsReadTheirTables) {
   for (const GeneratorInfo& info : generator_infos()) {
     SCOPED_TRACE(info.name);
