@@ -1,6 +1,6 @@
 // The parts of `raycoh report` (harness/report.cpp: the page and the command): the SVG figures
-// (report_figures.cpp) and the page's sections per kind of CSV (report_sections.cpp). The CSVs are read by the
-// results layer (records/result_csv.h, records/experiment_sums.h).
+// (report_figures.cpp, their drawing primitives report_svg.cpp) and the page's sections per kind of CSV
+// (report_sections.cpp). The CSVs are read by the results layer (records/result_csv.h, records/experiment_sums.h).
 #pragma once
 
 #include <string>
