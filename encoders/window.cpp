@@ -10,7 +10,7 @@
 // leaves every ray in place (the same order as `none`). The measured CPU times are those of this emulation
 // (a global sort of the composite keys). On the `simt` GPU model the stage costs what a software windowed sort
 // kernel would: one read and one write of the batch, DRAM-bound, and no separate key, sort or permutation pass
-// (harness/experiment.cpp, model_stages; an assumption of ours: no published cost of SER's reordering exists,
+// (harness/speed/experiment.cpp, model_stages; an assumption of ours: no published cost of SER's reordering exists,
 // and the hardware unit works on chip, so this is an upper bound of its cost).
 //
 // Parameters: window_params() below. The GPU key kernels (cuda/device_keys.cu) do not build window keys: its

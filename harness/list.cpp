@@ -2,7 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include "harness/command.h"
+#include "harness/common/command.h"
 #include "plugins/plugin_list.h"
 
 namespace raycoh {

@@ -1,5 +1,5 @@
-// raycoh command line: a list of commands (harness/command.h), each bound in its own file. Every failure ends in
-// one line on stderr and an exit code of harness/exit_codes.h (user errors: 2, other failures: 1).
+// raycoh command line: a list of commands (harness/common/command.h), each bound in its own file. Every failure ends in
+// one line on stderr and an exit code of harness/common/exit_codes.h (user errors: 2, other failures: 1).
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
@@ -10,8 +10,8 @@
 #include <thread>
 
 #include "core/error.h"
-#include "harness/command.h"
-#include "harness/exit_codes.h"
+#include "harness/common/command.h"
+#include "harness/common/exit_codes.h"
 
 namespace {
 

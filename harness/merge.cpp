@@ -3,12 +3,13 @@
 #include <CLI/CLI.hpp>
 #include <memory>
 
-#include "harness/cli.h"
-#include "harness/command.h"
-#include "harness/experiment.h"
+#include "harness/common/cli.h"
+#include "harness/common/command.h"
+#include "harness/image/converge.h"
+#include "harness/image/quality.h"
 #include "harness/merge_defaults.h"
-#include "harness/quality.h"
-#include "harness/tune_run.h"
+#include "harness/speed/experiment.h"
+#include "harness/tune/tune_run.h"
 
 namespace raycoh {
 
@@ -18,7 +19,7 @@ namespace {
 RunUnits command_units(bool quality, const std::vector<std::string>& words) {
   RunUnits u;
   std::vector<PluginSpec> generators;
-  if (quality && !words.empty() && words.front() == "tune") {  // a sharded tune's error stage (harness/tune.h)
+  if (quality && !words.empty() && words.front() == "tune") {  // a sharded tune's error stage (harness/tune/tune.h)
     u.scenes = {option_value(words, "--scene", "")};
     u.methods = tune_quality_methods(option_value(words, "--space", TuneOptions{}.space),
                                      option_value(words, "--generator", TuneOptions{}.generator));

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "bvh/bvh_build.h"
-#include "harness/command.h"
+#include "harness/common/command.h"
 #include "scenes/scene.h"
 
 namespace raycoh {

@@ -42,7 +42,7 @@ struct ConvergeRow {
   RecordedColumns recorded;  // tile_w .. mode (records/recorded_columns.h), after the provenance
   std::string gpu_preset;    // the preset of gpu_model (empty without --gpu-model)
   // --denoise (after gpu_preset): the denoiser asked for ("none" | "oidn") and the running mean's error after
-  // denoising (harness/denoise_eval.h), at power-of-two frame counts only (1, 2, 4, ...); NaN (written empty) on
+  // denoising (harness/image/denoise_eval.h), at power-of-two frame counts only (1, 2, 4, ...); NaN (written empty) on
   // the other frames, without a denoiser, or when it is missing. denoise_ms: the denoiser's wall time (not in wall_s).
   std::string denoise = "none";
   double denoised_rel_mse = std::nan(""), denoised_mse = std::nan(""), denoised_rmse = std::nan(""),

@@ -59,7 +59,8 @@ struct QualityRow {
   // same seed can be compared pairwise (`raycoh tune`).
   std::vector<double> rel_mse_renders, rel_mse_ds8_renders, flip_hdr_renders;
   // --denoise (after the per-render columns): the denoiser asked for ("none" | "oidn", part of the row's key) and the
-  // figures on the denoised renders (harness/denoise_eval.h), NaN (written empty) without one or when it is missing.
+  // figures on the denoised renders (harness/image/denoise_eval.h), NaN (written empty) without one or when it is
+  // missing.
   std::string denoise = "none";
   double denoised_psnr = std::nan(""), denoised_psnr_std = std::nan(""), denoised_ssim = std::nan(""),
          denoised_rmse = std::nan(""), denoised_rel_mse = std::nan(""), denoised_mse = std::nan(""),

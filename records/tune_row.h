@@ -1,7 +1,7 @@
 // The record of one `raycoh tune` row (one setting of the search space on one scene) and its CSV column table
 // (results/README.md). The row joins the setting's speed (from <out stem>-speed.csv, a sweep-layout experiment
 // CSV) and its error ratios to NoOpt (from <out stem>-quality.csv, a quality CSV) with the decision of
-// harness/tune_select.h.
+// harness/tune/tune_select.h.
 #pragma once
 
 #include <cstdint>
@@ -44,7 +44,7 @@ struct TuneRow {
   std::string budget;        // "ds8=1.05,flip=1.05,bias=none"
   bool meets_budget = false, front = false, recommended = false, closest_miss = false, paper_default = false;
   bool fastest_passing = false;  // the fastest setting within the budget (recommended unless the speed call chose
-                                 // the paper's default: harness/tune_select.h settle_speed)
+                                 // the paper's default: harness/tune/tune_select.h settle_speed)
   std::string reason;            // why it misses the budget ("" when it meets it)
   std::string search;            // grid | fastest
   Provenance provenance;
@@ -52,7 +52,7 @@ struct TuneRow {
 
 const Schema<TuneRow>& tune_schema();
 
-// One line of `raycoh tune --confirm N` (<out stem>-confirm.csv, harness/tune_confirm.h): the search's speed call
+// One line of `raycoh tune --confirm N` (<out stem>-confirm.csv, harness/tune/tune_confirm.h): the search's speed call
 // of `setting` against `baseline` (the paper's default, or noopt when the recommendation is the paper's default)
 // re-measured at one fresh seed (kind "seed"), or over every fresh seed's frames together (kind "pooled").
 struct TuneConfirmRow {

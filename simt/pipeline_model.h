@@ -49,7 +49,7 @@ double permute_bytes(const uint32_t* order, size_t n);
 // permutation are all in this one figure. An assumption of ours, an upper bound of a hardware unit's cost.
 double window_bytes(size_t n, bool physical);
 // The generation stage of a noopt pass on 8x8 tiles over `pixels` pixels (simt/stage_model.h), for callers that
-// know no more of the generator (harness/gpu_clock.h).
+// know no more of the generator (harness/image/gpu_clock.h).
 double modeled_generation_ms(const GpuModelConfig& gpu, size_t pixels, size_t rays);
 
 // Each stage's bytes (the *_ms fields 0; simt/stage_model.h's stage_model adds the times): what a pass moves. A

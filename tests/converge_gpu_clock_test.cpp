@@ -1,4 +1,4 @@
-// The modeled GPU clock of `converge` (harness/gpu_clock.h): the frame model on the renderer's rays, the modeled
+// The modeled GPU clock of `converge` (harness/image/gpu_clock.h): the frame model on the renderer's rays, the modeled
 // columns of the converge CSV, and the equal-time / equal-error reading on every clock.
 #include <gtest/gtest.h>
 
@@ -7,10 +7,11 @@
 #include <map>
 
 #include "bvh/bvh_build.h"
-#include "harness/gpu_clock.h"
-#include "harness/quality.h"
+#include "harness/image/converge.h"
+#include "harness/image/gpu_clock.h"
 #include "plugins/tracer_registry.h"
 #include "records/csv.h"
+#include "records/curves.h"
 #include "scenes/scene.h"
 #include "tests/cli_util.h"
 #include "tests/test_util.h"

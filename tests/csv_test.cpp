@@ -8,7 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "harness/exit_codes.h"
+#include "harness/common/exit_codes.h"
 #include "records/experiment_row.h"
 #include "records/hw_columns.h"
 #include "records/quality_row.h"

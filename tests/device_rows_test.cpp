@@ -1,14 +1,14 @@
-// The host side of the device pipeline (tracers/device_pipeline.h, harness/device_rows.h) and of the modeled
+// The host side of the device pipeline (tracers/device_pipeline.h, harness/speed/device_rows.h) and of the modeled
 // stages beside it (simt/pipeline_model.h modeled_stages): medians, the measured columns a device row gets, what
 // the console sums, and which modeled stages a reordering has. No GPU needed: the passes here are stand-ins that
 // return given stage times.
-#include "harness/device_rows.h"
+#include "harness/speed/device_rows.h"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "harness/repeat_timing.h"
+#include "harness/speed/repeat_timing.h"
 #include "records/experiment_row.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"

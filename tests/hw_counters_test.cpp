@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/report_parts.h"
+#include "harness/report/report_parts.h"
 #include "plugins/tracer_registry.h"
 #include "records/experiment_row.h"
 #include "records/experiment_sums.h"

@@ -1,4 +1,4 @@
-// Issue 12 items 1 and 3 (shading/metrics.h, harness/quality.h): the measurement protocols, linear metrics, the
+// Issue 12 items 1 and 3 (shading/metrics.h, harness/image/quality.h): the measurement protocols, linear metrics, the
 // reference's own noise from two half-references, the error of downsampled images, and the per-pixel bias test.
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include "bvh/bvh_build.h"
 #include "core/error.h"
 #include "generators/generator.h"
-#include "harness/quality.h"
+#include "harness/image/quality.h"
 #include "plugins/tracer_registry.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"

@@ -1,4 +1,4 @@
-// The quality commands (harness/quality.h: render, quality, converge, compare): option validation, CSV rows,
+// The quality commands (harness/image/quality.h: render, quality, converge, compare): option validation, CSV rows,
 // images, resume, convergence curves.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,12 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "harness/quality.h"
+#include "harness/image/compare.h"
+#include "harness/image/converge.h"
+#include "harness/image/quality.h"
+#include "harness/image/render.h"
+#include "harness/image/render_cli.h"
+#include "records/curves.h"
 #include "shading/image.h"
 #include "tests/shading_test_util.h"
 #include "tests/test_util.h"

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "harness/tune_select.h"
+#include "harness/tune/tune_select.h"
 #include "tests/cli_util.h"
 
 namespace raycoh::test {

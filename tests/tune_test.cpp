@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "harness/tune_select.h"
-#include "harness/tune_space.h"
+#include "harness/tune/tune_select.h"
+#include "harness/tune/tune_space.h"
 #include "shading/metrics.h"
 #include "tests/cli_util.h"
 

@@ -1,7 +1,7 @@
 // The whole per-frame ray pipeline on a tracer's own device (docs/design.md section 1): camera rays, G-buffer upload,
 // secondary generation, keys, sort, permutation and trace, each stage timed there. A tracer that has one returns
 // it from Tracer::device_pipeline() (the `cuda` tracer with pipeline=device, cuda/device_pipeline.h); the experiment
-// loop (harness/experiment.cpp) then runs every row of that tracer through it instead of tracing host-made
+// loop (harness/speed/experiment.cpp) then runs every row of that tracer through it instead of tracing host-made
 // batches. Plain C++: the interface names no device API.
 //
 // Measured, never modeled: every time below is the device's own clock (CUDA events), and no host time is added

@@ -89,7 +89,7 @@ const std::vector<Target>& targets() {
        fuzz_scene_spec},
       {"plugin_params", "generator, encoder and tracer specs and parameter strings (core/params.cpp, registries)",
        fuzz_plugin_params},
-      {"csv_resume", "an earlier run's CSV read back for resume (harness/csv.cpp, record_csv.h)", fuzz_csv_resume},
+      {"csv_resume", "an earlier run's CSV read back for resume (records/record_csv.h)", fuzz_csv_resume},
       {"shard_merge", "shard CSV files of `raycoh merge` (harness/merge.cpp)", fuzz_shard_merge},
       {"reference_cache", "reference cache entry: sidecar JSON + image (shading/reference.cpp get_reference)",
        fuzz_reference_cache},

@@ -1,11 +1,12 @@
 // Fuzz target of the option values the commands parse themselves: --res, --shard, --crop, --time, --scenes lists,
-// --tone-map, --metrics, --permute and integer options (harness/cli.h, records/shard.h, shading/, core/params.h).
+// --tone-map, --metrics, --permute and integer options (harness/common/cli.h, records/shard.h, shading/,
+// core/params.h).
 #include <string>
 
 #include "core/params.h"
 #include "encoders/permute.h"
-#include "harness/cli.h"
-#include "harness/quality.h"
+#include "harness/common/cli.h"
+#include "harness/image/render_cli.h"
 #include "records/shard.h"
 #include "shading/image.h"
 #include "shading/metrics.h"
