@@ -4,8 +4,8 @@ A figure here is a decimal number (1.246), or a whole number followed by % or ×
 code blocks (indented four spaces or fenced) and `inline code` are commands and names, not figures; a band written
 ±N% ('within ±15%') is the tolerance a count is taken against, not a measured figure (the count is); a percentage
 that names a confidence level or a test's nominal rate ('the 95% interval', 'the 95% band', 'a 5% false-alarm
-rate') is the test's setting, not a result; a number written right after × is the second side of a size or tile
-(640×480, 32×8), not a ratio; in a section that documents a command or a file (its heading names it in `code`:
+rate', 'the nominal 5%') is the test's setting, not a result; a number written right after × is the second side of
+a size or tile (640×480, 32×8), not a ratio; in a section that documents a command or a file (its heading names it in `code`:
 "## `raycoh quality` CSV") a figure written after =, <, >, ≤, ≥ or + is a constant of a definition ('σ = 1.5',
 '|z| < 1.96', 'busy ≥ 80%', '(r² + 0.01)'), not a result. A figure is covered when it lies inside the text a Figure
 check quotes, or the README has no figure outside such text.
@@ -61,5 +61,10 @@ LEVEL = re.compile(r"\s(?:confidence|intervals?|tests?|bands?|false-alarm|CI)\b"
 
 def level(body, m):
     """A whole-number percentage that names a confidence level or a test's rate: 'the 95% interval', 'a 95% test',
-    'the 95% band', 'a 5% false-alarm rate'."""
-    return re.fullmatch(r"\d+%", m.group(0)) is not None and LEVEL.match(body, m.end()) is not None
+    'the 95% band', 'a 5% false-alarm rate'; or a percentage written right after the word 'nominal' (a test's
+    nominal rate that a measured share is compared with: 'more than the nominal 5% of pixels', 'a nominal 2.5%')."""
+    whole = re.fullmatch(r"\d+%", m.group(0)) is not None
+    if whole and LEVEL.match(body, m.end()) is not None:
+        return True
+    percent = whole or (re.fullmatch(r"\d+\.\d+", m.group(0)) is not None and body.startswith("%", m.end()))
+    return percent and body[:m.start()].endswith("nominal ")

@@ -133,6 +133,9 @@ def self_test(checks):
     levels = "the 95% interval, a 95% band, a 5% false-alarm rate at 32×8 × K 8: 4% of 2×"
     if coverage.uncovered(levels, []) != ["4%", "2×"]:
         bad.append("coverage.py: a confidence level or a size's second side counted as a figure")
+    nominal = "above the nominal 5% of pixels, a nominal 2.5% each; 5% of pixels, 2.5% each"
+    if coverage.uncovered(nominal, []) != ["5%", "2.5"]:
+        bad.append("coverage.py: a test's nominal rate counted, or a share not named nominal skipped")
     if coverage.uncovered("## `x` CSV\n| `c` | σ = 1.5, |z| < 1.96, (r² + 0.01), ≥ 80%: 2.5% |\n## Results\nz = 1.5",
                           []) != ["2.5", "1.5"]:
         bad.append("coverage.py: a column definition's constant counted, or a result after = skipped")
