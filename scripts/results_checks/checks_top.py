@@ -1,4 +1,5 @@
 """results/README.md, "What the committed results show": the summary lines of every results folder."""
+from results_checks import checks_denoise as dn
 from results_checks import checks_gpu as gpu
 from results_checks.checks_model import SECONDARY, ratio_range, vs
 from results_checks.core import Figure
@@ -85,4 +86,18 @@ def checks():
     ]
 
 
-CHECKS = checks()
+def denoise():
+    """The denoise/ line: noopt's error over its denoised error, the shared-direction generators' denoised ratios
+    to noopt (geometric means over seeds) and ours' on country_kitchen at 128 frames (checks_denoise's helpers)."""
+    low, high = dn.noopt_falls()
+    falls = [1 / v for v in low + high]
+    return [
+        Figure(README, "OIDN lowers noopt's error {:.0f}–{}×", lambda: (min(falls), dn.sig2(max(falls)))),
+        Figure(README, "(denoised {:.2f}–{:.2f}× noopt; their image-wide shared directions", lambda: dn.means(
+            dn.SCENES, dn.SHARED, 1)),
+        Figure(README, "(country_kitchen, denoised up to ~{:.0f}× at {} frames", lambda: (
+            max(dn.mean_ratio(dn.CK, "ours", f, 1) for f in dn.FRAMES), str(max(dn.FRAMES)))),
+    ]
+
+
+CHECKS = checks() + denoise()
