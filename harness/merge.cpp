@@ -41,7 +41,7 @@ RunUnits command_units(bool quality, const std::vector<std::string>& words) {
 }  // namespace
 
 MergeCommands merge_command_defaults() {
-  return {ExperimentOptions{}.frames, TuneOptions{}.speed_frames, command_units};
+  return {ExperimentOptions{}.frames, TuneOptions{}.speed.frames, command_units};
 }
 
 BoundCommand bind_merge(CLI::App& parent) {

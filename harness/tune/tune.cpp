@@ -28,20 +28,21 @@ void check_tune(const TuneOptions& o, const TuneBudget& b) {
     throw Error(fmt::format("--generator {}: tune searches the settings of ours or contiguous", o.generator));
   if (o.search != "fastest" && o.search != "grid")
     throw Error(fmt::format("--search {}: valid: fastest, grid", o.search));
-  if (o.rank != "e2e" && o.rank != "trace") throw Error(fmt::format("--rank {}: valid: e2e, trace", o.rank));
-  if (o.seeds < 2 || o.seeds > 256)
-    throw Error(fmt::format("--seeds {}: must be in [2, 256] (the error ratios' spread needs two)", o.seeds));
-  if (o.speed_frames < 1 || o.speed_frames > 1000)
-    throw Error(fmt::format("--speed-frames {}: must be in [1, 1000]", o.speed_frames));
+  if (o.speed.rank != "e2e" && o.speed.rank != "trace")
+    throw Error(fmt::format("--rank {}: valid: e2e, trace", o.speed.rank));
+  if (o.error.seeds < 2 || o.error.seeds > 256)
+    throw Error(fmt::format("--seeds {}: must be in [2, 256] (the error ratios' spread needs two)", o.error.seeds));
+  if (o.speed.frames < 1 || o.speed.frames > 1000)
+    throw Error(fmt::format("--speed-frames {}: must be in [1, 1000]", o.speed.frames));
   if (!o.shard.whole() && o.search != "grid")
     throw Error(
         fmt::format("--shard {}: needs --search grid (the fastest search depends on every speed)", o.shard.text()));
-  if (o.confirm < 0 || o.confirm > kMaxConfirmSeeds)
-    throw Error(fmt::format("--confirm {}: must be in [1, {}] (fresh seeds to re-measure the speed call on)", o.confirm,
-                            kMaxConfirmSeeds));
-  if (o.confirm > 0 && (!o.speed_csv.empty() || !o.shard.whole()))
+  if (o.speed.confirm < 0 || o.speed.confirm > kMaxConfirmSeeds)
+    throw Error(fmt::format("--confirm {}: must be in [1, {}] (fresh seeds to re-measure the speed call on)",
+                            o.speed.confirm, kMaxConfirmSeeds));
+  if (o.speed.confirm > 0 && (!o.speed.csv.empty() || !o.shard.whole()))
     throw Error(
-        fmt::format("--confirm {}: needs this run's own speed stage (not --speed-csv, not --shard)", o.confirm));
+        fmt::format("--confirm {}: needs this run's own speed stage (not --speed-csv, not --shard)", o.speed.confirm));
   if (b.flip > 0 && (flip_program().empty() || !image_io_available()))
     throw Error(fmt::format(
         "--budget flip={}: HDR-FLIP needs the flip program ($RAYCOH_FLIP or .venv/bin/flip: scripts/setup) and a "
@@ -75,11 +76,11 @@ TuneRow row_of(const TuneOptions& o, const TuneBudget& b, const TuneMeasured& m,
   r.tracer_spec = m.tracer_label;
   r.speed_csv = m.speed_source;
   r.speed_kind = m.modeled ? "modeled" : "measured";
-  r.rank = o.rank;
+  r.rank = o.speed.rank;
   r.mray_s = c.speed;
   r.speedup = m.noopt_speed > 0 ? c.speed / m.noopt_speed : std::nan("");
   r.trace_mray_s = c.trace_speed;
-  r.e2e_mray_s = o.rank == "e2e" ? c.speed : std::nan("");
+  r.e2e_mray_s = o.speed.rank == "e2e" ? c.speed : std::nan("");
   r.noopt_mray_s = m.noopt_speed;
   r.speedup_lo = c.to_noopt.has_interval ? c.to_noopt.lo : std::nan("");
   r.speedup_hi = c.to_noopt.has_interval ? c.to_noopt.hi : std::nan("");
@@ -90,8 +91,9 @@ TuneRow row_of(const TuneOptions& o, const TuneBudget& b, const TuneMeasured& m,
   r.speed_repeats = m.repeats;
   r.waves = c.waves;
   r.fastest_passing = ch.fastest_passing == static_cast<int>(i);
-  r.render_tracer = o.render_tracer.text();
-  r.width = o.width, r.height = o.height, r.frames = o.frames, r.ref_frames = o.ref_frames, r.seeds = o.seeds;
+  r.render_tracer = o.error.tracer.text();
+  r.width = o.width, r.height = o.height, r.frames = o.error.frames, r.ref_frames = o.error.ref_frames,
+  r.seeds = o.error.seeds;
   r.seed = o.seed;
   r.error_measured = c.error_measured;
   std::tie(r.ds8, r.ds8_lo, r.ds8_hi) = std::make_tuple(c.ds8.mean, c.ds8.lo, c.ds8.hi);
@@ -162,7 +164,7 @@ void print_waves(const TuneMeasured& m, const std::vector<TuneRow>& rows) {
 // The speed call on the recommendation (harness/tune/tune_select.h settle_speed).
 void print_speed_call(const TuneOptions& o, const TuneMeasured& m, const TuneRow& rec, const TuneRow* fastest,
                       const TuneRow* paper) {
-  const char* speed = o.rank == "e2e" ? "end-to-end" : "trace";
+  const char* speed = o.speed.rank == "e2e" ? "end-to-end" : "trace";
   if (fastest && fastest != &rec) {
     std::printf(
         "\nFastest within the budget: %s — %s the paper's default (8x8, K = 8): %s at %.0f%%, so the paper's "
@@ -202,8 +204,9 @@ void print_tune(const TuneOptions& o, const TuneMeasured& m, std::vector<TuneRow
       "%s search.\n\n| tile | K | order | hybrid | frame | MRay/s | × noopt | × paper | waves | ds8 | rel | HDR-FLIP | "
       "bias | meets budget | |\n|---|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|---|---|\n",
       m.scene.c_str(), o.generator.c_str(), o.width, o.height, m.modeled ? "MODELED by " : "measured on ",
-      m.tracer_label.c_str(), o.rank == "e2e" ? "end-to-end" : "trace", m.noopt_speed, o.speed_frames, repeats.c_str(),
-      o.seeds, o.frames, o.ref_frames, o.render_tracer.text().c_str(), any.budget.c_str(), o.search.c_str());
+      m.tracer_label.c_str(), o.speed.rank == "e2e" ? "end-to-end" : "trace", m.noopt_speed, o.speed.frames,
+      repeats.c_str(), o.error.seeds, o.error.frames, o.error.ref_frames, o.error.tracer.text().c_str(),
+      any.budget.c_str(), o.search.c_str());
   size_t skipped = 0;
   for (const TuneRow& r : rows)
     if (r.error_measured || r.paper_default)
@@ -235,10 +238,10 @@ void print_tune(const TuneOptions& o, const TuneMeasured& m, std::vector<TuneRow
 }  // namespace
 
 int run_tune(const TuneOptions& o, const Provenance& provenance) {
-  const TuneBudget budget = parse_tune_budget(o.budget);
+  const TuneBudget budget = parse_tune_budget(o.error.budget);
   std::vector<TuneSetting> settings = expand(parse_tune_space(o.space), o.generator);
   check_tune(o, budget);
-  if (const std::string why = hw_counters_refusal("--tracer", o.tracer.params); !why.empty()) throw Error(why);
+  if (const std::string why = hw_counters_refusal("--tracer", o.speed.tracer.params); !why.empty()) throw Error(why);
   // The paper's default is always measured: the recommendation's gain is stated against it.
   if (std::find(settings.begin(), settings.end(), paper_setting(o.generator)) == settings.end())
     settings.push_back(paper_setting(o.generator));
@@ -266,7 +269,7 @@ int run_tune(const TuneOptions& o, const Provenance& provenance) {
   print_tune(o, *m, rows);
   std::printf("\nWrote %s (from %s and %s; %s)\n", o.out.c_str(), m->speed_source.c_str(), tune_quality_path(o).c_str(),
               provenance.git_revision.c_str());
-  if (o.confirm > 0) confirm_tune(o, *m, choice, paper_index, provenance);
+  if (o.speed.confirm > 0) confirm_tune(o, *m, choice, paper_index, provenance);
   return 0;
 }
 
@@ -276,8 +279,8 @@ BoundCommand bind_tune(CLI::App& parent) {
     std::string tracer, render_tracer, res, shard = "0/1";
   };
   auto s = std::make_shared<State>();
-  s->tracer = s->o.tracer.text();
-  s->render_tracer = s->o.render_tracer.text();
+  s->tracer = s->o.speed.tracer.text();
+  s->render_tracer = s->o.error.tracer.text();
   s->res = fmt::format("{}x{}", s->o.width, s->o.height);
   TuneOptions& o = s->o;
   CLI::App* cmd = parent.add_subcommand("tune", "the fastest setting of ours within an error budget (one scene)");
@@ -287,39 +290,39 @@ BoundCommand bind_tune(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--render-tracer", s->render_tracer, "tracer of the quality renders")->capture_default_str();
   cmd->add_option("--res", s->res, "resolution WxH")->capture_default_str();
-  cmd->add_option("--budget", o.budget, "error ratios to noopt: ds8=R,rel=R,flip=R,bias=none|any")
+  cmd->add_option("--budget", o.error.budget, "error ratios to noopt: ds8=R,rel=R,flip=R,bias=none|any")
       ->capture_default_str();
   cmd->add_option("--space", o.space, "axes tile=.. k=.. order=.. hybrid=.. frame=..")->capture_default_str();
   cmd->add_option("--search", o.search, "fastest (stop at the first setting within budget) or grid")
       ->capture_default_str();
-  cmd->add_option("--rank", o.rank, "e2e or trace: the speed that ranks settings")->capture_default_str();
-  cmd->add_option("--frames", o.frames, "frames per render")->capture_default_str();
-  cmd->add_option("--seeds", o.seeds, "renders per setting (seeds seed ..)")->capture_default_str();
-  cmd->add_option("--ref-frames", o.ref_frames, "NoOpt frames of the reference")->capture_default_str();
-  cmd->add_option("--speed-frames", o.speed_frames, "frames of the speed stage")->capture_default_str();
-  cmd->add_option("--repeat", o.repeats, "timed traces per batch (measured tracers; 0: 9 on a GPU, 7 on the CPU)")
+  cmd->add_option("--rank", o.speed.rank, "e2e or trace: the speed that ranks settings")->capture_default_str();
+  cmd->add_option("--frames", o.error.frames, "frames per render")->capture_default_str();
+  cmd->add_option("--seeds", o.error.seeds, "renders per setting (seeds seed ..)")->capture_default_str();
+  cmd->add_option("--ref-frames", o.error.ref_frames, "NoOpt frames of the reference")->capture_default_str();
+  cmd->add_option("--speed-frames", o.speed.frames, "frames of the speed stage")->capture_default_str();
+  cmd->add_option("--repeat", o.speed.repeats, "timed traces per batch (measured tracers; 0: 9 on a GPU, 7 on the CPU)")
       ->capture_default_str();
   cmd->add_option("--seed", o.seed, "random seed")->capture_default_str();
-  cmd->add_option("--max-depth", o.max_depth, "scattering events per path")->capture_default_str();
-  cmd->add_option("--rr-depth", o.rr_depth, "Russian roulette from this bounce on")->capture_default_str();
-  cmd->add_option("--speed-csv", o.speed_csv,
+  cmd->add_option("--max-depth", o.error.max_depth, "scattering events per path")->capture_default_str();
+  cmd->add_option("--rr-depth", o.error.rr_depth, "Russian roulette from this bounce on")->capture_default_str();
+  cmd->add_option("--speed-csv", o.speed.csv,
                   "take the speeds from this table/sweep CSV (e.g. a tune's <stem>-speed.csv from a GPU machine)");
-  cmd->add_option("--quality-csv", o.quality_csv, "the error stage's CSV (default <out stem>-quality.csv; shareable)");
+  cmd->add_option("--quality-csv", o.error.csv, "the error stage's CSV (default <out stem>-quality.csv; shareable)");
   cmd->add_option("--out", o.out, "CSV of the decision (stages: <stem>-speed.csv, <stem>-quality.csv)")
       ->capture_default_str();
-  cmd->add_option("--cache", o.cache_dir, "reference cache folder (default $RAYCOH_CACHE or results/cache)");
-  cmd->add_option("--images", o.image_dir, "folder for renders (default <stem>-quality-images)");
+  cmd->add_option("--cache", o.error.cache_dir, "reference cache folder (default $RAYCOH_CACHE or results/cache)");
+  cmd->add_option("--images", o.error.image_dir, "folder for renders (default <stem>-quality-images)");
   cmd->add_option("--shard", s->shard, "I/N with --search grid: only shard I of both stages' units")
       ->capture_default_str();
   cmd->add_flag("--force", o.force, "measure afresh instead of resuming the stages' files");
   CLI::Option* confirm = cmd->add_option(
-      "--confirm", o.confirm, "N in [1, 64]: re-measure the speed call on N fresh seeds (<stem>-confirm.csv)");
+      "--confirm", o.speed.confirm, "N in [1, 64]: re-measure the speed call on N fresh seeds (<stem>-confirm.csv)");
   return {cmd, [s, confirm](const Provenance& provenance) {
-            if (confirm->count() > 0 && (s->o.confirm < 1 || s->o.confirm > kMaxConfirmSeeds))
+            if (confirm->count() > 0 && (s->o.speed.confirm < 1 || s->o.speed.confirm > kMaxConfirmSeeds))
               throw Error(fmt::format("--confirm {}: must be in [1, {}] (fresh seeds to re-measure the speed call on)",
-                                      s->o.confirm, kMaxConfirmSeeds));
-            s->o.tracer = parse_plugin_spec(s->tracer);
-            s->o.render_tracer = parse_plugin_spec(s->render_tracer);
+                                      s->o.speed.confirm, kMaxConfirmSeeds));
+            s->o.speed.tracer = parse_plugin_spec(s->tracer);
+            s->o.error.tracer = parse_plugin_spec(s->render_tracer);
             std::tie(s->o.width, s->o.height) = parse_res("--res", s->res);
             s->o.shard = parse_shard("--shard", s->shard);
             return run_tune(s->o, provenance);

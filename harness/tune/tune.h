@@ -29,36 +29,46 @@
 
 namespace raycoh {
 
-struct TuneOptions {
-  std::string scene;
-  std::string generator = "ours";       // ours | contiguous
-  PluginSpec tracer{"simt", ""};        // --tracer: the speed tracer
-  PluginSpec render_tracer{"cpu", ""};  // --render-tracer: the quality renders' (cpu | embree)
-  int width = 480, height = 270;        // --res, each in [11, 16384]
-  int speed_frames = 2;                 // --speed-frames [1, 1000]
-  int repeats = 0;                      // --repeat [0, 1000]: timed traces per batch (0: the tracer's default)
-  int frames = 16;                      // --frames [1, 1 << 20]: frames per render
-  int seeds = 4;                        // --seeds [2, 256]: renders per setting (the spread needs two)
-  int ref_frames = 512;                 // --ref-frames [1, 1 << 20]
-  uint32_t seed = 1;                    // --seed
-  int max_depth = 5, rr_depth = 3;      // --max-depth, --rr-depth [1, 64]
-  std::string budget = "ds8=1.05,flip=1.05,bias=none";
-  std::string space = "tile=8x8,16x8,16x16,32x8 k=8,16,32,64 order=tile,group hybrid=paper,donor frame=duff,rotate";
-  std::string search = "fastest";  // fastest | grid
-  std::string rank = "e2e";        // e2e | trace
+// The speed stage and the speed call: what is timed, how the settings are ranked, and the call's re-measurement.
+struct TuneSpeedOptions {
+  PluginSpec tracer{"simt", ""};  // --tracer
+  int frames = 2;                 // --speed-frames [1, 1000]
+  int repeats = 0;                // --repeat [0, 1000]: timed traces per batch (0: the tracer's default)
+  std::string rank = "e2e";       // --rank e2e | trace
   // --speed-csv: take the speed stage from this table/sweep CSV (one scene, one tracer; e.g. <stem>-speed.csv of a
   // tune run on a GPU machine) instead of measuring it here; it must hold noopt and every setting at --res.
-  std::string speed_csv;
-  // --quality-csv: the error stage's file (default <out stem>-quality.csv). The error does not depend on the speed
-  // tracer, so tunes of one scene ranked by different speeds can share it: each measures only the images missing.
-  std::string quality_csv;
-  std::string out = "raycoh-tune.csv";
-  std::string cache_dir, image_dir;  // "" = $RAYCOH_CACHE or results/cache; <out stem>-images
-  bool force = false;
-  Shard shard;  // --shard I/N (with --search grid): this shard's units of both stages
+  std::string csv;
   // --confirm N [1, 64] (0: off): after the decision, re-measure the speed call on N fresh seeds
   // (harness/tune/tune_confirm.h).
   int confirm = 0;
+};
+
+// The error stage: the renders of every image against the NoOpt reference, and the budget they are judged by.
+struct TuneErrorOptions {
+  PluginSpec tracer{"cpu", ""};                         // --render-tracer: the quality renders' (cpu | embree)
+  int frames = 16;                                      // --frames [1, 1 << 20]: frames per render
+  int seeds = 4;                                        // --seeds [2, 256]: renders per setting (the spread needs two)
+  int ref_frames = 512;                                 // --ref-frames [1, 1 << 20]
+  int max_depth = 5, rr_depth = 3;                      // --max-depth, --rr-depth [1, 64]
+  std::string budget = "ds8=1.05,flip=1.05,bias=none";  // --budget
+  // --quality-csv: the error stage's file (default <out stem>-quality.csv). The error does not depend on the speed
+  // tracer, so tunes of one scene ranked by different speeds can share it: each measures only the images missing.
+  std::string csv;
+  std::string cache_dir, image_dir;  // --cache, --images: "" = $RAYCOH_CACHE or results/cache; <out stem>-images
+};
+
+struct TuneOptions {
+  std::string scene;
+  std::string generator = "ours";  // ours | contiguous
+  int width = 480, height = 270;   // --res, each in [11, 16384]
+  uint32_t seed = 1;               // --seed: of both stages
+  std::string space = "tile=8x8,16x8,16x16,32x8 k=8,16,32,64 order=tile,group hybrid=paper,donor frame=duff,rotate";
+  std::string search = "fastest";  // fastest | grid
+  TuneSpeedOptions speed;
+  TuneErrorOptions error;
+  std::string out = "raycoh-tune.csv";
+  bool force = false;
+  Shard shard;  // --shard I/N (with --search grid): this shard's units of both stages
 };
 int run_tune(const TuneOptions& options, const Provenance& provenance);
 

@@ -70,9 +70,9 @@ TuneConfirmRow confirm_row(const TuneOptions& o, const Call& call, const TuneSpe
   row.noopt_mray_s = noopt.ranked;
   row.tracer_spec = sp.tracer_label;
   row.speed_kind = sp.modeled ? "modeled" : "measured";
-  row.rank = o.rank;
+  row.rank = o.speed.rank;
   row.speed_csv = sp.source;
-  row.width = o.width, row.height = o.height, row.speed_frames = o.speed_frames, row.repeats = sp.repeats;
+  row.width = o.width, row.height = o.height, row.speed_frames = o.speed.frames, row.repeats = sp.repeats;
   row.waves = sp.wave_rays > 0 ? subject.rays_per_frame / sp.wave_rays : std::nan("");
   row.provenance = p;
   return row;
@@ -107,16 +107,16 @@ void confirm_tune(const TuneOptions& o, const TuneMeasured& m, const TuneChoice&
   const Call call = call_to_confirm(o, m, ch, paper);
   std::vector<std::string> methods{paper_setting(o.generator).spec()};
   if (call.subject->setting.spec() != methods.front()) methods.push_back(call.subject->setting.spec());
-  const uint32_t first = o.seed + static_cast<uint32_t>(o.seeds);
+  const uint32_t first = o.seed + static_cast<uint32_t>(o.error.seeds);
   std::printf(
       "\nConfirm: %s %s %s at %d fresh seed(s) from %u (the search's speed seed was %u, its renders' %u..%u), "
       "%d frame(s) each:\n",
       call.subject->setting.spec().c_str(), call.claim == "indistinguishable" ? "vs" : "over",
-      call.baseline_words.c_str(), o.confirm, first, o.seed, o.seed, o.seed + static_cast<uint32_t>(o.seeds) - 1,
-      o.speed_frames);
+      call.baseline_words.c_str(), o.speed.confirm, first, o.seed, o.seed,
+      o.seed + static_cast<uint32_t>(o.error.seeds) - 1, o.speed.frames);
   std::vector<TuneConfirmRow> rows;
   TuneSpeeds pooled;
-  for (int i = 0; i < o.confirm; ++i) {
+  for (int i = 0; i < o.speed.confirm; ++i) {
     const uint32_t seed = first + static_cast<uint32_t>(i);
     const std::string path = fmt::format("{}-confirm-seed{}-speed.csv", stem_path(o.out), seed);
     const TuneSpeeds sp = measure_tune_speeds(o, methods, seed, path, provenance);

@@ -40,22 +40,22 @@ std::vector<std::string> image_order(const TuneOptions& o, const std::vector<Tun
 
 QualityOptions error_options(const TuneOptions& o, const std::vector<std::string>& images) {
   QualityOptions q;
-  q.common.tracer = o.render_tracer;
+  q.common.tracer = o.error.tracer;
   q.common.width = o.width;
   q.common.height = o.height;
   q.common.seed = o.seed;
-  q.common.max_depth = o.max_depth;
-  q.common.rr_depth = o.rr_depth;
+  q.common.max_depth = o.error.max_depth;
+  q.common.rr_depth = o.error.rr_depth;
   q.common.force = o.force;
   q.scenes = {o.scene};
   q.generators = {{"noopt", ""}};
   for (const std::string& spec : images) q.generators.push_back(parse_plugin_spec(spec));
-  q.frames = o.frames;
-  q.ref_frames = o.ref_frames;
-  q.bias_renders = o.seeds;
-  q.cache_dir = o.cache_dir;
+  q.frames = o.error.frames;
+  q.ref_frames = o.error.ref_frames;
+  q.bias_renders = o.error.seeds;
+  q.cache_dir = o.error.cache_dir;
   q.out = tune_quality_path(o);
-  q.image_dir = o.image_dir;
+  q.image_dir = o.error.image_dir;
   q.shard = o.shard;
   q.console = false;
   return q;
@@ -128,7 +128,7 @@ std::vector<std::string> tune_quality_methods(const std::string& space, const st
 
 std::string tune_speed_path(const TuneOptions& o) { return stem_path(o.out) + "-speed.csv"; }
 std::string tune_quality_path(const TuneOptions& o) {
-  return o.quality_csv.empty() ? stem_path(o.out) + "-quality.csv" : o.quality_csv;
+  return o.error.csv.empty() ? stem_path(o.out) + "-quality.csv" : o.error.csv;
 }
 
 std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget& budget,
@@ -137,21 +137,21 @@ std::optional<TuneMeasured> measure_tune(const TuneOptions& o, const TuneBudget&
   std::vector<std::string> methods;
   for (const TuneSetting& s : settings) methods.push_back(s.spec());
   take_speeds(o, settings,
-              o.speed_csv.empty() ? measure_tune_speeds(o, methods, o.seed, tune_speed_path(o), provenance)
-                                  : read_tune_speeds(o, o.speed_csv, methods, "--speed-csv"),
+              o.speed.csv.empty() ? measure_tune_speeds(o, methods, o.seed, tune_speed_path(o), provenance)
+                                  : read_tune_speeds(o, o.speed.csv, methods, "--speed-csv"),
               m);
   std::vector<TuneCandidate>& cs = m.candidates;
   QualityOptions q = error_options(o, image_order(o, cs));
   std::fprintf(stderr, "tune: error of up to %zu images and noopt (%d seeds x %d frames, %s search) -> %s\n",
-               q.generators.size() - 1, o.seeds, o.frames, o.search.c_str(), q.out.c_str());
+               q.generators.size() - 1, o.error.seeds, o.error.frames, o.search.c_str(), q.out.c_str());
   // Fastest search: stop once a measured image meets the budget at a speed no unmeasured image can beat.
   const std::map<std::string, double> best = best_speed(cs);
   std::set<std::string> unmeasured;
   for (size_t i = 1; i < q.generators.size(); ++i) unmeasured.insert(q.generators[i].text());
   double passing = -1;
   q.after_row = [&](const QualityRow& row) {
-    if (!o.speed_csv.empty() && row.scene != m.scene)
-      throw Error(fmt::format("--speed-csv {}: its speeds are of scene {}, --scene {} is {}", o.speed_csv, m.scene,
+    if (!o.speed.csv.empty() && row.scene != m.scene)
+      throw Error(fmt::format("--speed-csv {}: its speeds are of scene {}, --scene {} is {}", o.speed.csv, m.scene,
                               o.scene, row.scene));
     m.rows[row.method] = row;
     unmeasured.erase(row.method);

@@ -23,12 +23,12 @@ ExperimentOptions speed_options(const TuneOptions& o, const std::vector<std::str
   e.scenes = {o.scene};
   e.methods = {{"noopt", {"noopt", ""}}};
   for (const std::string& m : methods) e.methods.push_back({m, parse_plugin_spec(m)});
-  e.tracers = {o.tracer};
+  e.tracers = {o.speed.tracer};
   e.width = o.width;
   e.height = o.height;
-  e.frames = o.speed_frames;
+  e.frames = o.speed.frames;
   e.seed = seed;
-  e.repeats = o.repeats;
+  e.repeats = o.speed.repeats;
   e.out = out;
   e.force = o.force;
   e.shard = o.shard;
@@ -77,7 +77,7 @@ TuneSpeeds read_tune_speeds(const TuneOptions& o, const std::string& path, const
   TuneSpeeds s;
   s.source = path;
   s.modeled = !c.rows.empty() && !std::isnan(c.num(c.rows.front(), "modeled_ms"));
-  const bool e2e = o.rank == "e2e";
+  const bool e2e = o.speed.rank == "e2e";
   std::map<std::string, std::map<int, FrameTimes>> trace;
   std::string tracer, tracer_params;
   for (const auto& r : c.rows) {
@@ -101,7 +101,7 @@ TuneSpeeds read_tune_speeds(const TuneOptions& o, const std::string& path, const
     sp.trace = series_mray_s(trace[method]);
     for (const auto& [frame, t] : sp.times) sp.rays_per_frame += t.rays / static_cast<double>(sp.times.size());
   }
-  s.wave_rays = gpu_wave_rays(tracer, tracer_params, path != o.speed_csv, s.wave_basis);
+  s.wave_rays = gpu_wave_rays(tracer, tracer_params, path != o.speed.csv, s.wave_basis);
   if (s.wave_rays > 0 && s.wave_basis.empty())
     s.wave_basis = fmt::format("{}: {:.0f} rays resident", s.tracer_label, s.wave_rays);
   return s;
@@ -111,7 +111,7 @@ TuneSpeeds measure_tune_speeds(const TuneOptions& o, const std::vector<std::stri
                                const std::string& out, const Provenance& provenance) {
   const ExperimentOptions e = speed_options(o, methods, seed, out);
   std::fprintf(stderr, "tune: speed of %zu settings and noopt (%s, seed %u) -> %s\n", methods.size(),
-               o.tracer.text().c_str(), seed, e.out.c_str());
+               o.speed.tracer.text().c_str(), seed, e.out.c_str());
   const std::vector<SceneResult> results = run_experiment(e, provenance);
   if (results.empty() || !o.shard.whole()) {
     TuneSpeeds s;
