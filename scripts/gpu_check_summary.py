@@ -20,16 +20,18 @@ import csv
 import sys
 from collections import OrderedDict
 
+from result_key import row_layout, tracer_parameters
+
 
 def tracer_label(row):
-    params = dict(kv.split("=", 1) for kv in row["tracer_params"].split(",") if "=" in kv)
+    params = tracer_parameters(row)
     name = row["tracer"]
     if name == "cuda":
         if params.get("counters") == "on":
             return "cuda:counters"
-        if params.get("bvh") == "cwbvh":
+        if row_layout(row) == "cwbvh":
             return "cuda:cwbvh-shared" if params.get("stack") == "shared" else "cuda:cwbvh"
-    if name == "simt" and params.get("bvh") == "cwbvh":
+    if name == "simt" and row_layout(row) == "cwbvh":
         return "simt:cwbvh"
     if name in ("cuda", "simt") and params.get("traversal") == "classic":  # the BVH2 kernel before 2026-11
         return name + ":classic"
@@ -77,8 +79,7 @@ def collect(paths):
                     if number(row.get(field)) is not None:
                         acc[name].append(number(row[field]))
                 if tracer == "simt":
-                    acc.setdefault("presets", set()).add(dict(
-                        kv.split("=", 1) for kv in row["tracer_params"].split(",") if "=" in kv).get("preset", "?"))
+                    acc.setdefault("presets", set()).add(tracer_parameters(row).get("preset", "?"))
                 if row.get("modeled_limiter"):
                     acc["limiter"].add(row["modeled_limiter"])
     return cells

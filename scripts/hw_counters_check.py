@@ -23,6 +23,8 @@ import os
 import re
 import sys
 
+from result_key import row_layout
+
 # column -> (metrics summed, per ray?)
 METRICS = {
     "hw_l1_hit_pct": (["l1tex__t_sector_hit_rate.pct"], False),
@@ -79,8 +81,7 @@ def read_hw(path):
             if r["tracer"] == "simt":
                 simt[r["method"]] = r
             elif r["tracer"] == "cuda" and r.get("run_under") == "cupti-counters":
-                layout = "cwbvh" if "bvh=cwbvh" in r["tracer_params"] else "bvh2"
-                hw[(layout, r["method"])] = r
+                hw[(row_layout(r), r["method"])] = r
     return hw, simt
 
 

@@ -12,18 +12,16 @@ the speed ratio to noopt, measured and modeled now.
 import argparse
 import csv
 
-
-def layout(row):
-    return "cwbvh" if "bvh=cwbvh" in row["tracer_params"] else "bvh2"
+from result_key import row_layout, tracer_parameters
 
 
 def rows_of(paths, tracer):
     out = {}
     for path in paths:
         for r in csv.DictReader(open(path)):
-            if r["tracer"] != tracer or "counters=on" in r["tracer_params"] or r.get("run_under"):
+            if r["tracer"] != tracer or tracer_parameters(r).get("counters") == "on" or r.get("run_under"):
                 continue
-            out.setdefault((r["scene"], r["method"], layout(r)), r)
+            out.setdefault((r["scene"], r["method"], row_layout(r)), r)
     return out
 
 

@@ -14,6 +14,21 @@ def result_label(tracer, preset="", mode="", params=None):
     return f"{tracer}[{detail}]" if detail else tracer
 
 
+def tracer_parameters(row):
+    """The tracer's parameters of a CSV row as a dict, from its tracer_params column: canonical `k=v,k=v` in the
+    experiment CSVs, the whole label `simt[k=v,...]` in validate's."""
+    text = row.get("tracer_params", "") or ""
+    if text.endswith("]") and "[" in text:
+        text = text.split("[", 1)[1][:-1]
+    return dict(kv.split("=", 1) for kv in text.split(",") if "=" in kv)
+
+
+def row_layout(row):
+    """The acceleration structure a row traced (records/result_key.h ResultKey::layout): its bvh column, or for rows
+    without one the tracer's bvh parameter; bvh2 when neither names one."""
+    return row.get("bvh") or tracer_parameters(row).get("bvh") or "bvh2"
+
+
 def row_label(row, every_parameter=False):
     """The label of a CSV row's tracer, from its tracer, preset and mode columns (or with every parameter, its
     tracer_params column)."""

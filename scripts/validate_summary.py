@@ -10,7 +10,8 @@ Usage: validate_summary.py validate.csv [validate.csv ...] [--labels a,b,...] [-
 import argparse
 import os
 
-from plotlib import fail, number, parse_params, read_csv
+from plotlib import fail, number, read_csv
+from result_key import tracer_parameters
 
 REQUIRED = ["table", "row", "paper_row", "tile", "k", "paper_mray_s", "paper_ratio", "modeled_mray_s",
             "modeled_ratio", "ratio_error", "modeled_limiter", "tracer_params", "order"]
@@ -36,7 +37,7 @@ def saturation(rows, column):
 
 def model_params(rows):
     """The simt parameters of a run, from `simt[preset=...,l1_tags=4,...]`."""
-    return parse_params(rows[0]["tracer_params"].split("[", 1)[-1].rstrip("]"))
+    return tracer_parameters(rows[0])
 
 
 def summary_line(label, rows, base_params, methods):
