@@ -67,6 +67,10 @@ const Schema<ConvergeRow>& converge_schema() {
     s.push_back(column("denoised_rel_mse_corr", &R::denoised_rel_mse_corr, G{}));
     s.push_back(column("denoised_psnr_corr", &R::denoised_psnr_corr, G{}));
     s.push_back(column("denoise_ms", &R::denoise_ms, G{}));
+    s.push_back(column("render_device", &R::render_device, Text{}));
+    s.push_back(column("gpu_clock", &R::gpu_clock, Text{}));
+    s.push_back(column("frame_gpu_ms", &R::frame_gpu_ms, G{}));
+    s.push_back(column("gpu_s", &R::gpu_s, G{}));
     return s;
   }();
   return schema;
@@ -101,6 +105,7 @@ const Schema<SummaryRow>& summary_schema() {
         column("baseline_frames", &R::baseline_frames, Integer<int>{}),
     };
     append_columns(s, provenance_schema(), &R::provenance);
+    s.push_back(column("render_device", &R::render_device, Text{}));
     return s;
   }();
   return schema;

@@ -48,6 +48,11 @@ struct ConvergeRow {
   double denoised_rel_mse = std::nan(""), denoised_mse = std::nan(""), denoised_rmse = std::nan(""),
          denoised_psnr = std::nan(""), denoised_ssim = std::nan(""), denoised_mse_corr = std::nan(""),
          denoised_rel_mse_corr = std::nan(""), denoised_psnr_corr = std::nan(""), denoise_ms = std::nan("");
+  // --device (after the denoised columns): the path tracer the frames were rendered on ("cpu" | "cuda"), and on the
+  // device its clock: "measured" (a GPU) or "simulated" (GPGPU-Sim), this frame's GPU milliseconds (CUDA events
+  // around the frame) and the cumulative GPU seconds; empty on the CPU. Never added to wall_s or modeled_gpu_s.
+  std::string render_device = "cpu", gpu_clock;
+  double frame_gpu_ms = std::nan(""), gpu_s = std::nan("");
 };
 
 // One generator against the baseline on one clock.
@@ -66,6 +71,7 @@ struct SummaryRow {
   double ref_noise_residual_share = std::nan("");
   int frames = 0, baseline_frames = 0;
   Provenance provenance;
+  std::string render_device = "cpu";  // --device the curves were rendered on (after the provenance)
 };
 
 const Schema<ConvergeRow>& converge_schema();

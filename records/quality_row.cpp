@@ -123,6 +123,9 @@ const Schema<QualityRow>& quality_schema() {
     s.push_back(column("flip_hdr_renders", &R::flip_hdr_renders, csv_format::Numbers{}));
     const Schema<R> denoised = quality_denoised_columns();
     s.insert(s.end(), denoised.begin(), denoised.end());
+    s.push_back(column("render_device", &R::render_device, Text{}, Key::Yes));
+    s.push_back(column("gpu_clock", &R::gpu_clock, Text{}));
+    s.push_back(column("gpu_frame_ms", &R::gpu_frame_ms, G{}));
     return s;
   }();
   return schema;

@@ -66,6 +66,12 @@ struct QualityRow {
          denoised_rmse = std::nan(""), denoised_rel_mse = std::nan(""), denoised_mse = std::nan(""),
          denoised_rel_mse_ds8 = std::nan(""), denoised_mse_corr = std::nan(""), denoised_rel_mse_corr = std::nan(""),
          denoised_psnr_corr = std::nan(""), denoise_s = std::nan("");
+  // --device (after the denoised columns): the path tracer the renders ran on ("cpu" | "cuda", part of the row's
+  // key; the device's name is the provenance's `device`), and on the device its clock ("measured" on a GPU,
+  // "simulated" under GPGPU-Sim) and the GPU milliseconds per frame (CUDA events, mean over all R x frames); empty
+  // on the CPU.
+  std::string render_device = "cpu", gpu_clock;
+  double gpu_frame_ms = std::nan("");
 };
 
 const Schema<QualityRow>& quality_schema();

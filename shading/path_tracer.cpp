@@ -75,6 +75,27 @@ AuxSample aux_of(const HitMaterials& materials, const ShadingPoint& sp) {
   return {albedo, normalize(sp.ns)};
 }
 
+namespace {
+
+void add_aux(const GBuffer& gbuffer, AuxAccumulators& aux) {
+  RAYCOH_CHECK(gbuffer.materials != nullptr, "camera pass G-buffer without its material table");
+  const HitMaterials& table = *gbuffer.materials;
+  path_tracing::parallel_for_index(gbuffer.points.size(), [&](size_t p) {
+    const AuxSample s = aux_of(table, gbuffer.points[p]);
+    aux.albedo.add(p, s.albedo);
+    aux.normal.add(p, s.normal);
+  });
+}
+
+}  // namespace
+
+void PathTracer::first_hits(uint32_t frame, AuxAccumulators& aux) {
+  using namespace path_tracing;
+  FrameContext ctx(scene_, *emitters_, tracer_, settings_, frame);
+  Vertices verts;
+  add_aux(camera_pass(ctx, primary_order_, verts), aux);
+}
+
 FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc, AuxAccumulators* aux) {
   using namespace path_tracing;
   RAYCOH_CHECK(acc.width() == settings_.width && acc.height() == settings_.height,
@@ -100,15 +121,7 @@ FrameStats PathTracer::render_frame(uint32_t frame, Accumulator& acc, AuxAccumul
     for (size_t p = r.begin(); p < r.end(); ++p) acc.add(p, ctx.radiance[p]);
   });
   ctx.stats.non_finite = acc.non_finite_samples() - before;
-  if (aux) {
-    RAYCOH_CHECK(gbuffer.materials != nullptr, "camera pass G-buffer without its material table");
-    const HitMaterials& table = *gbuffer.materials;
-    parallel_for_index(gbuffer.points.size(), [&](size_t p) {
-      const AuxSample s = aux_of(table, gbuffer.points[p]);
-      aux->albedo.add(p, s.albedo);
-      aux->normal.add(p, s.normal);
-    });
-  }
+  if (aux) add_aux(gbuffer, *aux);
   ctx.stats.wall_s = seconds_since(t_frame);
   return ctx.stats;
 }

@@ -69,6 +69,10 @@ class PathTracer {
   // Renders frame `frame` (one path per pixel) and adds it to acc, which must have the settings' size; with aux,
   // also the frame's first-hit albedo and normal (aux_of) from the G-buffer of its camera pass.
   FrameStats render_frame(uint32_t frame, Accumulator& acc, AuxAccumulators* aux = nullptr);
+  // Only frame `frame`'s camera pass, its first-hit albedo and normal added to aux as render_frame adds them: the
+  // denoiser's auxiliary images of a frame whose colour is rendered elsewhere (the device path tracer, whose camera
+  // rays are these bit for bit; harness/image/frame_source.h).
+  void first_hits(uint32_t frame, AuxAccumulators& aux);
   // Frames first .. first + count - 1.
   FrameStats render_frames(uint32_t first, int count, Accumulator& acc);
   const RenderSettings& settings() const { return settings_; }

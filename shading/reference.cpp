@@ -134,6 +134,7 @@ std::string reference_key(const ReferenceRequest& r) {
       {"generator", "noopt"},
       {"renderer_revision", r.revision.empty() ? renderer_revision() : r.revision},
   };
+  if (r.device != "cpu") key["device"] = r.device;  // its own entry (reference.h "Device"); CPU keys unchanged
   return key.dump();
 }
 
@@ -188,6 +189,8 @@ void check_request(const ReferenceRequest& r) {
     throw Error(fmt::format("--ref-frames {}: must be in [1, {}]", r.frames, 1 << 20));
   if (r.frame_block < 1 || r.frame_block > (1 << 20))
     throw Error(fmt::format("frame block {}: must be in [1, {}]", r.frame_block, 1 << 20));
+  if (r.device != "cpu" && !r.make_renderer)
+    throw Error(fmt::format("reference on device {}: no renderer for its frames", r.device));
 }
 
 void store_entry(const Entry& e, const std::string& key, const Reference& ref, const nlohmann::json& extra) {

@@ -14,10 +14,10 @@
 // The key: scene spec; scene fingerprint (built-in scenes: their spec, since the code revision covers the
 // generator; files: FNV-1a of the scene file's bytes plus name, size and modification time of every file beside
 // it, which covers .bin buffers and .mtl files); width, height, frames, seed, max_depth, rr_depth; the tracer
-// spec; the generator (always noopt); the frame block; and the renderer revision "r<kRendererVersion>/<git
-// describe>". kRendererVersion is bumped by hand whenever the renderer's output changes, which the git revision
-// alone does not catch while a tree is "-dirty" (2: frames are summed in blocks, below; 3: glTF punctual lights
-// and per-texel alpha cut-outs).
+// spec; the generator (always noopt); the frame block; the device when it is not the CPU; and the renderer revision
+// "r<kRendererVersion>/<git describe>". kRendererVersion is bumped by hand whenever the renderer's output changes,
+// which the git revision alone does not catch while a tree is "-dirty" (2: frames are summed in blocks, below; 3: glTF
+// punctual lights and per-texel alpha cut-outs).
 //
 // Frame blocks: frames 0 .. frames-1 are rendered in blocks of frame_block frames (the last one may be shorter);
 // each block is summed on its own, in double, in frame order, and the reference's sums are the block sums added
@@ -30,6 +30,13 @@
 // of all block bytes>". It is written as <part>.partial, each block synced when done, and moved into place when
 // whole: a shard stopped midway keeps its verified blocks and renders only the rest when run again. Format 1
 // (revision 4919fdd and before: no block lines, so no render time) is still read and combined.
+//
+// Device: a reference rendered by the device path tracer (device "cuda") estimates the same image as the CPU's, but
+// its frames are other samples (statistically equal, not bit-equal), so its key holds the field "device": "cuda"
+// (a CPU key has no such field, so CPU entries keep their digests): it has a cache entry of its own, no CPU run
+// reads a GPU-made reference from the cache, and a GPU run never reads a CPU-made one. Part files carry the key, so
+// shards of the two cannot be combined. A GPU reference can still serve a CPU run explicitly (quality --reference
+// FILE), as any image can.
 //
 // Half reference: when the frames are two equal halves of whole blocks (frames a multiple of 2 * frame_block),
 // the entry also holds the mean of the first half's blocks, "<stem>-half1<ext>" beside the image (half_path; its
@@ -60,6 +67,10 @@ std::string default_cache_dir();
 // See the key above. Throws raycoh::Error when a scene file cannot be read.
 std::string scene_fingerprint(const std::string& scene_spec);
 
+// One frame of a reference rendered into an accumulator by a path tracer other than the CPU's (the device path
+// tracer of --device cuda, harness/image/render_device.h): the same frames and blocks, added the same way.
+using FrameRenderer = std::function<void(uint32_t frame, Accumulator& acc)>;
+
 struct ReferenceRequest {
   std::string scene_spec;                  // as given to load_scene
   RenderSettings settings;                 // size, seed, depths
@@ -70,6 +81,10 @@ struct ReferenceRequest {
   std::string revision;   // empty: renderer_revision(); tests set it to check invalidation
   // Called after every rendered frame (done, total), e.g. for a progress bar; may be empty.
   std::function<void(int, int)> progress;
+  // The path tracer: "cpu" (the CPU's, with `tracer`) or another device's ("cuda"), whose frames make_renderer
+  // renders (required then; called only when frames are rendered). See "Device" above.
+  std::string device = "cpu";
+  std::function<FrameRenderer()> make_renderer;
 };
 
 struct Reference {

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -60,15 +61,23 @@ void store_entry(const Entry& e, const std::string& key, const Reference& ref,
 template <class OnBlock>
 double render_blocks(const Scene& scene, const Bvh& bvh, const ReferenceRequest& r, FrameRange range,
                      OnBlock&& on_block) {
-  auto tracer = make_tracer(r.tracer, scene, bvh);
-  auto generator = make_generator({"noopt", ""});
-  PathTracer pt(scene, *tracer, *generator, r.settings);
+  // The CPU path tracer (NoOpt, r.tracer), or the device's frames (r.make_renderer).
+  FrameRenderer render = r.make_renderer ? r.make_renderer() : FrameRenderer();
+  std::unique_ptr<Tracer> tracer;
+  std::unique_ptr<Generator> generator;
+  std::unique_ptr<PathTracer> pt;
+  if (!render) {
+    tracer = make_tracer(r.tracer, scene, bvh);
+    generator = make_generator({"noopt", ""});
+    pt = std::make_unique<PathTracer>(scene, *tracer, *generator, r.settings);
+    render = [&pt](uint32_t f, Accumulator& acc) { pt->render_frame(f, acc); };
+  }
   const auto t0 = std::chrono::steady_clock::now();
   for (int b = range.first; b < range.end; b += r.frame_block) {
     Accumulator block(r.settings.width, r.settings.height);
     const int end = std::min(range.end, b + r.frame_block);
     for (int f = b; f < end; ++f) {
-      pt.render_frame(static_cast<uint32_t>(f), block);
+      render(static_cast<uint32_t>(f), block);
       if (r.progress) r.progress(f - range.first + 1, range.end - range.first);
     }
     on_block(block, b);

@@ -17,6 +17,10 @@
 // The third clock, modeled_gpu, is each frame's modeled time on the `simt` tracer's GPU (--gpu-model,
 // harness/image/gpu_clock.h: what it includes and what not), computed on the same rays after the timed frame: its own
 // columns and its own summary rows, never added to a measured time.
+// --device cuda: every frame on the device path tracer (harness/image/frame_source.h); a fourth clock, the frame's
+// GPU time from its CUDA events (harness/image/device_clock.h: measured on a GPU, simulated under GPGPU-Sim), in its
+// own columns (frame_gpu_ms, gpu_s) and summary rows (clock measured_gpu / simulated_gpu); no trace clock (the
+// device's trace is not timed apart). The modeled clock, when asked for, models the CPU's render of the same frame.
 // --denoise oidn: at 1, 2, 4, 8, ... frames the running mean is also denoised (OIDN with the first hits' albedo and
 // normal over the same frames, harness/image/denoise_eval.h) and its error written in the row's denoised_* columns,
 // outside the frame's timing (denoise_ms); the summary's ratios stay on the raw curves.
@@ -101,8 +105,10 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
     run.label = o.generators[gi].text();
     run.active = renders(gi);
     if (run.active) {
-      run.pt = std::make_unique<PathTracer>(ls_->scene, *ls_->tracer, *generators_[gi],
-                                            settings_of(o.common, o.common.seed));
+      run.source =
+          std::make_unique<FrameSource>(o.common.device, *ls_, *generators_[gi], settings_of(o.common, o.common.seed));
+      run.device.label = run.source->clock();
+      if (run.source->on_device()) provenance_.device = run.source->device_name();
       run.acc = Accumulator(o.common.width, o.common.height);
       if (denoise_.active()) run.aux = AuxAccumulators(o.common.width, o.common.height);
       if (gpu_model_)
@@ -114,7 +120,8 @@ ConvergeRun::ConvergeRun(const ConvergeOptions& o, const Provenance& p)
   }
 }
 
-ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m, bool modeled) const {
+ConvergeRow ConvergeRun::row_of(size_t gi, const SourcedFrame& sf, const ErrorMetrics& m, bool modeled) const {
+  const FrameStats& f = sf.stats;
   const Run& run = runs_[gi];
   ConvergeRow r;
   r.scene = ls_->scene.name;
@@ -123,8 +130,10 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.method = run.label;
   r.generator = o_.generators[gi].name;
   r.generator_params = generators_[gi]->params();
-  r.tracer = o_.common.tracer.name;
-  r.tracer_params = ls_->tracer->params();
+  // On the device every batch is traced by the device trace kernel (BVH2), not by --tracer.
+  const bool device = run.device.active();
+  r.tracer = device ? "cuda" : o_.common.tracer.name;
+  r.tracer_params = device ? "bvh=bvh2" : ls_->tracer->params();
   r.recorded = recorded_columns(r.generator, r.generator_params, r.tracer, r.tracer_params);
   r.width = o_.common.width;
   r.height = o_.common.height;
@@ -137,11 +146,12 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   r.protocol = o_.common.protocol;
   r.metrics = metric_space_name(o_.common.metrics);
   r.frame = run.frames;
+  const double nan = std::nan("");  // trace and generation time: not measured apart on the device
   r.wall_s = run.total.wall_s;
-  r.trace_s = run.total.trace_s;
-  r.gen_s = run.total.gen_s;
+  r.trace_s = device ? nan : run.total.trace_s;
+  r.gen_s = device ? nan : run.total.gen_s;
   r.frame_wall_ms = f.wall_s * 1e3;
-  r.frame_trace_ms = f.trace_s * 1e3;
+  r.frame_trace_ms = device ? nan : f.trace_s * 1e3;
   r.rays = run.total.rays();
   r.rel_mse = m.rel_mse;
   r.mse = m.mse;
@@ -171,6 +181,12 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const FrameStats& f, const ErrorMetri
   }
   r.provenance = provenance_;
   r.denoise = denoiser_name(o_.denoise);
+  r.render_device = o_.common.device;
+  if (device) {
+    r.gpu_clock = run.device.label;
+    r.frame_gpu_ms = sf.gpu_ms;
+    r.gpu_s = run.device.s;
+  }
   return r;
 }
 
@@ -200,23 +216,28 @@ bool ConvergeRun::render_round() {
   for (size_t gi = 0; gi < runs_.size(); ++gi) {
     Run& run = runs_[gi];
     if (!run.active) continue;
-    const FrameStats f =
-        run.pt->render_frame(static_cast<uint32_t>(run.frames), run.acc, denoise_.active() ? &run.aux : nullptr);
+    const SourcedFrame sf =
+        run.source->render(static_cast<uint32_t>(run.frames), run.acc, denoise_.active() ? &run.aux : nullptr);
+    const FrameStats& f = sf.stats;
     run.total.add(f);
-    // The modeled GPU clock, after the timed frame: its own sum, never added to a measured time.
+    // The modeled GPU clock, after the timed frame: its own sum, never added to a measured time. A device frame's
+    // rays are other samples than the CPU's, so its model is not checked against them (gpu_clock.h).
     const bool modeled = run.gpu.model && (run.frames % o_.model_every == 0);
-    if (modeled) run.gpu.last = run.gpu.model->model(static_cast<uint32_t>(run.frames), f);
+    if (modeled)
+      run.gpu.last = run.device.active() ? run.gpu.model->model(static_cast<uint32_t>(run.frames))
+                                         : run.gpu.model->model(static_cast<uint32_t>(run.frames), f);
     ++run.frames;
     const Image mean = run.acc.mean();
     const ErrorMetrics m = compare_images(mean, against_.ref.image, against_.tm, o_.common.metrics);
     run.by_wall.push_back({run.total.wall_s, m.rel_mse});
-    run.by_trace.push_back({run.total.trace_s, m.rel_mse});
+    if (!run.device.active()) run.by_trace.push_back({run.total.trace_s, m.rel_mse});
+    if (run.device.active()) run.device.add(sf.gpu_ms, m.rel_mse);  // the device's clock, its own sum
     if (run.gpu.model) {
       run.gpu.s += run.gpu.last.ms() * 1e-3;
       run.gpu.curve.push_back({run.gpu.s, m.rel_mse});
     }
     if (owns(gi)) {
-      ConvergeRow row = row_of(gi, f, m, modeled);
+      ConvergeRow row = row_of(gi, sf, m, modeled);
       add_denoised(run, mean, row);
       csv_.write(row);
     }
@@ -281,7 +302,7 @@ BoundCommand bind_converge(CLI::App& parent) {
   s->generators = join_specs(s->o.generators);
   s->time = fmt::format("{}s", s->o.time_s);
   CLI::App* cmd = parent.add_subcommand(
-      "converge", "error against wall-clock, trace and modeled GPU time; equal-time and equal-error ratios");
+      "converge", "error against wall-clock, trace, modeled and device GPU time; equal-time and equal-error ratios");
   cmd->add_option("--scene", s->o.scene, "scene")->capture_default_str();
   cmd->add_option("--generators", s->generators, "comma-separated generators, the first is the baseline")
       ->capture_default_str();

@@ -10,6 +10,8 @@
 #include "generators/generator.h"
 #include "harness/image/converge.h"
 #include "harness/image/denoise_eval.h"
+#include "harness/image/device_clock.h"
+#include "harness/image/frame_source.h"
 #include "harness/image/gpu_clock.h"
 #include "harness/image/render_common.h"
 #include "records/converge_row.h"
@@ -44,13 +46,14 @@ struct ErrorBasis {
 // One generator's progress.
 struct Run {
   std::string label;
-  std::unique_ptr<PathTracer> pt;
+  std::unique_ptr<FrameSource> source;  // its frames on --device's path tracer
   Accumulator acc;
   FrameStats total;
   int frames = 0;
-  std::vector<CurvePoint> by_wall, by_trace;
+  std::vector<CurvePoint> by_wall, by_trace;  // by_trace stays empty on the device (no trace time apart)
   bool active = true;
   ModeledClock gpu;     // absent (no model) without --gpu-model
+  DeviceClock device;   // --device cuda: the device's GPU time (measured or simulated); inactive on the CPU
   AuxAccumulators aux;  // --denoise: the first hits' albedo and normal over the same frames
 };
 
@@ -64,7 +67,7 @@ class ConvergeRun {
 
  private:
   bool render_round();
-  ConvergeRow row_of(size_t gi, const FrameStats& f, const ErrorMetrics& m, bool modeled) const;
+  ConvergeRow row_of(size_t gi, const SourcedFrame& f, const ErrorMetrics& m, bool modeled) const;
   // The denoised figures of the running mean into the row, at power-of-two frame counts (--denoise).
   void add_denoised(const Run& run, const Image& mean, ConvergeRow& row) const;
   // --shard: the generators whose rows this shard writes; it renders the baseline (0) too, for its ratios.

@@ -10,15 +10,26 @@
 
 namespace raycoh {
 
+// wall; trace (CPU only: the device's frames have no trace time apart); modeled_gpu (--gpu-model); the device's
+// clock, measured_gpu or simulated_gpu (--device cuda). Each compared on its own, never summed with another.
 std::vector<std::string> ConvergeRun::clocks() const {
-  if (gpu_model_) return {"wall", "trace", "modeled_gpu"};
-  return {"wall", "trace"};
+  const DeviceClock* device = nullptr;
+  for (const Run& r : runs_)
+    if (r.device.active()) device = &r.device;
+  std::vector<std::string> out{"wall"};
+  if (!device) out.push_back("trace");
+  if (gpu_model_) out.push_back("modeled_gpu");
+  if (device) out.push_back(device->clock_name());
+  return out;
 }
 
 SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const {
   const Run& base = runs_[0];
   auto curve = [&clock](const Run& x) -> const std::vector<CurvePoint>& {
-    return clock == "wall" ? x.by_wall : clock == "trace" ? x.by_trace : x.gpu.curve;
+    return clock == "wall"          ? x.by_wall
+           : clock == "trace"       ? x.by_trace
+           : clock == "modeled_gpu" ? x.gpu.curve
+                                    : x.device.curve;
   };
   const CurveComparison cc = compare_curves(curve(run), curve(base));
   SummaryRow r;
@@ -51,6 +62,7 @@ SummaryRow ConvergeRun::compare(const Run& run, const std::string& clock) const 
   r.frames = run.frames;
   r.baseline_frames = base.frames;
   r.provenance = provenance_;
+  r.render_device = o_.common.device;
   return r;
 }
 
@@ -75,22 +87,27 @@ void ConvergeRun::summarize() {
       metric_space_name(o_.common.metrics));
   std::printf(
       "| generator | frames | final relMSE | relMSE−ref noise | ref noise share | final PSNR | wall s | modeled GPU ms "
-      "per "
-      "frame |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+      "per frame | device GPU ms per frame |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   const double nan = std::nan("");
   for (const Run& r : runs_)
     if (r.frames > 0) {
       const double e = r.by_wall.back().error;
       const double share = against_.noise ? (e > 0 ? against_.noise->rel_mse / e : 1.0) : nan;
-      std::printf("| %s | %d | %.4g | %.4g | %.1f%% | %.2f | %.3g | %s |\n", r.label.c_str(), r.frames, e,
-                  against_.noise ? minus_noise(e, against_.noise->rel_mse) : nan, 100 * share,
-                  psnr(r.acc.mean(), against_.ref.image, against_.tm, o_.common.metrics), r.total.wall_s,
-                  r.gpu.model ? fmt::format("{:.3g}", r.gpu.s * 1e3 / r.frames).c_str() : "-");
+      std::printf(
+          "| %s | %d | %.4g | %.4g | %.1f%% | %.2f | %.3g | %s | %s |\n", r.label.c_str(), r.frames, e,
+          against_.noise ? minus_noise(e, against_.noise->rel_mse) : nan, 100 * share,
+          psnr(r.acc.mean(), against_.ref.image, against_.tm, o_.common.metrics), r.total.wall_s,
+          r.gpu.model ? fmt::format("{:.3g}", r.gpu.s * 1e3 / r.frames).c_str() : "-",
+          r.device.active() ? fmt::format("{:.3g} ({})", r.device.s * 1e3 / r.frames, r.device.label).c_str() : "-");
       warn_reference_noise(fmt::format("{} after {} frames (relMSE)", r.label, r.frames), share);
     }
   if (gpu_model_)
     std::printf("\nmodeled_gpu: MODELED time on simt[%s] (trace launches + generation, harness/image/gpu_clock.h)\n",
                 gpu_model_->params().c_str());
+  for (const std::string& clock : clocks())
+    if (clock.ends_with("_gpu") && clock != "modeled_gpu")
+      std::printf("\n%s: %s GPU time of the device path tracer on %s (CUDA events around each frame)\n", clock.c_str(),
+                  clock == "simulated_gpu" ? "SIMULATED (GPGPU-Sim)" : "MEASURED", provenance_.device.c_str());
   std::printf(
       "\n| generator | clock | at time s | relMSE | baseline relMSE | equal-time error ratio | to relMSE | "
       "time s | baseline time s | equal-error speedup | equal-time ratio, ref noise out |\n"

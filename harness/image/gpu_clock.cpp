@@ -31,12 +31,17 @@ FrameModel::FrameModel(const Scene& scene, Tracer& tracer, Tracer& model, std::u
       pixels_(size_t(settings.width) * size_t(settings.height)) {}
 
 ModeledFrame FrameModel::model(uint32_t frame, const FrameStats& timed) {
-  tracer_.reset();
-  const FrameStats f = pt_.render_frame(frame, scratch_);
+  const ModeledFrame m = model(frame);
   RAYCOH_CHECK(
-      f.primary_rays == timed.primary_rays && f.secondary_rays == timed.secondary_rays &&
-          f.bounce_rays == timed.bounce_rays && f.shadow_rays == timed.shadow_rays,
-      fmt::format("frame {} on the GPU model traced {} rays, the timed render {}", frame, f.rays(), timed.rays()));
+      last_.primary_rays == timed.primary_rays && last_.secondary_rays == timed.secondary_rays &&
+          last_.bounce_rays == timed.bounce_rays && last_.shadow_rays == timed.shadow_rays,
+      fmt::format("frame {} on the GPU model traced {} rays, the timed render {}", frame, last_.rays(), timed.rays()));
+  return m;
+}
+
+ModeledFrame FrameModel::model(uint32_t frame) {
+  tracer_.reset();
+  const FrameStats& f = last_ = pt_.render_frame(frame, scratch_);
   ModeledFrame m;
   m.trace_ms = tracer_.modeled_ms();
   m.launches = tracer_.launches();

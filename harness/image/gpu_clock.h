@@ -66,6 +66,9 @@ class FrameModel {
   // Frame `frame` again on the model; `timed` is the timed render's stats of that frame (its ray counts must
   // match).
   ModeledFrame model(uint32_t frame, const FrameStats& timed);
+  // Frame `frame` on the model without that check: the timed frame was rendered on another device (converge
+  // --device cuda), whose rays are other samples of the same estimator; the model times the CPU's frame.
+  ModeledFrame model(uint32_t frame);
 
  private:
   std::unique_ptr<Generator> generator_;
@@ -74,6 +77,7 @@ class FrameModel {
   PathTracer pt_;
   Accumulator scratch_;
   size_t pixels_;
+  FrameStats last_;  // the last modeled frame's render
 };
 
 }  // namespace raycoh

@@ -74,7 +74,8 @@ ResumeRule quality_rule(const QualityOptions& o, const Provenance& p) {
       .require("protocol", {o.common.protocol})
       .require("metrics", {metric_space_name(o.common.metrics)})
       .require("reference_kind", {o.reference.empty() ? "cache" : "file"})
-      .require("denoise", {denoiser_name(o.denoise)});
+      .require("denoise", {denoiser_name(o.denoise)})
+      .require("render_device", {o.common.device});
   if (!o.reference.empty()) rule.require("reference", {o.reference});
   return require_provenance(rule, p);
 }
@@ -182,6 +183,7 @@ QualityRow QualityRun::head(const std::string& spec, size_t gi) const {
   r.protocol = o_.common.protocol;
   r.metrics = metric_space_name(o_.common.metrics);
   r.denoise = denoiser_name(o_.denoise);
+  r.render_device = o_.common.device;
   r.provenance = provenance_;
   r.provenance.device = device_of(o_.common.tracer);
   return r;
@@ -213,8 +215,10 @@ void QualityRun::run_generator(const LoadedScene& ls, const ReferenceImage& ref,
   row.scene_fingerprint = fingerprint_;
   row.generator = o_.generators[gi].name;
   row.generator_params = generators_[gi]->params();
-  row.tracer = o_.common.tracer.name;
-  row.tracer_params = ls.tracer->params();
+  const bool device = !m.gpu_clock.empty();  // every batch traced by the device trace kernel (BVH2), not --tracer
+  row.tracer = device ? "cuda" : o_.common.tracer.name;
+  row.tracer_params = device ? "bvh=bvh2" : ls.tracer->params();
+  if (device) row.provenance.device = m.device_name;
   row.recorded = recorded_columns(row.generator, row.generator_params, row.tracer, row.tracer_params);
   if (ref_kind_ != "file") row.ref_seed = o_.common.seed + kReferenceSeedOffset;
   row.exposure = tm.exposure;
@@ -311,6 +315,10 @@ int QualityRun::run() {
   }
   if (!o_.console) return 0;
   print_quality(o_, rows_);
+  for (const QualityRow& r : rows_)
+    if (r.render_device != "cpu")
+      std::printf("%s %s: %.3f ms of %s GPU time per frame on %s (device path tracer, CUDA events)\n", r.scene.c_str(),
+                  r.method.c_str(), r.gpu_frame_ms, r.gpu_clock.c_str(), r.provenance.device.c_str());
   if (o_.denoise != Denoiser::None) print_denoised_quality(rows_);
   std::printf("\nWrote %s and images in %s/ in %.1f s (%s, %d threads)\n", o_.out.c_str(), image_dir_.c_str(),
               std::chrono::duration<double>(Clock::now() - t_start).count(), provenance_.git_revision.c_str(),

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "harness/common/progress.h"
+#include "harness/image/frame_source.h"
 #include "harness/image/quality.h"
 #include "shading/reference.h"
 
@@ -60,13 +61,17 @@ Renders render_generator(const QualityOptions& o, const LoadedScene& ls, Generat
   Progress bar;
   const int R = o.bias_renders;
   for (int r = 0; r < R; ++r) {
-    PathTracer pt(ls.scene, *ls.tracer, generator, settings_of(o.common, o.common.seed + r));
+    FrameSource source(o.common.device, ls, generator, settings_of(o.common, o.common.seed + r));
+    out.gpu_clock = source.clock();
+    out.device_name = source.device_name();
     Accumulator acc(o.common.width, o.common.height);
     std::optional<AuxAccumulators> aux;  // the first hits' albedo and normal, for the denoiser
     if (denoiser.active()) aux.emplace(o.common.width, o.common.height);
     for (int f = 0; f < o.frames; ++f) {
       Accumulator frame(o.common.width, o.common.height);  // this frame alone, for the bias test's spread
-      out.total.add(pt.render_frame(static_cast<uint32_t>(f), frame, aux ? &*aux : nullptr));
+      const SourcedFrame sf = source.render(static_cast<uint32_t>(f), frame, aux ? &*aux : nullptr);
+      out.total.add(sf.stats);
+      if (source.on_device()) out.gpu_ms += sf.gpu_ms;
       acc.merge(frame);
       const std::vector<double> luma = frame_luma(frame);
       samples.add_luma(luma);
@@ -155,9 +160,17 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
   row.mray_s = m.total.trace_s > 0 ? static_cast<double>(m.total.rays()) / m.total.trace_s * 1e-6 : 0.0;
   row.below_geometric = m.total.generation.below_geometric;
   row.reused_rays = m.total.generation.reused_rays;
-  row.hybrid_diffuse_share = m.total.generation.rays > 0 ? static_cast<double>(m.total.hybrid_diffuse) /
-                                                               static_cast<double>(m.total.generation.rays)
-                                                         : nan;
+  if (!m.gpu_clock.empty()) {  // on the device: its GPU time; trace and generation time not measured apart
+    row.gpu_clock = m.gpu_clock;
+    row.gpu_frame_ms = m.gpu_ms / (static_cast<double>(R) * frames);
+    row.trace_s = nan;
+    row.gen_ms = nan;
+    row.mray_s = nan;
+  }
+  row.hybrid_diffuse_share = !m.gpu_clock.empty()          ? nan
+                             : m.total.generation.rays > 0 ? static_cast<double>(m.total.hybrid_diffuse) /
+                                                                 static_cast<double>(m.total.generation.rays)
+                                                           : nan;
 }
 
 void fill_denoised(QualityRow& row, const Renders& m, const ReferenceNoise* noise) {

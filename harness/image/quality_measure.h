@@ -57,6 +57,10 @@ struct Renders {
   FrameStats total;
   uint64_t non_finite_pixels = 0;
   DenoisedRenders denoised;
+  // --device cuda: the frames' GPU milliseconds summed (CUDA events), their clock ("measured" | "simulated") and
+  // the device's name; 0 and empty on the CPU.
+  double gpu_ms = 0;
+  std::string gpu_clock, device_name;
 };
 
 // Where a generator's renders are written: render 0 and its crops, tone-mapped for display.

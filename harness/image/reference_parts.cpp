@@ -16,6 +16,7 @@
 #include "harness/common/progress.h"
 #include "harness/image/render_cli.h"
 #include "harness/image/render_common.h"
+#include "harness/image/render_device.h"
 #include "records/shard.h"
 #include "shading/reference.h"
 
@@ -48,12 +49,7 @@ int run_reference(const ReferenceOptions& o) {
     std::printf("reference %s (%s)\n", ref.path.c_str(), ref.kind.c_str());
     return 0;
   }
-  ReferenceRequest req;
-  req.scene_spec = o.scene;
-  req.settings = settings_of(o.common, o.common.seed + kReferenceSeedOffset);
-  req.frames = o.frames;
-  req.tracer = o.common.tracer;
-  req.cache_dir = o.cache_dir;
+  ReferenceRequest req = reference_request(o.scene, o.common, o.frames, o.cache_dir);
   reference_shard_frames(o.frames, req.frame_block, o.shard.index, o.shard.count);  // refuses misaligned shards
   check_output_file("--out", o.out);
   if (reference_part_done(o.out, req, o.shard.index, o.shard.count) && !o.common.force) {
@@ -67,6 +63,8 @@ int run_reference(const ReferenceOptions& o) {
                     o.out));
   const OutputLock lock(o.out, "--out " + o.out);
   auto ls = load(o.scene, o.common.tracer);
+  const auto time = std::make_shared<DeviceTime>();
+  if (o.common.device != "cpu") render_reference_on_device(req, *ls, time);
   Progress bar;
   const std::string label = fmt::format("{} reference {}", ls->scene.name, o.shard.text());
   req.progress = [&](int done, int total) { bar.update(0, 1, done - 1, total, label); };
@@ -75,9 +73,9 @@ int run_reference(const ReferenceOptions& o) {
   bar.clear();
   const FrameRange range = reference_shard_frames(o.frames, req.frame_block, o.shard.index, o.shard.count);
   std::printf(
-      "wrote %s (reference part %s, frames %d..%d, rendered in %.1f s; join the parts with raycoh "
+      "wrote %s (reference part %s, frames %d..%d, rendered in %.1f s%s; join the parts with raycoh "
       "reference-combine)\n",
-      o.out.c_str(), o.shard.text().c_str(), range.first, range.end - 1, seconds);
+      o.out.c_str(), o.shard.text().c_str(), range.first, range.end - 1, seconds, device_time_text(*time).c_str());
   return 0;
 }
 

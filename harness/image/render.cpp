@@ -61,8 +61,6 @@ std::string render_device(const RenderOptions& o, LoadedScene& ls, Generator& ge
 
 int run_render(const RenderOptions& o, const Provenance& provenance) {
   check_common(o.common, false);
-  if (o.device != "cpu" && o.device != "cuda")
-    throw Error(fmt::format("--device {}: expected cpu or cuda (the device path tracer)", o.device));
   check_frames("--frames", o.frames);
   check_scene_spec("--scene", o.scene);
   check_crops(o.crops, o.common.width, o.common.height);
@@ -76,7 +74,7 @@ int run_render(const RenderOptions& o, const Provenance& provenance) {
   auto ls = load(o.scene, o.common.tracer);
   Accumulator acc(o.common.width, o.common.height);
   const std::string timing =
-      o.device == "cuda" ? render_device(o, *ls, *generator, acc) : render_cpu(o, *ls, *generator, acc);
+      o.common.device == "cuda" ? render_device(o, *ls, *generator, acc) : render_cpu(o, *ls, *generator, acc);
   const Image image = acc.mean();
   const ToneMap tm = resolved(o.common.tone_map, image);
   write_image(image, o.out, tm);
@@ -87,8 +85,9 @@ int run_render(const RenderOptions& o, const Provenance& provenance) {
     std::printf("crop %d,%d,%d,%d -> %s\n", o.crops[i].x, o.crops[i].y, o.crops[i].w, o.crops[i].h, path.c_str());
   }
   // --device cuda traces every batch with the device trace kernel (BVH2), not with --tracer.
-  const std::string tracer = o.device == "cuda" ? std::string("device trace kernel [bvh=bvh2]")
-                                                : fmt::format("{} [{}]", o.common.tracer.name, ls->tracer->params());
+  const std::string tracer = o.common.device == "cuda"
+                                 ? std::string("device trace kernel [bvh=bvh2]")
+                                 : fmt::format("{} [{}]", o.common.tracer.name, ls->tracer->params());
   std::printf("%s, %s [%s], tracer %s: %d frames of %dx%d, seed %u, max depth %d\n", ls->scene.name.c_str(),
               o.generator.name.c_str(), generator->params().c_str(), tracer.c_str(), o.frames, o.common.width,
               o.common.height, o.common.seed, o.common.max_depth);
@@ -118,8 +117,6 @@ BoundCommand bind_render(CLI::App& parent) {
   cmd->add_option("--frames", s->o.frames, "frames to accumulate")->capture_default_str();
   cmd->add_option("--out", s->o.out, "image file (.exr, .png, .pfm)")->capture_default_str();
   cmd->add_option("--crop", s->text.crops, "x,y,w,h region also written on its own (repeatable)");
-  cmd->add_option("--device", s->o.device, "cpu, or cuda: every frame on the device path tracer (GPU time labelled)")
-      ->capture_default_str();
   bind_render_common(cmd, s->o.common, s->text);
   return {cmd, [s](const Provenance& provenance) {
             resolve_render_common(s->o.common, s->text);

@@ -1,4 +1,5 @@
-// `raycoh render`: one generator's image of one scene, on the CPU or the device path tracer (render.cpp).
+// `raycoh render`: one generator's image of one scene, on the CPU or the device path tracer (render.cpp;
+// --device is common.device, render_options.h).
 #pragma once
 
 #include <string>
@@ -18,7 +19,6 @@ struct RenderOptions {
   int frames = 32;                 // --frames [1, 1 << 20]
   std::string out = "render.exr";  // .exr (float), .png (tone-mapped 8-bit) or .pfm
   std::vector<Crop> crops;         // each written as <out stem>-crop<i><out extension>
-  std::string device = "cpu";      // --device cpu | cuda (the device path tracer, cuda/device_path_tracer.h)
 };
 int run_render(const RenderOptions& options, const Provenance& provenance);
 

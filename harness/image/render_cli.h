@@ -1,7 +1,7 @@
 // The options the rendering commands bind alike (CLI11 included here, never in the commands' public headers):
-// --tracer, --res, --seed, --max-depth, --rr-depth, --tone-map, --exposure, --force, --crop, --protocol, --metrics,
-// --reference and durations. They only convert text to values; range checks are the runners' (check_common in
-// render_common.h).
+// --tracer, --device, --res, --seed, --max-depth, --rr-depth, --tone-map, --exposure, --force, --crop, --protocol,
+// --metrics, --reference and durations. They only convert text to values; range checks are the runners' (check_common
+// in render_common.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -13,7 +13,7 @@
 
 namespace raycoh {
 
-// --tracer, --res, --seed, --max-depth, --rr-depth, --tone-map, --exposure of the rendering commands.
+// --tracer, --device, --res, --seed, --max-depth, --rr-depth, --tone-map, --exposure of the rendering commands.
 struct RenderText {
   std::string tracer, res, tone_map, exposure;  // defaults from RenderCommon
   std::vector<std::string> crops;

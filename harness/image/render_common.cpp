@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "harness/common/memory_check.h"
 #include "harness/common/progress.h"
+#include "harness/image/render_device.h"
 #include "plugins/tracer_registry.h"
 #include "shading/metrics.h"
 #include "shading/reference.h"
@@ -61,6 +62,7 @@ void check_common(const RenderCommon& c, bool needs_ssim) {
   if (c.max_depth < 1 || c.max_depth > 64) throw Error(fmt::format("--max-depth {}: must be in [1, 64]", c.max_depth));
   if (c.rr_depth < 1 || c.rr_depth > 64) throw Error(fmt::format("--rr-depth {}: must be in [1, 64]", c.rr_depth));
   check_exposure(c.tone_map);
+  check_device(c.device);
   check_memory(fmt::format("--res {}x{}", c.width, c.height), rendering_bytes(c.width, c.height));
   std::vector<std::string> names;
   for (const TracerInfo& t : tracer_infos()) names.push_back(t.name);
@@ -124,12 +126,9 @@ ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, 
     }
     return out;
   }
-  ReferenceRequest req;
-  req.scene_spec = spec;
-  req.settings = settings_of(c, c.seed + kReferenceSeedOffset);
-  req.frames = ref_frames;
-  req.tracer = c.tracer;
-  req.cache_dir = cache_dir;
+  ReferenceRequest req = reference_request(spec, c, ref_frames, cache_dir);
+  const auto time = std::make_shared<DeviceTime>();
+  if (c.device != "cpu") render_reference_on_device(req, ls, time);
   Progress bar;
   const std::string label = fmt::format("{} reference", ls.scene.name);
   req.progress = [&](int done, int total) { bar.update(0, 1, done - 1, total, label); };
@@ -138,8 +137,8 @@ ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, 
   if (ref.from_cache)
     std::fprintf(stderr, "    reference: %s (cached, %d frames)\n", ref.path.c_str(), ref_frames);
   else
-    std::fprintf(stderr, "    reference: rendered %d frames in %.1f s -> %s\n", ref_frames, ref.render_s,
-                 ref.path.c_str());
+    std::fprintf(stderr, "    reference: rendered %d frames in %.1f s%s -> %s\n", ref_frames, ref.render_s,
+                 device_time_text(*time).c_str(), ref.path.c_str());
   if (ref.non_finite > 0)
     std::fprintf(stderr, "    reference: %llu NaN/Inf frame samples were left out (counted, not added)\n",
                  static_cast<unsigned long long>(ref.non_finite));
@@ -149,6 +148,24 @@ ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, 
   out.non_finite = ref.non_finite;
   out.first_half = ref.first_half;
   return out;
+}
+
+ReferenceRequest reference_request(const std::string& spec, const RenderCommon& c, int ref_frames,
+                                   const std::string& cache_dir) {
+  ReferenceRequest req;
+  req.scene_spec = spec;
+  req.settings = settings_of(c, c.seed + kReferenceSeedOffset);
+  req.frames = ref_frames;
+  req.tracer = c.device == "cpu" ? c.tracer : PluginSpec{"cuda", "bvh=bvh2"};
+  req.device = c.device;
+  req.cache_dir = cache_dir;
+  return req;
+}
+
+std::string device_time_text(const DeviceTime& t) {
+  if (t.frames == 0) return "";
+  return fmt::format("; GPU time {:.3f} ms per frame ({}, on {}: CUDA events around each frame)", t.ms / t.frames,
+                     t.clock, t.device);
 }
 
 Protocol protocol_named(const std::string& option, const std::string& name) {

@@ -14,9 +14,12 @@
 #include "scenes/scene.h"
 #include "shading/metrics.h"
 #include "shading/path_tracer.h"
+#include "shading/reference.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
+
+struct DeviceTime;
 
 // The reference renders with seeds far from the test renders' seed .. seed + 255, so they are independent.
 constexpr uint32_t kReferenceSeedOffset = 1000;
@@ -29,6 +32,7 @@ RenderSettings settings_of(const RenderCommon& c, uint32_t seed);
 // Each throws raycoh::Error naming the option.
 void check_frames(const char* option, int frames);  // [1, kMaxFrames]
 void check_exposure(const ToneMap& tm);             // (0, 1e6] or auto
+// check_common also checks --device (render_device.h check_device: cpu, or cuda with a device in a CUDA build).
 void check_common(const RenderCommon& c, bool needs_ssim);
 void check_crops(const std::vector<Crop>& crops, int width, int height);
 
@@ -59,6 +63,14 @@ struct ReferenceImage {
   uint64_t non_finite = 0;
   Image first_half;  // the first-half mean (shading/reference.h), empty when there is none
 };
+// The NoOpt reference's request for these settings: seed + kReferenceSeedOffset, --tracer, and with --device cuda the
+// device (its own cache entry, shading/reference.h "Device") and the device trace kernel as its tracer; the device's
+// frames are attached by render_reference_on_device (render_device.h) once the scene is loaded.
+ReferenceRequest reference_request(const std::string& spec, const RenderCommon& c, int ref_frames,
+                                   const std::string& cache_dir);
+// "; GPU time X ms per frame (measured|simulated, on DEVICE)" of a device reference's rendered frames, "" when none.
+std::string device_time_text(const DeviceTime& t);
+
 // --reference when given (with its half image when "<stem>-half1<ext>" sits beside it), else the cached (or now
 // rendered) NoOpt reference of shading/reference.h.
 ReferenceImage obtain_reference(const LoadedScene& ls, const std::string& spec, const RenderCommon& c, int ref_frames,

@@ -1,4 +1,4 @@
-// `raycoh render --device cuda` (render_device.h).
+// --device cuda of the rendering commands (render_device.h).
 #include "harness/image/render_device.h"
 
 #include <fmt/format.h>
@@ -15,31 +15,111 @@
 
 namespace raycoh {
 
+namespace {
+
+[[maybe_unused]] constexpr const char* kNoCuda =
+    "--device cuda: this build has no CUDA (configure with nvcc found, RAYCOH_CUDA=ON)";
+[[maybe_unused]] constexpr const char* kNoDevice = "--device cuda: no CUDA device (this machine has no usable GPU)";
+
+}  // namespace
+
+void check_device(const std::string& device) {
+  if (device == "cpu") return;
+  if (device != "cuda")
+    throw Error(
+        fmt::format("--device {}: expected cpu or cuda (the device path tracer, cuda/device_path_tracer.h)", device));
+#if defined(RAYCOH_HAVE_CUDA)
+  if (cuda::device_count() == 0) throw Error(kNoDevice);
+#else
+  throw Error(kNoCuda);
+#endif
+}
+
+#if defined(RAYCOH_HAVE_CUDA)
+
+struct DeviceFrames::Impl {
+  std::string device, clock;
+  EmitterDistribution lights;
+  cuda::DevicePathTracer tracer;
+  std::vector<Vec3> radiance;
+  Impl(const LoadedScene& ls, const Generator& g, const RenderSettings& rs)
+      : lights(ls.scene),
+        tracer(ls.scene, ls.bvh, lights.view(ls.scene), g,
+               cuda::DevicePathSettings{rs.width, rs.height, rs.seed, rs.max_depth, rs.rr_depth}) {}
+};
+
+DeviceFrames::DeviceFrames(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs) {
+  if (cuda::device_count() == 0) throw Error(kNoDevice);
+  impl_ = std::make_unique<Impl>(ls, generator, rs);
+  impl_->device = cuda::device_name();
+  std::string lower = impl_->device;
+  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const bool sim = lower.find("gpgpu") != std::string::npos || lower.starts_with("simulated");
+  impl_->clock = sim ? "simulated" : "measured";
+}
+
+DeviceFrame DeviceFrames::render(uint32_t frame, Accumulator& acc) {
+  const cuda::DeviceFrameStats s = impl_->tracer.render_frame(frame, impl_->radiance);
+  RAYCOH_CHECK(impl_->radiance.size() == static_cast<size_t>(acc.width()) * static_cast<size_t>(acc.height()),
+               "device frame of another size than the accumulator");
+  for (size_t p = 0; p < impl_->radiance.size(); ++p) acc.add(p, impl_->radiance[p]);
+  DeviceFrame f;
+  f.gpu_ms = s.frame_ms;
+  f.primary_rays = s.rays.primary;
+  f.secondary_rays = s.rays.secondary;
+  f.bounce_rays = s.rays.bounce;
+  f.shadow_rays = s.rays.shadow;
+  f.generation = s.generation;
+  return f;
+}
+
+#else
+
+struct DeviceFrames::Impl {
+  std::string device, clock;
+};
+
+DeviceFrames::DeviceFrames(const LoadedScene&, const Generator&, const RenderSettings&) { throw Error(kNoCuda); }
+
+DeviceFrame DeviceFrames::render(uint32_t, Accumulator&) { throw Error(kNoCuda); }
+
+#endif
+
+DeviceFrames::~DeviceFrames() = default;
+const std::string& DeviceFrames::clock() const { return impl_->clock; }
+const std::string& DeviceFrames::device() const { return impl_->device; }
+
+void render_reference_on_device(ReferenceRequest& req, const LoadedScene& ls, std::shared_ptr<DeviceTime> time) {
+  const RenderSettings rs = req.settings;
+  req.make_renderer = [&ls, rs, time]() -> FrameRenderer {
+    struct Frames {
+      std::unique_ptr<Generator> noopt = make_generator({"noopt", ""});
+      std::unique_ptr<DeviceFrames> frames;
+    };
+    auto f = std::make_shared<Frames>();
+    f->frames = std::make_unique<DeviceFrames>(ls, *f->noopt, rs);
+    time->clock = f->frames->clock();
+    time->device = f->frames->device();
+    return [f, time](uint32_t frame, Accumulator& acc) {
+      time->ms += f->frames->render(frame, acc).gpu_ms;
+      ++time->frames;
+    };
+  };
+}
+
 DeviceRenderTotals render_on_device(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs,
                                     int frames, Accumulator& acc, const std::function<void(int)>& progress) {
-#if defined(RAYCOH_HAVE_CUDA)
-  if (cuda::device_count() == 0) throw Error("--device cuda: no CUDA device (this machine has no usable GPU)");
+  DeviceFrames device(ls, generator, rs);
   DeviceRenderTotals totals;
-  totals.device = cuda::device_name();
-  std::string lower = totals.device;
-  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  totals.clock = lower.find("gpgpu") != std::string::npos ? "simulated" : "measured";
-  const EmitterDistribution lights(ls.scene);
-  const cuda::DevicePathSettings ds{rs.width, rs.height, rs.seed, rs.max_depth, rs.rr_depth};
-  cuda::DevicePathTracer device(ls.scene, ls.bvh, lights.view(ls.scene), generator, ds);
-  std::vector<Vec3> radiance;
+  totals.device = device.device();
+  totals.clock = device.clock();
   for (int f = 0; f < frames; ++f) {
-    const cuda::DeviceFrameStats s = device.render_frame(static_cast<uint32_t>(f), radiance);
-    totals.gpu_ms += s.frame_ms;
-    totals.rays += s.rays.primary + s.rays.secondary + s.rays.bounce + s.rays.shadow;
-    for (size_t p = 0; p < radiance.size(); ++p) acc.add(p, radiance[p]);
+    const DeviceFrame d = device.render(static_cast<uint32_t>(f), acc);
+    totals.gpu_ms += d.gpu_ms;
+    totals.rays += d.rays();
     progress(f);
   }
   return totals;
-#else
-  (void)ls, (void)generator, (void)rs, (void)frames, (void)acc, (void)progress;
-  throw Error("--device cuda: this build has no CUDA (configure with nvcc found, RAYCOH_CUDA=ON)");
-#endif
 }
 
 }  // namespace raycoh

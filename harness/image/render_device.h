@@ -1,17 +1,52 @@
-// `raycoh render --device cuda`: the frames of a render on the device path tracer (cuda/device_path_tracer.h)
-// instead of the CPU one, accumulated on the host like the CPU's. Builds without CUDA refuse it.
+// --device cpu|cuda of the rendering commands (`render`, `reference`, `quality`, `converge`): the frames of a render
+// on the device path tracer (cuda/device_path_tracer.h) instead of the CPU one, each frame's radiance added to a
+// host Accumulator exactly as the CPU path tracer adds its own, so that every figure computed from the images is
+// computed the same way. The only file of the commands that sees CUDA (RAYCOH_HAVE_CUDA); builds without CUDA, and
+// machines without a device, refuse `cuda` in one line (check_device).
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "generators/generator.h"
 #include "harness/image/render_common.h"
 #include "shading/image.h"
 #include "shading/path_tracer.h"
+#include "shading/reference.h"
 
 namespace raycoh {
+
+// Throws raycoh::Error naming --device: a value other than cpu or cuda, or cuda in a build without CUDA or on a
+// machine without a CUDA device.
+void check_device(const std::string& device);
+
+// One frame on the device.
+struct DeviceFrame {
+  double gpu_ms = 0;  // CUDA events around the frame (cuda/device_path_tracer.h frame_ms)
+  uint64_t primary_rays = 0, secondary_rays = 0, bounce_rays = 0, shadow_rays = 0;
+  GenerationStats generation;  // the device generator's first-bounce batch
+  uint64_t rays() const { return primary_rays + secondary_rays + bounce_rays + shadow_rays; }
+};
+
+// The frames of one render (one generator, one seed) on the device path tracer; scene and generator outlive it.
+class DeviceFrames {
+ public:
+  // Throws raycoh::Error in a build without CUDA, without a device, or for a generator without a device version.
+  DeviceFrames(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs);
+  ~DeviceFrames();
+  DeviceFrames(const DeviceFrames&) = delete;
+  DeviceFrames& operator=(const DeviceFrames&) = delete;
+  // Frame `frame` added to acc (the settings' size): finite samples added, NaN/Inf counted (Accumulator::add).
+  DeviceFrame render(uint32_t frame, Accumulator& acc);
+  const std::string& clock() const;   // "measured" on a GPU, "simulated" under GPGPU-Sim
+  const std::string& device() const;  // the device's name
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 struct DeviceRenderTotals {
   double gpu_ms = 0.0;  // sum of the frames' CUDA-event spans (cuda/device_path_tracer.h frame_ms)
@@ -20,8 +55,18 @@ struct DeviceRenderTotals {
   std::string device;   // the device's name
 };
 
-// Frames 0 .. frames - 1 with settings rs into acc; progress(f) after frame f. Throws raycoh::Error in a build
-// without CUDA, without a device, or for a generator without a device version.
+// The device time of a reference's frames (--device cuda): summed GPU milliseconds, frames, clock and device.
+struct DeviceTime {
+  double ms = 0;
+  int frames = 0;
+  std::string clock, device;
+};
+// --device cuda of a reference: req.make_renderer renders NoOpt's frames on the device path tracer (made when the
+// first frame is needed, so a cached reference never touches the device), each frame's GPU time added to *time.
+// ls outlives the request.
+void render_reference_on_device(ReferenceRequest& req, const LoadedScene& ls, std::shared_ptr<DeviceTime> time);
+
+// Frames 0 .. frames - 1 with settings rs into acc; progress(f) after frame f. Throws as DeviceFrames.
 DeviceRenderTotals render_on_device(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs,
                                     int frames, Accumulator& acc, const std::function<void(int)>& progress);
 

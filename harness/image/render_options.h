@@ -31,7 +31,10 @@ struct RenderCommon {
   // --metrics tonemapped|linear (quality, converge): the space of PSNR and SSIM (shading/metrics.h).
   MetricSpace metrics = MetricSpace::ToneMapped;
   std::string protocol = "ci";  // --protocol (quality, converge, reference): recorded in the CSV
-  bool force = false;           // --force: replace an existing --out (and what its .partial holds)
+  // --device cpu|cuda: the path tracer every frame is rendered on, the CPU's (shading/path_tracer.h) or the device's
+  // (cuda/device_path_tracer.h, harness/image/render_device.h); checked by check_device.
+  std::string device = "cpu";
+  bool force = false;  // --force: replace an existing --out (and what its .partial holds)
 };
 
 // --protocol ci|paper of quality, converge and reference: one name for a set of settings, each of which an option

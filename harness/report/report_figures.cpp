@@ -256,7 +256,7 @@ std::string converge_figure(const ResultCsv& c, const std::string& clock, const 
   std::map<std::string, std::vector<std::pair<double, double>>> lines;
   std::vector<std::string> methods;
   double x0 = 1e30, x1 = 0, y0 = 1e30, y1 = 0;
-  std::string scene, rev, res;
+  std::string scene, rev, res, device;
   for (const auto& r : c.rows) {
     const double x = c.num(r, clock), y = c.num(r, metric);
     if (!(x > 0) || !(y > 0)) continue;
@@ -264,6 +264,7 @@ std::string converge_figure(const ResultCsv& c, const std::string& clock, const 
     lines[c.get(r, "method")].push_back({x, y});
     x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     scene = c.get(r, "scene");
+    if (clock == "gpu_s") device = c.get(r, "gpu_clock") + " on " + c.get(r, "device");  // converge --device cuda
     rev = c.get(r, "git_revision");
     res = c.get(r, "width") + "×" + c.get(r, "height") + ", tracer " + c.get(r, "tracer");
   }
@@ -274,7 +275,12 @@ std::string converge_figure(const ResultCsv& c, const std::string& clock, const 
   auto X = [&](double v) { return left + w * (std::log10(v) - lx0) / std::max(lx1 - lx0, 1.0); };
   auto Y = [&](double v) { return top + h * (1 - (std::log10(v) - ly0) / std::max(ly1 - ly0, 1.0)); };
   const bool modeled = clock == "modeled_gpu_s";
-  const std::string what = clock == "wall_s" ? "CPU wall-clock s" : modeled ? "MODELED GPU s" : "CPU trace s";
+  // The device's GPU time (gpu_s): labelled MEASURED or SIMULATED as its rows' gpu_clock says.
+  const bool simulated = device.starts_with("simulated");
+  const std::string what = clock == "wall_s"  ? "CPU wall-clock s"
+                           : modeled          ? "MODELED GPU s"
+                           : clock == "gpu_s" ? (simulated ? "SIMULATED GPU s" : "MEASURED GPU s")
+                                              : "CPU trace s";
   const std::string title = fmt::format("{}: {} against {}", scene, metric, what);
   std::string svg = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.0f}\" height=\"{:.0f}\" viewBox=\"0 0 {:.0f} {:.0f}\" "
@@ -311,7 +317,9 @@ std::string converge_figure(const ResultCsv& c, const std::string& clock, const 
   }
   svg += text(10, height - 8,
               fmt::format("{}; revision {}; {}", res, rev,
-                          modeled ? "MODELED on " + short_model(c, c.rows.front()) : "measured CPU time"),
+                          modeled            ? "MODELED on " + short_model(c, c.rows.front())
+                          : clock == "gpu_s" ? "device path tracer, CUDA events, " + device
+                                             : "measured CPU time"),
               "start", 10, " fill=\"#555\"");
   return svg + "</svg>\n";
 }

@@ -20,11 +20,15 @@ void add_converge(Page& p, const ResultCsv& c) {
   p.html += fmt::format(
       "<h2>Error against time: {}</h2>\n<p><code>converge</code> renders images on the CPU tracer (wall and trace "
       "time measured there); where the CSV has it, the same frames' MODELED time on the GPU model "
-      "(<code>--gpu-model</code>) is a third clock, never added to a measured one.</p>\n<div class=\"figs\">\n",
+      "(<code>--gpu-model</code>) is a third clock, never added to a measured one; with <code>--device cuda</code> the "
+      "frames come from the device path tracer and its GPU time (MEASURED, or SIMULATED under GPGPU-Sim) is a clock "
+      "of its own.</p>\n<div class=\"figs\">\n",
       html_escape(c.path));
   p.html += converge_figure(c, "wall_s", "rel_mse");
   p.html += converge_figure(c, "trace_s", "rel_mse");
   if (c.has("modeled_gpu_s")) p.html += converge_figure(c, "modeled_gpu_s", "rel_mse");
+  // converge --device cuda: the device's GPU time, MEASURED on a GPU or SIMULATED under GPGPU-Sim (its own clock).
+  if (c.has("gpu_s")) p.html += converge_figure(c, "gpu_s", "rel_mse");
   p.html += "</div>\n";
 }
 

@@ -1,0 +1,91 @@
+// quality and converge --device cuda on a device (label gpu; skips without one): the rows say where they were
+// rendered (render_device cuda, the device's name in `device`, tracer cuda), the GPU time per frame with its clock
+// (measured on a GPU, simulated under GPGPU-Sim), the converge summary reads the device's clock beside the wall
+// clock, and the reference they rendered on the device has a cache entry of its own (its key names the device).
+// RAYCOH_GPU_TEST_SIZE=sim: 16x16 pixels, 2 frames, paths of 2 scattering events.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cuda/cuda_device.h"
+#include "tests/cli_util.h"
+#include "tests/gpu_test_size.h"
+#include "tests/test_util.h"
+
+namespace raycoh {
+namespace {
+
+namespace fs = std::filesystem;
+
+#define SKIP_WITHOUT_GPU() \
+  if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
+
+bool is_clock(const std::string& c) { return c == "measured" || c == "simulated"; }
+double number(const std::string& text) { return text.empty() ? std::nan("") : std::atof(text.c_str()); }
+
+TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
+  SKIP_WITHOUT_GPU();
+  const fs::path dir = test::temp_dir("gpu_device_rows");
+  const std::string frames = std::to_string(test::gpu_test_size(4, 2));
+  const std::string common = " --device cuda --res " + std::to_string(test::gpu_test_size(48, 16)) + "x" +
+                             std::to_string(test::gpu_test_size(32, 16)) + " --max-depth " +
+                             std::to_string(test::gpu_test_size(4, 2)) + " --rr-depth 2 --ref-frames " + frames +
+                             " --cache " + (dir / "cache").string();
+  const test::CommandResult q = test::run_raycoh("quality --scenes cornell --generators noopt,ours --frames " + frames +
+                                                 " --bias-renders 2 --out " + (dir / "q.csv").string() + common);
+  ASSERT_EQ(q.exit_code, 0) << q.output;
+  const auto rows = test::read_rows(dir / "q.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.at("render_device"), "cuda");
+    EXPECT_TRUE(is_clock(r.at("gpu_clock"))) << r.at("gpu_clock");
+    EXPECT_GT(number(r.at("gpu_frame_ms")), 0.0);
+    EXPECT_NE(r.at("device"), "cpu");
+    EXPECT_EQ(r.at("tracer"), "cuda");
+    EXPECT_TRUE(std::isfinite(number(r.at("psnr")))) << r.at("psnr");
+    EXPECT_TRUE(std::isfinite(number(r.at("rel_mse_ds2")))) << r.at("rel_mse_ds2");
+  }
+
+  const test::CommandResult c =
+      test::run_raycoh("converge --scene cornell --generators noopt,ours --time 1000s --gpu-model none --max-frames " +
+                       frames + " --out " + (dir / "c.csv").string() + common);
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const auto curve = test::read_rows(dir / "c.csv");
+  ASSERT_EQ(curve.size(), 2u * std::stoul(frames));
+  double last = 0;
+  for (const auto& r : curve) {
+    EXPECT_EQ(r.at("render_device"), "cuda");
+    EXPECT_TRUE(is_clock(r.at("gpu_clock")));
+    EXPECT_GT(number(r.at("frame_gpu_ms")), 0.0);
+    EXPECT_EQ(r.at("trace_s"), "");  // no trace time apart on the device
+    if (r.at("method") == "ours") {
+      EXPECT_GT(number(r.at("gpu_s")), last);
+      last = number(r.at("gpu_s"));
+    }
+  }
+  const auto summary = test::read_rows(dir / "c-summary.csv");
+  ASSERT_EQ(summary.size(), 2u);  // ours against noopt on the wall clock and on the device's
+  EXPECT_EQ(summary[0].at("clock"), "wall");
+  EXPECT_EQ(summary[1].at("clock"), curve[0].at("gpu_clock") + "_gpu");
+  EXPECT_EQ(summary[1].at("render_device"), "cuda");
+  EXPECT_GT(number(summary[1].at("horizon_s")), 0.0);
+
+  // quality rendered the reference on the device and converge read it from the cache: one entry, the device's.
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(dir / "cache"))
+    if (e.path().extension() == ".json") {
+      ++entries;
+      std::ifstream in(e.path());
+      EXPECT_EQ(nlohmann::json::parse(in).at("key").at("device"), "cuda") << e.path();
+    }
+  EXPECT_EQ(entries, 1);
+  EXPECT_NE(c.output.find("cached"), std::string::npos) << c.output;
+}
+
+}  // namespace
+}  // namespace raycoh
