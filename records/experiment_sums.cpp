@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "records/schema.h"
+#include "tracers/hw_counters.h"
 
 namespace raycoh {
 
@@ -35,6 +36,12 @@ Experiment read_experiment(const ResultCsv& c) {
     if (!r.provenance.run_under.empty()) {
       ++e.not_timings;
       e.run_under.insert(r.provenance.run_under);
+      if (r.provenance.run_under == kHwCountersRunUnder) {
+        add_unique(e.hw_scenes, r.scene);
+        add_unique(e.hw_methods, r.method);
+        e.hw_results[r.scene].scene = r.scene;
+        accumulate(r, 1, e.hw_results[r.scene]);
+      }
       continue;
     }
     add_unique(e.scenes, r.scene);

@@ -29,6 +29,10 @@ struct Experiment {
   // Rows run under a profiler or sanitizer (the run_under column): not timings, so left out of every sum above.
   size_t not_timings = 0;
   std::set<std::string> run_under;
+  // Of those, the rows whose kernels CUPTI replayed for their hardware counters (`cuda:counters=hw`), summed apart
+  // by the same aggregator (only their Accumulated::hw is read): scene -> sums, scenes and methods in file order.
+  std::map<std::string, SceneResult> hw_results;
+  std::vector<std::string> hw_scenes, hw_methods;
 
   // A scene's sums of one tracer: method label -> sums.
   const std::map<std::string, Accumulated>& sums(const std::string& scene, const ResultKey& tracer) const {

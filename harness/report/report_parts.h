@@ -37,7 +37,7 @@ void add_table(Page& p, const ResultCsv& c);
 void add_sweep(Page& p, const ResultCsv& c);
 // The rows cuda:counters=hw measured (run_under cupti-counters), their hw_* columns (report_hw.cpp); nothing when
 // the CSV has none.
-void add_hw_counters(Page& p, const ResultCsv& c);
+void add_hw_counters(Page& p, const ResultCsv& c, const Experiment& e);
 void add_converge(Page& p, const ResultCsv& c);
 void add_converge_summary(Page& p, const ResultCsv& c);
 void add_quality(Page& p, const ResultCsv& c);

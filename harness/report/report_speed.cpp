@@ -59,7 +59,7 @@ bool note_not_timings(Page& p, const Experiment& e, const std::string& path) {
 
 void add_table(Page& p, const ResultCsv& c) {
   const Experiment e = read_experiment(c);
-  add_hw_counters(p, c);
+  add_hw_counters(p, c, e);
   if (note_not_timings(p, e, c.path)) return;
   p.html += fmt::format("<h2>Table 1 layout: {}</h2>\n", html_escape(c.path));
   p.md += fmt::format("## Table 1 layout: {}\n\n{}\n\n", c.path, footer_of(e));
@@ -94,7 +94,7 @@ void add_table(Page& p, const ResultCsv& c) {
 
 void add_sweep(Page& p, const ResultCsv& c) {
   const Experiment e = read_experiment(c);
-  add_hw_counters(p, c);
+  add_hw_counters(p, c, e);
   if (note_not_timings(p, e, c.path)) return;
   p.html += fmt::format("<h2>Table 3 layout: {}</h2>\n<div class=\"figs\">\n", html_escape(c.path));
   p.md += fmt::format("## Table 3 layout: {}\n\n{}\n\n", c.path, footer_of(e));
