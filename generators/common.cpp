@@ -1,8 +1,22 @@
 // Helpers every generator shares: material parameters, batch writing, statistics.
+#include <fmt/format.h>
+
 #include "core/batch_view.h"
+#include "core/error.h"
 #include "generators/generator.h"
 
 namespace raycoh {
+
+ParamSpec tile_param(std::pair<int, int> def, const std::string& what) {
+  return size_param("tile", def, 1, kMaxTileSide, fmt::format("{}, at most {} pixels", what, kMaxTilePixels));
+}
+
+void check_tile(const std::string& owner, std::pair<int, int> tile) {
+  const auto [w, h] = tile;
+  if (w < 1 || w > kMaxTileSide || h < 1 || h > kMaxTileSide || w * h > kMaxTilePixels)
+    throw Error(fmt::format("{}: tile={}x{}: each side must be in [1, {}] and the tile at most {} pixels", owner, w, h,
+                            kMaxTileSide, kMaxTilePixels));
+}
 
 BsdfParams bsdf_params(const Material& m) {
   BsdfParams b;

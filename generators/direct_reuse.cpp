@@ -22,7 +22,7 @@ namespace raycoh {
 
 const ParamTable& direct_params() {
   static const ParamTable table = {
-      size_param("tile", {8, 8}, 1, 1024, "the tile sharing one world-space direction, at most 65536 pixels"),
+      tile_param({8, 8}, "the tile sharing one world-space direction"),
   };
   return table;
 }
@@ -31,8 +31,7 @@ std::unique_ptr<Generator> make_direct_generator(ParamSet& params) { return std:
 
 DirectReuse::DirectReuse(ParamSet& params) {
   tile_ = params.get_size("tile");
-  if (tile_.first * tile_.second > 65536)
-    throw Error(fmt::format("{}: tile={}x{} has more than 65536 pixels", params.owner(), tile_.first, tile_.second));
+  check_tile(params.owner(), tile_);
   params.finish();
   params_ = params.canonical();
 }

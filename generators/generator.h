@@ -49,9 +49,20 @@ std::unique_ptr<Generator> make_generator(const PluginSpec& spec);
 // The registered name a generator name stands for: `tile` is the old name of `contiguous` (kept so that existing
 // command lines and CSV files still read); every other name is itself.
 std::string generator_name(const std::string& name);
+// The row `param` of a registered generator's parameter table, or null where it has none or the name is unknown.
+const ParamSpec* generator_param_row(const std::string& name, const std::string& param);
 // The group size row `k` of a registered generator's parameter table (ours, contiguous: generators that group a
 // tile's pixels), or null for a generator that does not group or an unknown name.
 const ParamSpec* group_size_row(const std::string& name);
+
+// The `tile` of the generators that work per tile (ours, contiguous, direct) and of `sweep --tiles`, one rule: each
+// side in [1, kMaxTileSide], at most kMaxTilePixels pixels (generators/common.cpp).
+constexpr int kMaxTileSide = 1024;
+constexpr int kMaxTilePixels = 65536;
+// The parameter table's `tile` row with those sides; `what` says what the tile is to the generator.
+ParamSpec tile_param(std::pair<int, int> def, const std::string& what);
+// Throws raycoh::Error "<owner>: tile=WxH ..." naming the limits when a side or the area is beyond them.
+void check_tile(const std::string& owner, std::pair<int, int> tile);
 
 // Helpers shared by generators (generators/common.cpp).
 BsdfParams bsdf_params(const Material& m);

@@ -41,14 +41,16 @@ const std::vector<GeneratorInfo>& generator_infos() {
 
 std::string generator_name(const std::string& name) { return name == "tile" ? "contiguous" : name; }
 
-const ParamSpec* group_size_row(const std::string& name) {
+const ParamSpec* generator_param_row(const std::string& name, const std::string& param) {
   const std::string registered = generator_name(name);
   for (const GeneratorInfo& info : generator_infos())
     if (info.name == registered)
       for (const ParamSpec& row : info.table())
-        if (row.name == "k") return &row;
+        if (row.name == param) return &row;
   return nullptr;
 }
+
+const ParamSpec* group_size_row(const std::string& name) { return generator_param_row(name, "k"); }
 
 std::unique_ptr<Generator> make_generator(const PluginSpec& spec) {
   const std::string name = generator_name(spec.name);

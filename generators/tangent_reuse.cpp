@@ -168,12 +168,9 @@ void generate_group(const FrameJob& job, uint32_t t, const TileRect& r, uint32_t
 
 }  // namespace
 
-// The largest tile, in pixels (the sides alone would allow 1024 x 1024).
-constexpr int kMaxTilePixels = 65536;
-
 const ParamTable& ours_params() {
   static const ParamTable table = {
-      size_param("tile", {8, 8}, 1, 1024, "the tile, at most 65536 pixels"),
+      tile_param({8, 8}, "the tile"),
       int_param("k", 8, 1, kMaxTilePixels, "group size K, at most W H"),
       choice_param("order", "tile", ray_order_names(true), "batch order (see tangent_reuse.cpp)"),
       uint_param("seed", 0u, 0u, 0xFFFFFFFFu, "extra salt for the grouping only (shuffle and donors); 0: none"),
@@ -197,10 +194,8 @@ std::unique_ptr<Generator> make_contiguous_generator(ParamSet& params) {
 
 TangentSpaceReuse::TangentSpaceReuse(ParamSet& params, bool interleaved) : interleaved_(interleaved) {
   tile_ = params.get_size("tile");
+  check_tile(params.owner(), tile_);
   const int area = tile_.first * tile_.second;
-  if (area > kMaxTilePixels)
-    throw Error(fmt::format("{}: tile={}x{} has {} pixels; at most {}", params.owner(), tile_.first, tile_.second, area,
-                            kMaxTilePixels));
   k_ = params.get_int_at_most("k", area);
   order_ = parse_ray_order(params.get_choice("order"));
   salt_ = params.get_uint("seed");

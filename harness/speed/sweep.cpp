@@ -36,9 +36,7 @@ void check_sweep(const SweepOptions& o) {
   group_size_row_of(o.generator);
   if (o.tiles.empty()) throw Error("--tiles: empty list");
   if (o.groups.empty()) throw Error("--groups: empty list");
-  for (const auto& [w, h] : o.tiles)
-    if (w < 1 || w > 1024 || h < 1 || h > 1024 || w * h > 65536)
-      throw Error(fmt::format("--tiles {}x{}: width and height must be in [1, 1024], at most 65536 pixels", w, h));
+  for (const auto& tile : o.tiles) check_tile("--tiles", tile);
 }
 
 // One tracer's tile x K table.

@@ -7,15 +7,19 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "generators/generator.h"
 
 namespace raycoh {
 
 namespace {
 
 const std::vector<std::string> kAxes{"tile", "k", "order", "hybrid", "frame"};
-const std::vector<std::string> kOrders{"scanline", "tile", "group"};
-const std::vector<std::string> kHybrids{"paper", "donor", "glossy", "independent"};
-const std::vector<std::string> kFrames{"duff", "rotate"};
+// Each axis's values are those of ours' parameter table (contiguous has the same table): its row is the one rule.
+const ParamSpec& ours_row(const std::string& param) {
+  const ParamSpec* row = generator_param_row("ours", param);
+  if (!row) throw Error(fmt::format("internal error: ours has no parameter '{}'", param));
+  return *row;
+}
 
 std::vector<std::string> split(const std::string& text, char sep) {
   std::vector<std::string> out;
@@ -72,20 +76,21 @@ TuneSpace parse_tune_space(const std::string& text) {
     if (values.empty()) throw Error(fmt::format("--space {}: no values", axis));
     if (name == "tile") {
       s.tiles.clear();
-      for (const std::string& v : values) s.tiles.push_back(parse_size("--space tile", v, 1, 1024));
+      for (const std::string& v : values) s.tiles.push_back(parse_size("--space tile", v, 1, kMaxTileSide));
     } else if (name == "k") {
       s.ks.clear();
-      for (const std::string& v : values) s.ks.push_back(parse_int("--space k", v, 1, 65536));
+      const ParamSpec& k = ours_row("k");
+      for (const std::string& v : values)
+        s.ks.push_back(parse_int("--space k", v, static_cast<int>(k.lo), static_cast<int>(k.hi)));
     } else if (name == "order") {
-      s.orders = choices(name, values, kOrders);
+      s.orders = choices(name, values, ours_row("order").choices);
     } else if (name == "hybrid") {
-      s.hybrids = choices(name, values, kHybrids);
+      s.hybrids = choices(name, values, ours_row("hybrid").choices);
     } else {
-      s.frames = choices(name, values, kFrames);
+      s.frames = choices(name, values, ours_row("frame").choices);
     }
   }
-  for (const auto& [w, h] : s.tiles)
-    if (w * h > 65536) throw Error(fmt::format("--space tile={}x{}: at most 65536 pixels", w, h));
+  for (const auto& tile : s.tiles) check_tile("--space", tile);
   return s;
 }
 
