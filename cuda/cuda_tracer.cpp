@@ -78,7 +78,8 @@ class ProfiledPipeline final : public DevicePipeline {
     counters_ = profiler_.end();
     return t;
   }
-  const GBuffer& upload_first_hits() override { return inner_->upload_first_hits(); }
+  void first_hits_gbuffer() override { inner_->first_hits_gbuffer(); }
+  GBuffer download_gbuffer() const override { return inner_->download_gbuffer(); }
   DeviceStageTimes secondary(const Generator& generator, const Encoder& encoder, PermuteMode mode, uint32_t seed,
                              GenerationStats& stats) override {
     profiler_.begin();

@@ -119,6 +119,7 @@ struct DeviceGenerator::Impl {
   float last_ms = -1.f;
   // The uploaded G-buffer's facts and the last launch's batch (device_batch()).
   const BsdfParams* point_materials = nullptr;
+  const ShadingPoint* point_data = nullptr;  // the points launches read: points' own, or a device G-buffer's
   int width = 0, height = 0;
   uint32_t frame = 0;
   size_t hits = 0, tiles = 0;
@@ -181,12 +182,25 @@ void DeviceGenerator::upload(const GBuffer& g) {
   if (pixels != static_cast<size_t>(g.width) * static_cast<size_t>(g.height))
     throw Error("cuda: the G-buffer's size does not match its resolution");
   m.points.upload(g.points.data(), pixels);
+  m.point_data = m.points.get();
   // A textured scene's points index the G-buffer's own table (the texels at each hit): it goes up with them.
   m.point_materials = m.materials.get();
   if (g.materials && g.materials->per_hit()) {
     m.hit_materials.upload(g.materials->bsdf.data(), g.materials->bsdf.size());
     m.point_materials = m.hit_materials.get();
   }
+  m.width = g.width;
+  m.height = g.height;
+  m.frame = g.frame;
+  m.hits = g.hits;
+  m.uploaded = true;
+}
+
+void DeviceGenerator::use_device(const DeviceGBufferView& g) {
+  Impl& m = *impl_;
+  if (g.width < 1 || g.height < 1 || !g.points || !g.bsdf) throw Error("cuda: an empty device G-buffer");
+  m.point_data = g.points;
+  m.point_materials = g.bsdf;
   m.width = g.width;
   m.height = g.height;
   m.frame = g.frame;
@@ -228,20 +242,20 @@ void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
 
   m.timer.start();
   if (p.tiles > 0 && n > 0) {
-    tile_hits_kernel<<<static_cast<unsigned>(p.tiles), 128>>>(m.points.get(), p.grid, m.counts.get());
+    tile_hits_kernel<<<static_cast<unsigned>(p.tiles), 128>>>(m.point_data, p.grid, m.counts.get());
     RAYCOH_CUDA_CHECK_LAUNCH();
     m.exclusive_sum(m.counts.get(), m.offsets.get(), p.tiles + 1);
     if (p.scanline) {
-      hit_flags_kernel<<<blocks_for(p.pixels, 256), 256>>>(m.points.get(), p.pixels, m.flags.get());
+      hit_flags_kernel<<<blocks_for(p.pixels, 256), 256>>>(m.point_data, p.pixels, m.flags.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
       m.exclusive_sum(m.flags.get(), m.slots.get(), p.pixels);
     }
     if (p.grouping) {
-      launch_group_kernel(p.config, p.grid, m.points.get(), m.point_materials, m.offsets.get(), m.slots.get(), m.view,
+      launch_group_kernel(p.config, p.grid, m.point_data, m.point_materials, m.offsets.get(), m.slots.get(), m.view,
                           m.stats.get());
     } else {
       const int block = std::min(256, round_up_warp(p.grid.tile_w * p.grid.tile_h));
-      noopt_kernel<<<static_cast<unsigned>(p.tiles), block>>>(m.points.get(), m.point_materials, seed, m.frame, p.grid,
+      noopt_kernel<<<static_cast<unsigned>(p.tiles), block>>>(m.point_data, m.point_materials, seed, m.frame, p.grid,
                                                               m.offsets.get(), m.view, m.stats.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
     }
@@ -263,9 +277,9 @@ void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const De
   m.timer.start();
   if (p.tiles > 0 && m.hits > 0) {
     if (p.grouping)
-      launch_fused_grouping(scene, trace, p.config, p.grid, m.points.get(), m.point_materials, hits, m.stats.get());
+      launch_fused_grouping(scene, trace, p.config, p.grid, m.point_data, m.point_materials, hits, m.stats.get());
     else
-      launch_fused_noopt(scene, trace, m.points.get(), m.point_materials, seed, m.frame, p.grid, hits, m.stats.get());
+      launch_fused_noopt(scene, trace, m.point_data, m.point_materials, seed, m.frame, p.grid, hits, m.stats.get());
   }
   m.timer.stop();
   m.launched = true;

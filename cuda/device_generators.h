@@ -25,8 +25,9 @@
 //            loop calls.
 // The GPU reads the CPU generator's typed Generator::device_recipe() (generators/grouping.h), never its class or
 // its parameter text.
-// Not on the GPU: the G-buffer itself (make_gbuffer runs on the host and is uploaded; it is not part of a
-// generator's overhead) and the `direct` ablation.
+// The G-buffer is not a generator's: it is uploaded (upload) or, in the device pipeline and the device path
+// tracer, made on the device by the camera pass (cuda/device_gbuffer.h) and read where it lies (use_device); it is
+// not part of a generator's overhead. Not on the GPU: the `direct` ablation.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,7 @@
 
 #include "core/batch_view.h"
 #include "core/ray_batch.h"
+#include "cuda/device_gbuffer.h"
 #include "cuda/trace_kernels.h"
 #include "generators/pixel_order.h"
 #include "generators/primary.h"
@@ -78,6 +80,9 @@ class DeviceGenerator {
   // the launched batch's arrays on the device (device_count() rays; tile / group / group_type null for noopt),
   // valid until the next launch; download() copies it to the host.
   void upload(const GBuffer& gbuffer);
+  // In place of upload: a G-buffer already on the device (cuda/device_gbuffer.h, finished: its hit count set),
+  // read where it lies (points and material table, no copy); it must stay unchanged while launches read it.
+  void use_device(const DeviceGBufferView& gbuffer);
   void launch(uint32_t seed, const Generator& cpu);
   // The fused form of launch (cuda:pipeline=fused): no batch; each tile's rays are made and traced by one block
   // with the tracer's kernel form, hits[pixel] for each ray's pixel (width x height entries). Timed as one kernel

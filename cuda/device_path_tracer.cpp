@@ -6,17 +6,21 @@
 
 #include "bvh/bvh_build.h"
 #include "core/error.h"
+#include "cuda/device_gbuffer.h"
 #include "cuda/device_generators.h"
 #include "cuda/device_scene_shading.h"
 #include "cuda/device_stages.h"
+#include "cuda/stage_clock.h"
 #include "generators/generator.h"
-#include "generators/primary.h"
 
 namespace raycoh::cuda {
 
 namespace {
 
 constexpr int kPrimaryTile = 8;  // the CPU path tracer's camera-ray order (shading/path_tracer.cpp)
+
+// The frame's stages on its StageClock (DeviceFrameStages, in this order).
+enum Stage : int { kCamera, kGeneration, kNextEvent, kSample, kTrace, kGather, kStages };
 
 }  // namespace
 
@@ -45,7 +49,9 @@ struct DevicePathTracer::Impl {
   DeviceSceneShading shading_scene;
   DeviceShading shading;
   DeviceStages stages;
+  DeviceGBuffer gbuffer;
   DeviceGenerator device_generator;
+  StageClock clock{kStages};
 
   Impl(const Scene& s, const Bvh& bvh, const LightsView& lights, const Generator& g, const DevicePathSettings& ps,
        const TraceLaunch& l)
@@ -56,22 +62,44 @@ struct DevicePathTracer::Impl {
         tracer(make_scene_device_tracer(s, bvh)),
         shading_scene(s, lights),
         shading(shading_scene, *tracer, l, ps),
-        device_generator(s) {}
+        gbuffer(s, shading_scene.view().mesh),
+        device_generator(s) {
+    shading.set_clock(&clock, kTrace);
+  }
 
-  // Camera rays on the device, traced; the G-buffer made on the host from the downloaded hits and uploaded.
-  GBuffer camera(uint32_t frame) {
+  // Camera rays on the device, traced; their G-buffer made on the device (only its hit count is read back).
+  void camera(uint32_t frame) {
+    clock.start(kCamera);
     stages.launch_primary(scene.camera, settings.width, settings.height, kPrimaryTile, kPrimaryTile, settings.seed,
                           frame, true);
     const size_t n = stages.primary_count();
     Hit* hits = stages.hits(n);
+    clock.enter(kTrace);
     tracer->trace_device(stages.primary_rays(), nullptr, n, hits, launch);
-    PixelRays rays;
-    std::vector<Hit> host_hits;
-    stages.download_primary(rays);
-    stages.download_hits(host_hits, n);
-    GBuffer gbuffer = make_gbuffer(scene, rays, host_hits);
-    shading.camera(frame, gbuffer, stages.primary_rays(), stages.primary_pixels(), hits, n);
-    return gbuffer;
+    clock.enter(kCamera);
+    gbuffer.launch(stages.primary_rays(), stages.primary_pixels(), hits, n, settings.width, settings.height, frame);
+    shading.camera(frame, gbuffer.finish(), stages.primary_rays(), stages.primary_pixels(), hits, n);
+  }
+
+  // The first wave: the device generator's batch over the device G-buffer.
+  void first_bounce(GenerationStats& stats) {
+    device_generator.use_device(gbuffer.view());
+    device_generator.launch(settings.seed, generator);
+    device_generator.finish(stats);
+    shading.first_bounce(device_generator.device_batch(), device_generator.device_count());
+  }
+
+  DeviceFrameStages stage_times() const {
+    float ms[kStages];
+    clock.wait_ms(ms);
+    DeviceFrameStages t;
+    t.camera_ms = ms[kCamera];
+    t.generation_ms = ms[kGeneration];
+    t.next_event_ms = ms[kNextEvent];
+    t.sample_ms = ms[kSample];
+    t.trace_ms = ms[kTrace];
+    t.gather_ms = ms[kGather];
+    return t;
   }
 };
 
@@ -90,27 +118,37 @@ DeviceFrameStats DevicePathTracer::render_frame(uint32_t frame, std::vector<Vec3
   Impl& d = *impl_;
   DeviceFrameStats stats;
   d.stages.start_span();
-  const GBuffer gbuffer = d.camera(frame);
+  d.camera(frame);
   for (int bounce = 0; bounce < d.settings.max_depth && d.shading.vertices() > 0; ++bounce) {
+    d.clock.enter(kNextEvent);
     d.shading.next_event(bounce);
     if (bounce == 0) {
-      d.device_generator.upload(gbuffer);
-      d.device_generator.launch(d.settings.seed, d.generator);
-      d.device_generator.finish(stats.generation);
-      d.shading.first_bounce(d.device_generator.device_batch(), d.device_generator.device_count());
+      d.clock.enter(kGeneration);
+      d.first_bounce(stats.generation);
     } else {
+      d.clock.enter(kSample);
       d.shading.sample(bounce);
     }
+    d.clock.enter(kGather);
     d.shading.gather(bounce);
   }
+  d.clock.stop();
   d.stages.stop_span();
   stats.frame_ms = d.stages.wait_span_ms();
+  stats.stages = d.stage_times();
   stats.rays = d.shading.counts();
   d.shading.download_radiance(radiance);
   return stats;
 }
 
 void DevicePathTracer::download_first_bounce(RayBatch& out) const { impl_->device_generator.download(out); }
+
+void DevicePathTracer::download_camera(PixelRays& rays, std::vector<Hit>& hits) const {
+  impl_->stages.download_primary(rays);
+  impl_->stages.download_hits(hits, impl_->stages.primary_count());
+}
+
+GBuffer DevicePathTracer::download_gbuffer() const { return impl_->gbuffer.download(); }
 
 const DevicePathSettings& DevicePathTracer::settings() const { return impl_->settings; }
 

@@ -5,20 +5,22 @@
 //
 // One frame:
 //   1. camera rays in 8x8 tile order on the device (cuda/device_stages.h, make_primary_rays' rays), traced by
-//      the device trace kernel; the hits are downloaded and the G-buffer made on the host by make_gbuffer (as the
-//      device pipeline does, cuda/device_pipeline.h) and uploaded;
+//      the device trace kernel; their G-buffer made on the device by the G-buffer kernel (cuda/device_gbuffer.h:
+//      make_gbuffer's hit_surface per hit, equal to make_gbuffer bit for bit) and kept there: only its hit count
+//      comes to the host (download_gbuffer copies the rest where a caller asks for it);
 //   2. the first bounce's batch made by the device generator (cuda/device_generators.h, materialized: noopt,
 //      ours, contiguous), equal to the CPU generator's batch bit for bit;
 //   3. per bounce: next-event estimation, bounce sampling (later bounces), the wave traced and gathered
 //      (cuda/device_shading.h), every batch traced by the device trace kernel (cuda/trace_kernels.h);
 //   4. the frame's radiance downloaded (the caller accumulates it, e.g. into a shading/image.h Accumulator).
 // Scene data (mesh, materials, textures, emitters, punctual lights, environment) is uploaded once, when the path
-// tracer is made (cuda/device_scene_shading.h). Not on the device: the camera pass's G-buffer (host make_gbuffer,
-// as in the device pipeline) and the accumulation. The fused first bounce (cuda:pipeline=fused) is not used here.
+// tracer is made (cuda/device_scene_shading.h). Not on the device: the accumulation. The fused first bounce
+// (cuda:pipeline=fused) is not used here.
 //
 // frame_ms: CUDA events around the whole frame on the device's stream (camera rays to the last gather), which
-// includes the device's idle time while the host makes the G-buffer and reads batch sizes: a measured GPU time on
-// a GPU, a simulated one under GPGPU-Sim.
+// includes the device's idle time while the host reads counts and batch sizes and launches: a measured GPU time
+// on a GPU, a simulated one under GPGPU-Sim. stages: the same span cut at the stages' boundaries by events on the
+// same stream (cuda/stage_clock.h), read at the frame's end with frame_ms, so no synchronisation is added.
 #pragma once
 
 #include <memory>
@@ -28,6 +30,7 @@
 #include "core/ray_batch.h"
 #include "cuda/device_shading.h"
 #include "cuda/trace_kernels.h"
+#include "generators/primary.h"
 #include "scenes/scene.h"
 
 namespace raycoh {
@@ -37,10 +40,24 @@ struct Bvh;
 
 namespace raycoh::cuda {
 
+// Per-stage device times of a frame in ms: the frame from its camera rays to its last gather cut at the stages'
+// boundaries, each interval counted for the stage it lies in (the device's idle time inside a stage included), so
+// the stages add up to at most frame_ms (up to the events' resolution).
+struct DeviceFrameStages {
+  float camera_ms = 0.f;      // camera rays, the G-buffer kernel and its hit count, camera shading, compaction
+  float generation_ms = 0.f;  // first bounce: the device generator and its batch made the first wave
+  float next_event_ms = 0.f;  // next-event estimation: shadow rays made, resolved, added (not their traces)
+  float sample_ms = 0.f;      // bounce sampling of the later bounces, compaction
+  float trace_ms = 0.f;       // every trace kernel: camera rays, shadow rounds, waves
+  float gather_ms = 0.f;      // each wave's hits shaded, its light added, the next vertices compacted
+  float sum_ms() const { return camera_ms + generation_ms + next_event_ms + sample_ms + trace_ms + gather_ms; }
+};
+
 struct DeviceFrameStats {
   DeviceRayCounts rays;
   GenerationStats generation;
-  float frame_ms = 0.f;  // CUDA events around the frame (see above)
+  float frame_ms = 0.f;      // CUDA events around the frame (see above)
+  DeviceFrameStages stages;  // frame_ms by stage (see above)
 };
 
 // A DeviceTracer for scene's BVH2 with the scene's alpha MASK arrays (as the `cuda` tracer makes it).
@@ -61,6 +78,9 @@ class DevicePathTracer {
   DeviceFrameStats render_frame(uint32_t frame, std::vector<Vec3>& radiance);
   // The last frame's first-bounce batch as the device generator made it.
   void download_first_bounce(RayBatch& out) const;
+  // The last frame's camera rays and their hits, and the G-buffer the device made of them (with its table).
+  void download_camera(PixelRays& rays, std::vector<Hit>& hits) const;
+  GBuffer download_gbuffer() const;
   const DevicePathSettings& settings() const;
 
  private:

@@ -8,6 +8,7 @@
 
 #include "bvh/bvh_build.h"
 #include "core/error.h"
+#include "cuda/device_gbuffer.h"
 #include "cuda/device_generators.h"
 #include "cuda/device_keys.h"
 #include "cuda/device_stages.h"
@@ -29,7 +30,12 @@ bool same_recipe(const KeyRecipe& a, const KeyRecipe& b) {
 class CudaPipeline final : public DevicePipeline {
  public:
   CudaPipeline(const Scene& scene, const Bvh& bvh, PipelineTrace trace)
-      : scene_(scene), bvh_(bvh), trace_(std::move(trace)), generator_(scene) {
+      : scene_(scene),
+        bvh_(bvh),
+        trace_(std::move(trace)),
+        generator_(scene),
+        mesh_(scene),
+        gbuffer_(scene, mesh_.view()) {
     RAYCOH_CHECK(trace_.tracer != nullptr, "the device pipeline needs the cuda tracer's DeviceTracer");
     RAYCOH_CHECK(!trace_.counting || trace_.counted, "a counting device pipeline needs somewhere to put the counts");
   }
@@ -53,22 +59,28 @@ class CudaPipeline final : public DevicePipeline {
     t.span_ms = stages_.wait_span_ms();
     last_ = Pass::Primary;
     last_n_ = n;
+    width_ = width;
+    height_ = height;
+    frame_ = frame;
     return t;
   }
 
-  const GBuffer& upload_first_hits() override {
-    PixelRays rays;
-    std::vector<Hit> hits;
-    download_primary(rays, hits);
-    gbuffer_ = make_gbuffer(scene_, rays, hits);
-    generator_.upload(gbuffer_);
+  void first_hits_gbuffer() override {
+    if (last_ != Pass::Primary) throw Error("cuda: first_hits_gbuffer: the last pass was not a primary pass");
+    gbuffer_.launch(stages_.primary_rays(), stages_.primary_pixels(), stages_.hits(last_n_), last_n_, width_, height_,
+                    frame_);
+    generator_.use_device(gbuffer_.finish());
     gbuffer_ready_ = true;
-    return gbuffer_;
+  }
+
+  GBuffer download_gbuffer() const override {
+    if (!gbuffer_ready_) throw Error("cuda: download_gbuffer before first_hits_gbuffer");
+    return gbuffer_.download();
   }
 
   DeviceStageTimes secondary(const Generator& generator, const Encoder& encoder, PermuteMode mode, uint32_t seed,
                              GenerationStats& stats) override {
-    if (!gbuffer_ready_) throw Error("cuda: a secondary pass before upload_first_hits (no G-buffer on the device)");
+    if (!gbuffer_ready_) throw Error("cuda: a secondary pass before first_hits_gbuffer (no G-buffer on the device)");
     last_ = Pass::None;
     if (trace_.fused) return secondary_fused(generator, encoder, seed, stats);
     DeviceKeys* keys = keys_for(encoder);
@@ -144,7 +156,7 @@ class CudaPipeline final : public DevicePipeline {
                                    GenerationStats& stats) {
     if (encoder.key_bits() > 0)
       throw Error(fmt::format("cuda: encoder '{}' sorts a batch; cuda:pipeline=fused keeps none", encoder.name()));
-    const size_t pixels = static_cast<size_t>(gbuffer_.width) * static_cast<size_t>(gbuffer_.height);
+    const size_t pixels = gbuffer_.view().pixels();
     stages_.start_span();
     generator_.launch_fused(seed, generator, *trace_.tracer, trace_.launch, stages_.hits(pixels));
     stages_.stop_span();
@@ -171,7 +183,7 @@ class CudaPipeline final : public DevicePipeline {
     generator_.finish(unused);
     generator_.download(generated);
     std::vector<Hit> at_pixel;
-    stages_.download_hits(at_pixel, static_cast<size_t>(gbuffer_.width) * static_cast<size_t>(gbuffer_.height));
+    stages_.download_hits(at_pixel, gbuffer_.view().pixels());
     hits.resize(generated.size());
     for (size_t i = 0; i < generated.size(); ++i) hits[i] = at_pixel[generated.pixel[i]];
   }
@@ -205,9 +217,12 @@ class CudaPipeline final : public DevicePipeline {
   PipelineTrace trace_;
   mutable DeviceGenerator generator_;  // mutable: a fused pass's batch is made again when downloaded
   DeviceStages stages_;
+  DeviceMesh mesh_;
+  DeviceGBuffer gbuffer_;  // the last primary pass's, made on the device (first_hits_gbuffer)
   std::vector<std::pair<KeyRecipe, std::unique_ptr<DeviceKeys>>> keys_;
-  GBuffer gbuffer_;
   bool gbuffer_ready_ = false;
+  int width_ = 0, height_ = 0;  // the last primary pass's
+  uint32_t frame_ = 0;
   std::vector<WarpStepCounters> warps_;
   Pass last_ = Pass::None;
   size_t last_n_ = 0;

@@ -4,14 +4,16 @@
 // typed KeyRecipe, CUB radix sort), cuda/device_stages.h (the gather of every batch array, buffers, timers) and
 // cuda/trace_kernels.h (the trace kernels).
 //
-// One frame: primary() makes the camera rays in tile order on the device and traces them; upload_first_hits()
-// downloads the hits, makes the G-buffer on the host (generators/primary.h make_gbuffer, as every CPU run does;
-// not timed) and uploads it once. Each secondary() then queues generation, keys, sort, gather (physical mode)
-// and trace on the default stream without a host round trip between the stages, each between its own pair of
-// CUDA events, and one more pair around them all (span_ms); only then does it wait and read the times. The
-// device versions equal the CPU's bit for bit (tests/gpu_generators_test.cpp, gpu_keys_test.cpp,
-// gpu_pipeline_test.cpp), so its batches, order and hits are the host pipeline's (reis and costa keys aside,
-// where CUDA's atan2f / acosf may round a direction bit differently from glibc's: cuda/device_keys.h).
+// One frame: primary() makes the camera rays in tile order on the device and traces them (its stages: camera rays
+// as gen_ms, their trace as trace_ms; the G-buffer is in neither); first_hits_gbuffer() makes their G-buffer on the
+// device (cuda/device_gbuffer.h: make_gbuffer's hit_surface per hit, equal to it bit for bit; not timed) and keeps
+// it there for the generator (only its hit count is read back; download_gbuffer copies it for tests and checks).
+// Each secondary() then queues generation, keys, sort, gather (physical mode) and trace on the default stream
+// without a host round trip between the stages, each between its own pair of CUDA events, and one more pair
+// around them all (span_ms); only then does it wait and read the times. The device versions equal the CPU's bit
+// for bit (tests/gpu_generators_test.cpp, gpu_keys_test.cpp, gpu_pipeline_test.cpp, gpu_gbuffer_test.cpp), so its
+// G-buffer, batches, order and hits are the host pipeline's (reis and costa keys aside, where CUDA's atan2f /
+// acosf may round a direction bit differently from glibc's: cuda/device_keys.h).
 //
 // What has no device version is refused, never run on the CPU in its place (device_pipeline_refusal): the
 // generators direct, sadeghi and microjitter, ours / contiguous tiles of more than 1024 pixels, and the `window`

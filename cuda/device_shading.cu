@@ -188,9 +188,10 @@ struct DeviceShading::Impl {
   uint32_t frame = 0;
   size_t nv = 0, nw = 0;  // vertices, rays of the current wave
   DeviceRayCounts counts;
-  DeviceBuffer<Vec3> radiance, table_emission;
-  DeviceBuffer<ShadingPoint> points;
-  DeviceBuffer<BsdfParams> table_bsdf;
+  DeviceBuffer<Vec3> radiance;
+  DeviceGBufferView gbuffer;  // the camera pass's, on the device (points, table_bsdf, table_emission)
+  StageClock* clock = nullptr;
+  int trace_stage = 0;
   DeviceBuffer<Vertex> verts, sparse_verts;
   DeviceBuffer<ShadowSlot> slots;
   DeviceBuffer<Ray> rays, sparse_rays, shadow_rays;
@@ -203,7 +204,6 @@ struct DeviceShading::Impl {
       : scene(s), tracer(t), launch(l), settings(ps) {
     const size_t pixels = static_cast<size_t>(ps.width) * static_cast<size_t>(ps.height);
     radiance.reserve(pixels);
-    points.reserve(pixels);
     verts.reserve(pixels);
     sparse_verts.reserve(pixels);
     slots.reserve(2 * pixels);
@@ -231,7 +231,10 @@ struct DeviceShading::Impl {
   // Closest hits of rays[0, n) into hits (the device trace kernel).
   void trace(const Ray* d_rays, size_t n) {
     hits.reserve(n);
-    if (n > 0) tracer.trace_device(d_rays, nullptr, n, hits.get(), launch);
+    if (n == 0) return;
+    const int was = clock ? clock->enter(trace_stage) : 0;
+    tracer.trace_device(d_rays, nullptr, n, hits.get(), launch);
+    if (clock) clock->enter(was);
   }
 
   // Shadow rounds: trace the active slots, resolve them, add what arrived, until none is active.
@@ -266,22 +269,25 @@ DeviceShading::DeviceShading(const DeviceSceneShading& scene, DeviceTracer& trac
 
 DeviceShading::~DeviceShading() = default;
 
-void DeviceShading::camera(uint32_t frame, const GBuffer& gbuffer, const Ray* d_rays, const uint32_t* d_pixels,
-                           const Hit* d_hits, size_t n) {
+void DeviceShading::set_clock(StageClock* clock, int trace_stage) {
+  impl_->clock = clock;
+  impl_->trace_stage = trace_stage;
+}
+
+void DeviceShading::camera(uint32_t frame, const DeviceGBufferView& gbuffer, const Ray* d_rays,
+                           const uint32_t* d_pixels, const Hit* d_hits, size_t n) {
   Impl& d = *impl_;
   const size_t pixels = static_cast<size_t>(d.settings.width) * static_cast<size_t>(d.settings.height);
-  RAYCOH_CHECK(n == pixels && gbuffer.points.size() == pixels && gbuffer.materials,
+  RAYCOH_CHECK(n == pixels && gbuffer.pixels() == pixels && gbuffer.points && gbuffer.bsdf && gbuffer.emission,
                "device camera pass: one ray per pixel and a G-buffer with its material table");
   d.frame = frame;
   d.counts = DeviceRayCounts{};
   d.counts.primary = n;
-  d.points.upload(gbuffer.points.data(), pixels);
-  d.table_bsdf.upload(gbuffer.materials->bsdf.data(), gbuffer.materials->bsdf.size());
-  d.table_emission.upload(gbuffer.materials->emission.data(), gbuffer.materials->emission.size());
+  d.gbuffer = gbuffer;
   d.radiance.zero(pixels);
-  camera_kernel<<<blocks_for(n, kBlock), kBlock>>>(d.scene.view(), d.points.get(), d.table_bsdf.get(),
-                                                   d.table_emission.get(), d_rays, d_pixels, d_hits, n,
-                                                   d.radiance.get(), d.sparse_verts.get(), d.keep.get());
+  camera_kernel<<<blocks_for(n, kBlock), kBlock>>>(d.scene.view(), gbuffer.points, gbuffer.bsdf, gbuffer.emission,
+                                                   d_rays, d_pixels, d_hits, n, d.radiance.get(), d.sparse_verts.get(),
+                                                   d.keep.get());
   RAYCOH_CUDA_CHECK_LAUNCH();
   d.compact_vertices(n);
 }
@@ -305,7 +311,7 @@ void DeviceShading::first_bounce(const BatchView& batch, size_t n) {
   d.rays.reserve(n);
   d.info.reserve(n);
   if (n == 0) return;
-  first_bounce_kernel<<<blocks_for(n, kBlock), kBlock>>>(batch, n, d.points.get(), d.table_bsdf.get(), d.rays.get(),
+  first_bounce_kernel<<<blocks_for(n, kBlock), kBlock>>>(batch, n, d.gbuffer.points, d.gbuffer.bsdf, d.rays.get(),
                                                          d.info.get());
   RAYCOH_CUDA_CHECK_LAUNCH();
 }

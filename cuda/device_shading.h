@@ -2,8 +2,8 @@
 // path tracer's (cuda/device_path_tracer.h) counterpart of the CPU path tracer's stages (shading/path_stages.h),
 // each a kernel over the same host/device functions of core/path_vertex.h, core/light_sampling.h,
 // core/hit_surface.h, core/environment_light.h and core/bsdf.h that the CPU stages call:
-//   camera        the camera rays' hits (G-buffer made on the host, uploaded): emitters and environment seen
-//                 directly; the first path vertices
+//   camera        the camera rays' hits (their G-buffer made on the device, cuda/device_gbuffer.h, read where it
+//                 lies): emitters and environment seen directly; the first path vertices
 //   next_event    two shadow rays per non-delta vertex (slots 2i, 2i + 1), traced in rounds through thin panes
 //   first_bounce  the generator's batch (already on the device) as the first wave
 //   sample        BSDF-sampled directions of later bounces, Russian roulette
@@ -23,7 +23,9 @@
 #include "core/path_vertex.h"
 #include "core/ray.h"
 #include "core/ray_batch.h"
+#include "cuda/device_gbuffer.h"
 #include "cuda/device_scene_shading.h"
+#include "cuda/stage_clock.h"
 #include "cuda/trace_kernels.h"
 
 namespace raycoh::cuda {
@@ -50,11 +52,15 @@ class DeviceShading {
   DeviceShading(const DeviceShading&) = delete;
   DeviceShading& operator=(const DeviceShading&) = delete;
 
+  // Every trace from now on runs as stage `trace_stage` of clock (cuda/stage_clock.h; null: no clock), handing the
+  // time back to the stage that was current.
+  void set_clock(StageClock* clock, int trace_stage);
   // Camera pass of frame `frame`: every pixel's radiance is set from its camera ray (d_rays[i] of pixel
   // d_pixels[i], hit d_hits[i], n = width x height; device arrays), the vertices are its hits, in ray order.
-  // gbuffer: make_gbuffer of those rays and hits (uploaded here, points and material table).
-  void camera(uint32_t frame, const GBuffer& gbuffer, const Ray* d_rays, const uint32_t* d_pixels, const Hit* d_hits,
-              size_t n);
+  // gbuffer: the G-buffer of those rays and hits on the device (DeviceGBuffer), read there until the next camera
+  // pass (points and material table; it must stay unchanged until then).
+  void camera(uint32_t frame, const DeviceGBufferView& gbuffer, const Ray* d_rays, const uint32_t* d_pixels,
+              const Hit* d_hits, size_t n);
   size_t vertices() const;
   // Next-event estimation at the vertices of bounce b (their shadow rays traced here).
   void next_event(int bounce);

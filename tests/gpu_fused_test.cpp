@@ -56,7 +56,8 @@ void expect_fused_hits_equal_cpu(const std::string& spec, const std::string& cud
   DevicePipeline* pipeline = cuda->device_pipeline();
   ASSERT_NE(pipeline, nullptr);
   pipeline->primary(kWidth, kHeight, kTile, kTile, kSeed, kFrame, true);
-  const GBuffer& g = pipeline->upload_first_hits();
+  pipeline->first_hits_gbuffer();
+  const GBuffer g = pipeline->download_gbuffer();
   const FirstHits host =
       first_hits(scene, *cpu, kWidth, kHeight, make_pixel_order(kWidth, kHeight, RayOrder::Tile, kTile, kTile), kSeed,
                  kFrame, true);

@@ -8,6 +8,7 @@
 // they are there. RAYCOH_GPU_TEST_SIZE=sim: 16x16 pixels, 16 frames, paths of 3 scattering events.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -92,6 +93,39 @@ TEST(GpuPathTracer, FirstBounceRaysEqualTheCpuBitForBit) {
       EXPECT_EQ(differing(gpu.weight, host.weight), 0u);
       EXPECT_EQ(differing(gpu.material, host.material), 0u);
     }
+  }
+}
+
+// A simulator's events keep the simulator's own clock (docs/gpgpusim.md): only the relations hold there.
+bool simulated_device() {
+  std::string name = cuda::device_name();
+  for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return name.find("gpgpu") != std::string::npos;
+}
+
+// The frame's per-stage times tile its span: none negative, their sum at most frame_ms (events resolve about
+// 0.5 us; every stage boundary adds one float rounding). On a GPU the camera, first-bounce generation, trace and
+// gather stages take time; a simulator's event clock (docs/gpgpusim.md) is only held to the relations.
+TEST(GpuPathTracer, StageTimesAreNonNegativeAndAddUpToAtMostTheFrame) {
+  SKIP_WITHOUT_GPU();
+  const Scene scene = load_scene("cornell");
+  const Bvh bvh = build_bvh(scene);
+  const EmitterDistribution lights(scene);
+  auto generator = make_generator({"noopt", ""});
+  cuda::DevicePathTracer device(scene, bvh, lights.view(scene), *generator, device_settings(settings(3)));
+  std::vector<Vec3> radiance;
+  for (uint32_t f = 0; f < 2; ++f) {
+    SCOPED_TRACE(f);
+    const cuda::DeviceFrameStats s = device.render_frame(f, radiance);
+    const cuda::DeviceFrameStages& t = s.stages;
+    for (float ms : {t.camera_ms, t.generation_ms, t.next_event_ms, t.sample_ms, t.trace_ms, t.gather_ms})
+      EXPECT_GE(ms, 0.f);
+    EXPECT_GT(s.frame_ms, 0.f);
+    EXPECT_LE(t.sum_ms(), s.frame_ms * (1.f + 1e-5f) + 0.01f);
+    EXPECT_GT(t.sum_ms(), 0.f);
+    if (simulated_device()) continue;
+    for (float ms : {t.camera_ms, t.generation_ms, t.trace_ms, t.gather_ms}) EXPECT_GT(ms, 0.f);
+    EXPECT_GT(t.sum_ms(), 0.5f * s.frame_ms) << "the stages leave most of the frame uncounted";
   }
 }
 

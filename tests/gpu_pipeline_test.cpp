@@ -1,9 +1,9 @@
 // The device pipeline (cuda/device_pipeline.h: `cuda` with pipeline=device) against the host pipeline, ray for
-// ray: camera rays, their hits and the G-buffer made from them; then per generator and encoder the generated batch
-// (every array and the statistics), the sort order, the physically permuted batch and the hits, each equal to what
-// the CPU generator, encoders/reorder.h and the `cpu` tracer give. Counting pipelines count like `simt`.
-// Small (48x32) so that it also runs under a GPU simulator. The refusal tests and the bad-parameter test run on
-// the CPU; the others skip cleanly when cuda::device_count() == 0. Label `gpu`.
+// ray: camera rays, their hits and the G-buffer the device makes from them (whole, with its material table); then
+// per generator and encoder the generated batch (every array and the statistics), the sort order, the physically
+// permuted batch and the hits, each equal to what the CPU generator, encoders/reorder.h and the `cpu` tracer give.
+// Counting pipelines count like `simt`. Small (48x32) so that it also runs under a GPU simulator. The refusal tests
+// and the bad-parameter test run on the CPU; the others skip cleanly when cuda::device_count() == 0. Label `gpu`.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -30,6 +30,7 @@
 #include "plugins/tracer_registry.h"
 #include "records/provenance.h"
 #include "scenes/scene.h"
+#include "tests/gbuffer_test_util.h"
 #include "tests/test_util.h"
 #include "tests/trace_test_util.h"
 #include "tracers/device_pipeline.h"
@@ -142,7 +143,7 @@ struct Sides {
 
   void primary_pass() {
     expect_stage_times(pipeline->primary(kWidth, kHeight, kTile, kTile, kSeed, kFrame, true), false, false);
-    pipeline->upload_first_hits();
+    pipeline->first_hits_gbuffer();
   }
 };
 
@@ -159,10 +160,13 @@ TEST(GpuPipeline, CameraRaysHitsAndGBufferEqualTheCpu) {
     EXPECT_EQ(differing(rays.rays, s.host.primary.rays), 0u);
     EXPECT_EQ(differing(rays.pixel, s.host.primary.pixel), 0u);
     EXPECT_EQ(differing_hits(hits, s.host.hits), 0u);
-    const GBuffer& g = s.pipeline->upload_first_hits();
+    s.pipeline->first_hits_gbuffer();
+    const GBuffer g = s.pipeline->download_gbuffer();
     EXPECT_EQ(g.hits, s.host.gbuffer.hits);
     EXPECT_GT(g.hits, 0u);
     EXPECT_EQ(differing_points(g.points, s.host.gbuffer.points), 0u);
+    const test::GBufferDiff diff = test::compare_gbuffers(g, s.host.gbuffer);  // the material table too
+    EXPECT_EQ(diff.total(), 0u) << diff.summary();
   }
 }
 

@@ -1,12 +1,13 @@
-// The whole per-frame ray pipeline on a tracer's own device (docs/design.md section 1): camera rays, G-buffer upload,
+// The whole per-frame ray pipeline on a tracer's own device (docs/design.md section 1): camera rays, their G-buffer,
 // secondary generation, keys, sort, permutation and trace, each stage timed there. A tracer that has one returns
 // it from Tracer::device_pipeline() (the `cuda` tracer with pipeline=device, cuda/device_pipeline.h); the experiment
 // loop (harness/speed/experiment.cpp) then runs every row of that tracer through it instead of tracing host-made
 // batches. Plain C++: the interface names no device API.
 //
 // Measured, never modeled: every time below is the device's own clock (CUDA events), and no host time is added
-// to it. The G-buffer is made on the host from the downloaded primary hits (make_gbuffer, not timed: it is not a
-// generator's overhead on either side) and uploaded once per frame, before the secondary passes.
+// to it. The G-buffer is made from the primary hits once per frame, before the secondary passes, on the device and
+// kept there (cuda: the G-buffer kernel, equal to make_gbuffer bit for bit); not timed, in no stage: it is not a
+// generator's overhead on either side.
 #pragma once
 
 #include <cstdint>
@@ -51,8 +52,11 @@ class DevicePipeline {
   // gen_ms (camera rays), trace_ms, span_ms.
   virtual DeviceStageTimes primary(int width, int height, int tile_w, int tile_h, uint32_t seed, uint32_t frame,
                                    bool jitter) = 0;
-  // The G-buffer of the last primary pass (downloaded, made on the host, uploaded for secondary()).
-  virtual const GBuffer& upload_first_hits() = 0;
+  // The G-buffer of the last primary pass, made where the pass left its rays and hits and kept there for
+  // secondary() (nothing is downloaded; not timed).
+  virtual void first_hits_gbuffer() = 0;
+  // That G-buffer downloaded (tests and checks): make_gbuffer of download_primary's rays and hits, with its table.
+  virtual GBuffer download_gbuffer() const = 0;
 
   // One secondary pass over the uploaded G-buffer: generation with generator's configuration, then (for an
   // encoder with keys) keys, stable radix sort and, in physical mode, the gather of every batch array, then the

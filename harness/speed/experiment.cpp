@@ -327,7 +327,7 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
   }
 }
 
-// Device pipelines: camera rays made and traced on the device (the primary row), their G-buffer uploaded.
+// Device pipelines: camera rays made and traced on the device (the primary row), their G-buffer made there.
 void ExperimentRun::run_device_primary(int frame) {
   const auto f = static_cast<uint32_t>(frame);
   const Unit u{si_, frame, Pass::Primary, 0};
@@ -345,7 +345,7 @@ void ExperimentRun::run_device_primary(int frame) {
     } else {
       pass();
     }
-    p->upload_first_hits();
+    p->first_hits_gbuffer();
   }
 }
 

@@ -1,0 +1,149 @@
+// The camera pass's G-buffer made on the device (cuda/device_gbuffer.h) against make_gbuffer (generators/primary.h)
+// on the same camera rays and hits, bit for bit, whole G-buffers: every field of every ShadingPoint and every entry
+// of the material table (the scene's materials, then one slot per pixel in textured scenes), hit count and layout
+// (tests/gbuffer_test_util.h), but for the sRGB-decoded texels of textured hits, where CUDA's powf and glibc's may
+// round 1 ulp apart (at most kSrgbUlps, counted and printed; every other field bit for bit). Scenes: built-in ones, the
+// alpha MASK card (a base-colour texture), the glTF samples with textures, normal and emissive maps and alpha masks,
+// and the shared sibenik_lamps when they are there. The device path tracer keeps its G-buffer on the device:
+// downloaded, it equals make_gbuffer of its own camera rays and hits, frame after frame. Label `gpu`; skips without a
+// device. RAYCOH_GPU_TEST_SIZE=sim: 24x16 pixels.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bvh/bvh_build.h"
+#include "cuda/cuda_device.h"
+#include "cuda/device_gbuffer.h"
+#include "cuda/device_path_tracer.h"
+#include "generators/generator.h"
+#include "generators/pixel_order.h"
+#include "generators/primary.h"
+#include "pipeline/first_hits.h"
+#include "plugins/tracer_registry.h"
+#include "scenes/scene.h"
+#include "shading/emitters.h"
+#include "tests/alpha_card.h"
+#include "tests/gbuffer_test_util.h"
+#include "tests/gpu_test_size.h"
+#include "tests/test_util.h"
+#include "tracers/tracer.h"
+
+namespace raycoh {
+namespace {
+
+namespace fs = std::filesystem;
+
+#define SKIP_WITHOUT_GPU() \
+  if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
+
+constexpr uint32_t kSeed = 11, kFrame = 4;
+// sRGB-decoded texels (powf) may be this many ulps apart, and only they (tests/gbuffer_test_util.h).
+constexpr int kSrgbUlps = 1;
+
+int width() { return test::gpu_test_size(64, 24); }
+int height() { return test::gpu_test_size(48, 16); }
+
+// Built-in scenes, the card, and the glTF samples and shared scene that are present.
+std::vector<std::string> gbuffer_scenes() {
+  std::vector<std::string> specs = {"cornell", "voxels:size=16", "slivers"};
+  specs.push_back(test::write_card("gpu_gbuffer", "card.glb", test::kMaskCard).string());
+  const fs::path dir = test::gltf_samples_dir();
+  for (const char* name : {"DamagedHelmet", "AlphaBlendModeTest", "BoxTextured"}) {
+    const fs::path file = dir / name / "glTF-Binary" / (std::string(name) + ".glb");
+    if (!dir.empty() && fs::exists(file)) specs.push_back(file.string());
+  }
+  for (const auto& path : test::shared_scene_files())
+    if (path.filename() == "sibenik_lamps.glb") specs.push_back(path.string());
+  return specs;
+}
+
+TEST(GpuGBuffer, EqualsMakeGbufferBitForBit) {
+  SKIP_WITHOUT_GPU();
+  int textured = 0;
+  for (const std::string& spec : gbuffer_scenes()) {
+    SCOPED_TRACE(spec);
+    const Scene scene = load_scene(spec);
+    const Bvh bvh = build_bvh(scene);
+    auto cpu = make_tracer({"cpu", ""}, scene, bvh);
+    const auto order = make_pixel_order(width(), height(), RayOrder::Tile, 8, 8);
+    const FirstHits host = first_hits(scene, *cpu, width(), height(), order, kSeed, kFrame);
+    ASSERT_GT(host.gbuffer.hits, 0u);
+    const GBuffer device = cuda::make_gbuffer_gpu(scene, host.primary, host.hits);
+    const test::GBufferDiff diff = test::compare_gbuffers(device, host.gbuffer, kSrgbUlps);
+    EXPECT_EQ(diff.total(), 0u) << diff.summary();
+    std::printf("%s: %s\n", spec.c_str(), diff.summary().c_str());
+    ASSERT_TRUE(device.materials);
+    EXPECT_EQ(device.materials->per_hit(), !scene.textures.empty());
+    textured += device.materials->per_hit();
+  }
+  EXPECT_GT(textured, 0) << "the card is textured: the per-pixel table slots must be compared";
+}
+
+// The comparison sees one flipped bit in a point, in a table entry's BSDF and in its emission; an sRGB channel
+// 1 ulp apart is let through only in a per-pixel slot and only within the bound.
+TEST(GpuGBuffer, TheComparisonSeesOneBit) {
+  const Scene scene = load_scene(test::write_card("gpu_gbuffer", "card.glb", test::kMaskCard).string());
+  const Bvh bvh = build_bvh(scene);
+  auto cpu = make_tracer({"cpu", ""}, scene, bvh);
+  const FirstHits host = first_hits(scene, *cpu, 16, 16, make_pixel_order(16, 16, RayOrder::Tile, 8, 8), kSeed, kFrame);
+  ASSERT_TRUE(host.gbuffer.materials && host.gbuffer.materials->per_hit());
+  auto flipped = [](float f) { return std::bit_cast<float>(std::bit_cast<uint32_t>(f) ^ 1u); };
+  GBuffer a = host.gbuffer;
+  a.points[3].ns.y = flipped(a.points[3].ns.y);
+  EXPECT_EQ(test::compare_gbuffers(a, host.gbuffer).points, 1u);
+  GBuffer b = host.gbuffer;
+  auto table = std::make_shared<HitMaterials>(*host.gbuffer.materials);
+  table->bsdf.back().roughness = flipped(table->bsdf.back().roughness);
+  table->emission.front().z = flipped(table->emission.front().z);
+  b.materials = table;
+  const test::GBufferDiff d = test::compare_gbuffers(b, host.gbuffer);
+  EXPECT_EQ(d.bsdf, 1u);
+  EXPECT_EQ(d.emission, 1u);
+  EXPECT_EQ(d.points + d.header, 0u);
+  // One ulp in the last slot's base colour and the first (scene) entry's emission.
+  GBuffer c = host.gbuffer;
+  auto near = std::make_shared<HitMaterials>(*host.gbuffer.materials);
+  near->bsdf.back().base_color.x = flipped(near->bsdf.back().base_color.x);
+  near->emission.front().y = flipped(near->emission.front().y);
+  c.materials = near;
+  const test::GBufferDiff strict = test::compare_gbuffers(c, host.gbuffer);
+  EXPECT_EQ(strict.bsdf + strict.emission, 2u);
+  const test::GBufferDiff loose = test::compare_gbuffers(c, host.gbuffer, 1);
+  EXPECT_EQ(loose.srgb, 1u) << "the per-pixel slot";
+  EXPECT_EQ(loose.emission, 1u) << "a scene material is never an sRGB texel";
+  near->bsdf.back().base_color.x = std::bit_cast<float>(std::bit_cast<uint32_t>(near->bsdf.back().base_color.x) + 3u);
+  EXPECT_EQ(test::compare_gbuffers(c, host.gbuffer, 1).bsdf, 1u) << "3 ulps apart";
+}
+
+// The device path tracer's G-buffer stays on the device; downloaded after a frame it is make_gbuffer of that
+// frame's camera rays and hits (a second frame overwrites the first's in place).
+TEST(GpuGBuffer, ThePathTracersDeviceGBufferEqualsMakeGbuffer) {
+  SKIP_WITHOUT_GPU();
+  for (const std::string& spec : {std::string("cornell"), gbuffer_scenes()[3]}) {
+    SCOPED_TRACE(spec);
+    const Scene scene = load_scene(spec);
+    const Bvh bvh = build_bvh(scene);
+    const EmitterDistribution lights(scene);
+    auto generator = make_generator({"ours", ""});
+    cuda::DevicePathTracer device(scene, bvh, lights.view(scene), *generator, {width(), height(), kSeed, 2, 2});
+    std::vector<Vec3> radiance;
+    for (uint32_t frame : {kFrame, kFrame + 1}) {
+      device.render_frame(frame, radiance);
+      PixelRays rays;
+      std::vector<Hit> hits;
+      device.download_camera(rays, hits);
+      ASSERT_EQ(rays.frame, frame);
+      const GBuffer host = make_gbuffer(scene, rays, hits);
+      ASSERT_GT(host.hits, 0u);
+      const test::GBufferDiff diff = test::compare_gbuffers(device.download_gbuffer(), host);
+      EXPECT_EQ(diff.total(), 0u) << "frame " << frame << ": " << diff.summary();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace raycoh
