@@ -53,8 +53,13 @@ std::vector<std::string> gbuffer_scenes() {
   specs.push_back(test::write_card("gpu_gbuffer", "card.glb", test::kMaskCard).string());
   const fs::path dir = test::gltf_samples_dir();
   for (const char* name : {"DamagedHelmet", "AlphaBlendModeTest", "BoxTextured"}) {
-    const fs::path file = dir / name / "glTF-Binary" / (std::string(name) + ".glb");
-    if (!dir.empty() && fs::exists(file)) specs.push_back(file.string());
+    const fs::path glb = dir / name / "glTF-Binary" / (std::string(name) + ".glb");
+    const fs::path gltf = dir / name / "glTF" / (std::string(name) + ".gltf");
+    if (dir.empty()) continue;
+    if (fs::exists(glb))
+      specs.push_back(glb.string());
+    else if (fs::exists(gltf))
+      specs.push_back(gltf.string());
   }
   for (const auto& path : test::shared_scene_files())
     if (path.filename() == "sibenik_lamps.glb") specs.push_back(path.string());

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -123,6 +124,10 @@ TEST(GpuPathTracer, StageTimesAreNonNegativeAndAddUpToAtMostTheFrame) {
     EXPECT_GT(s.frame_ms, 0.f);
     EXPECT_LE(t.sum_ms(), s.frame_ms * (1.f + 1e-5f) + 0.01f);
     EXPECT_GT(t.sum_ms(), 0.f);
+    std::printf(
+        "frame %u: %.3f ms; camera %.3f, generation %.3f, next event %.3f, sample %.3f, trace %.3f, "
+        "gather %.3f (sum %.3f)\n",
+        f, s.frame_ms, t.camera_ms, t.generation_ms, t.next_event_ms, t.sample_ms, t.trace_ms, t.gather_ms, t.sum_ms());
     if (simulated_device()) continue;
     for (float ms : {t.camera_ms, t.generation_ms, t.trace_ms, t.gather_ms}) EXPECT_GT(ms, 0.f);
     EXPECT_GT(t.sum_ms(), 0.5f * s.frame_ms) << "the stages leave most of the frame uncounted";
