@@ -49,6 +49,7 @@ const Schema<TuneRow>& tune_schema() {
         column("speed_repeats", &R::speed_repeats, Integer<int>{}),
         column("waves", &R::waves, G{}),
         column("render_tracer", &R::render_tracer, Text{}),
+        column("render_device", &R::render_device, Text{}),
         column("width", &R::width, Integer<int>{}),
         column("height", &R::height, Integer<int>{}),
         column("frames", &R::frames, Integer<int>{}),

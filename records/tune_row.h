@@ -34,6 +34,7 @@ struct TuneRow {
   int speed_repeats = 0;      // timed repeats per frame of the speed stage (1: a model's run, or --repeat 1)
   double waves = 0;           // the batch's rays / the rays the GPU holds resident (NaN: not a GPU, or unknown)
   std::string render_tracer;  // the tracer of the quality renders
+  std::string render_device;  // cpu | cuda: the path tracer the quality renders ran on (--render-device)
   int width = 0, height = 0, frames = 0, ref_frames = 0, seeds = 0;
   uint32_t seed = 0;
   bool error_measured = false;

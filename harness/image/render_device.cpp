@@ -18,20 +18,20 @@ namespace raycoh {
 namespace {
 
 [[maybe_unused]] constexpr const char* kNoCuda =
-    "--device cuda: this build has no CUDA (configure with nvcc found, RAYCOH_CUDA=ON)";
-[[maybe_unused]] constexpr const char* kNoDevice = "--device cuda: no CUDA device (this machine has no usable GPU)";
+    "{} cuda: this build has no CUDA (configure with nvcc found, RAYCOH_CUDA=ON)";
+[[maybe_unused]] constexpr const char* kNoDevice = "{} cuda: no CUDA device (this machine has no usable GPU)";
 
 }  // namespace
 
-void check_device(const std::string& device) {
+void check_device(const std::string& device, const char* option) {
   if (device == "cpu") return;
   if (device != "cuda")
     throw Error(
-        fmt::format("--device {}: expected cpu or cuda (the device path tracer, cuda/device_path_tracer.h)", device));
+        fmt::format("{} {}: expected cpu or cuda (the device path tracer, cuda/device_path_tracer.h)", option, device));
 #if defined(RAYCOH_HAVE_CUDA)
-  if (cuda::device_count() == 0) throw Error(kNoDevice);
+  if (cuda::device_count() == 0) throw Error(fmt::format(fmt::runtime(kNoDevice), option));
 #else
-  throw Error(kNoCuda);
+  throw Error(fmt::format(fmt::runtime(kNoCuda), option));
 #endif
 }
 

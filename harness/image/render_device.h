@@ -18,9 +18,9 @@
 
 namespace raycoh {
 
-// Throws raycoh::Error naming --device: a value other than cpu or cuda, or cuda in a build without CUDA or on a
-// machine without a CUDA device.
-void check_device(const std::string& device);
+// Throws raycoh::Error naming `option` (--device, tune's --render-device): a value other than cpu or cuda, or cuda in a
+// build without CUDA or on a machine without a CUDA device.
+void check_device(const std::string& device, const char* option = "--device");
 
 // One frame on the device.
 struct DeviceFrame {

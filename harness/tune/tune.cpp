@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "harness/common/cli.h"
 #include "harness/common/command.h"
+#include "harness/image/render_device.h"
 #include "harness/tune/tune_confirm.h"
 #include "harness/tune/tune_run.h"
 #include "oiio/image_codec.h"
@@ -32,6 +33,7 @@ void check_tune(const TuneOptions& o, const TuneBudget& b) {
     throw Error(fmt::format("--rank {}: valid: e2e, trace", o.speed.rank));
   if (o.error.seeds < 2 || o.error.seeds > 256)
     throw Error(fmt::format("--seeds {}: must be in [2, 256] (the error ratios' spread needs two)", o.error.seeds));
+  check_device(o.error.device, "--render-device");
   if (o.speed.frames < 1 || o.speed.frames > 1000)
     throw Error(fmt::format("--speed-frames {}: must be in [1, 1000]", o.speed.frames));
   if (!o.shard.whole() && o.search != "grid")
@@ -92,6 +94,7 @@ TuneRow row_of(const TuneOptions& o, const TuneBudget& b, const TuneMeasured& m,
   r.waves = c.waves;
   r.fastest_passing = ch.fastest_passing == static_cast<int>(i);
   r.render_tracer = o.error.tracer.text();
+  r.render_device = o.error.device;
   r.width = o.width, r.height = o.height, r.frames = o.error.frames, r.ref_frames = o.error.ref_frames,
   r.seeds = o.error.seeds;
   r.seed = o.seed;
@@ -289,6 +292,9 @@ BoundCommand bind_tune(CLI::App& parent) {
   cmd->add_option("--tracer", s->tracer, "speed tracer (simt: modeled; cpu, embree, cuda: measured)")
       ->capture_default_str();
   cmd->add_option("--render-tracer", s->render_tracer, "tracer of the quality renders")->capture_default_str();
+  cmd->add_option("--render-device", o.error.device,
+                  "cpu, or cuda: the quality renders on the device path tracer (as quality --device)")
+      ->capture_default_str();
   cmd->add_option("--res", s->res, "resolution WxH")->capture_default_str();
   cmd->add_option("--budget", o.error.budget, "error ratios to noopt: ds8=R,rel=R,flip=R,bias=none|any")
       ->capture_default_str();

@@ -45,11 +45,12 @@ struct TuneSpeedOptions {
 
 // The error stage: the renders of every image against the NoOpt reference, and the budget they are judged by.
 struct TuneErrorOptions {
-  PluginSpec tracer{"cpu", ""};                         // --render-tracer: the quality renders' (cpu | embree)
-  int frames = 16;                                      // --frames [1, 1 << 20]: frames per render
-  int seeds = 4;                                        // --seeds [2, 256]: renders per setting (the spread needs two)
-  int ref_frames = 512;                                 // --ref-frames [1, 1 << 20]
-  int max_depth = 5, rr_depth = 3;                      // --max-depth, --rr-depth [1, 64]
+  PluginSpec tracer{"cpu", ""};     // --render-tracer: the quality renders' (cpu | embree)
+  std::string device = "cpu";       // --render-device cpu|cuda: their path tracer (harness/image/render_options.h)
+  int frames = 16;                  // --frames [1, 1 << 20]: frames per render
+  int seeds = 4;                    // --seeds [2, 256]: renders per setting (the spread needs two)
+  int ref_frames = 512;             // --ref-frames [1, 1 << 20]
+  int max_depth = 5, rr_depth = 3;  // --max-depth, --rr-depth [1, 64]
   std::string budget = "ds8=1.05,flip=1.05,bias=none";  // --budget
   // --quality-csv: the error stage's file (default <out stem>-quality.csv). The error does not depend on the speed
   // tracer, so tunes of one scene ranked by different speeds can share it: each measures only the images missing.

@@ -41,6 +41,7 @@ std::vector<std::string> image_order(const TuneOptions& o, const std::vector<Tun
 QualityOptions error_options(const TuneOptions& o, const std::vector<std::string>& images) {
   QualityOptions q;
   q.common.tracer = o.error.tracer;
+  q.common.device = o.error.device;
   q.common.width = o.width;
   q.common.height = o.height;
   q.common.seed = o.seed;
