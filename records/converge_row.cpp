@@ -71,6 +71,7 @@ const Schema<ConvergeRow>& converge_schema() {
     s.push_back(column("gpu_clock", &R::gpu_clock, Text{}));
     s.push_back(column("frame_gpu_ms", &R::frame_gpu_ms, G{}));
     s.push_back(column("gpu_s", &R::gpu_s, G{}));
+    append_columns(s, device_stage_schema(), &R::frame_gpu_stages);
     return s;
   }();
   return schema;

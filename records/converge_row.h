@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "records/device_stages.h"
 #include "records/provenance.h"
 #include "records/recorded_columns.h"
 #include "records/schema.h"
@@ -53,6 +54,7 @@ struct ConvergeRow {
   // around the frame) and the cumulative GPU seconds; empty on the CPU. Never added to wall_s or modeled_gpu_s.
   std::string render_device = "cpu", gpu_clock;
   double frame_gpu_ms = std::nan(""), gpu_s = std::nan("");
+  DeviceStageMs frame_gpu_stages;  // frame_gpu_ms by stage (records/device_stages.h); empty on the CPU
 };
 
 // One generator against the baseline on one clock.

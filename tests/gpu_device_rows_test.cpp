@@ -62,6 +62,13 @@ TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
     EXPECT_EQ(r.at("render_device"), "cuda");
     EXPECT_TRUE(is_clock(r.at("gpu_clock")));
     EXPECT_GT(number(r.at("frame_gpu_ms")), 0.0);
+    double stages = 0;  // the frame by stage: each present, none negative, adding up to at most the frame
+    for (const char* s : {"camera", "generation", "next_event", "sample", "trace", "gather"}) {
+      const double ms = number(r.at(std::string("gpu_") + s + "_ms"));
+      EXPECT_GE(ms, 0.0) << s;
+      stages += ms;
+    }
+    EXPECT_LE(stages, number(r.at("frame_gpu_ms")) * 1.001 + 1e-3);
     EXPECT_EQ(r.at("trace_s"), "");  // no trace time apart on the device
     if (r.at("method") == "ours") {
       EXPECT_GT(number(r.at("gpu_s")), last);

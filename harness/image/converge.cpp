@@ -185,6 +185,7 @@ ConvergeRow ConvergeRun::row_of(size_t gi, const SourcedFrame& sf, const ErrorMe
   if (device) {
     r.gpu_clock = run.device.label;
     r.frame_gpu_ms = sf.gpu_ms;
+    r.frame_gpu_stages = sf.gpu_stages;
     r.gpu_s = run.device.s;
   }
   return r;

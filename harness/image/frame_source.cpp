@@ -32,6 +32,7 @@ SourcedFrame FrameSource::render(uint32_t frame, Accumulator& acc, AuxAccumulato
   out.stats.generation = d.generation;
   out.stats.non_finite = acc.non_finite_samples() - non_finite;
   out.gpu_ms = d.gpu_ms;
+  out.gpu_stages = d.stages;
   if (aux) cpu_->first_hits(frame, *aux);  // outside the frame's wall time, as the denoiser is
   return out;
 }

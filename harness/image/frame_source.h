@@ -17,6 +17,7 @@
 
 #include "generators/generator.h"
 #include "harness/image/render_common.h"
+#include "records/device_stages.h"
 #include "shading/image.h"
 #include "shading/path_tracer.h"
 
@@ -27,6 +28,7 @@ class DeviceFrames;
 struct SourcedFrame {
   FrameStats stats;
   double gpu_ms = std::nan("");  // the device's time of the frame (CUDA events); NaN on the CPU
+  DeviceStageMs gpu_stages;      // gpu_ms by stage; NaN on the CPU
 };
 
 class FrameSource {

@@ -50,11 +50,15 @@ std::string render_device(const RenderOptions& o, LoadedScene& ls, Generator& ge
       [&](int f) { bar.update(0, 1, f, o.frames, fmt::format("{} {} (device)", ls.scene.name, o.generator.text())); });
   bar.clear();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::string stages;
+  for_each_stage(t.stages, [&](const char* name, double ms) {
+    stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", name, ms / o.frames);
+  });
   return fmt::format(
       "device path tracer on {}: GPU time {:.3f} ms per frame ({}: CUDA events around each frame); wall {:.2f} s; "
-      "{:.3g} rays ({:.2f} MRay/s of {} GPU time)",
+      "{:.3g} rays ({:.2f} MRay/s of {} GPU time)\n  by stage, ms per frame ({}; the rest of the frame in none): {}",
       t.device, t.gpu_ms / o.frames, t.clock, wall, static_cast<double>(t.rays),
-      t.gpu_ms > 0 ? static_cast<double>(t.rays) / t.gpu_ms * 1e-3 : 0.0, t.clock);
+      t.gpu_ms > 0 ? static_cast<double>(t.rays) / t.gpu_ms * 1e-3 : 0.0, t.clock, t.clock, stages);
 }
 
 }  // namespace

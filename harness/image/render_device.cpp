@@ -65,6 +65,8 @@ DeviceFrame DeviceFrames::render(uint32_t frame, Accumulator& acc) {
   for (size_t p = 0; p < impl_->radiance.size(); ++p) acc.add(p, impl_->radiance[p]);
   DeviceFrame f;
   f.gpu_ms = s.frame_ms;
+  f.stages = {s.stages.camera_ms, s.stages.generation_ms, s.stages.next_event_ms,
+              s.stages.sample_ms, s.stages.trace_ms,      s.stages.gather_ms};
   f.primary_rays = s.rays.primary;
   f.secondary_rays = s.rays.secondary;
   f.bounce_rays = s.rays.bounce;
@@ -116,6 +118,7 @@ DeviceRenderTotals render_on_device(const LoadedScene& ls, const Generator& gene
   for (int f = 0; f < frames; ++f) {
     const DeviceFrame d = device.render(static_cast<uint32_t>(f), acc);
     totals.gpu_ms += d.gpu_ms;
+    add_stages(totals.stages, d.stages);
     totals.rays += d.rays();
     progress(f);
   }

@@ -12,6 +12,7 @@
 
 #include "generators/generator.h"
 #include "harness/image/render_common.h"
+#include "records/device_stages.h"
 #include "shading/image.h"
 #include "shading/path_tracer.h"
 #include "shading/reference.h"
@@ -24,7 +25,8 @@ void check_device(const std::string& device, const char* option = "--device");
 
 // One frame on the device.
 struct DeviceFrame {
-  double gpu_ms = 0;  // CUDA events around the frame (cuda/device_path_tracer.h frame_ms)
+  double gpu_ms = 0;     // CUDA events around the frame (cuda/device_path_tracer.h frame_ms)
+  DeviceStageMs stages;  // gpu_ms by stage (cuda/device_path_tracer.h DeviceFrameStages)
   uint64_t primary_rays = 0, secondary_rays = 0, bounce_rays = 0, shadow_rays = 0;
   GenerationStats generation;  // the device generator's first-bounce batch
   uint64_t rays() const { return primary_rays + secondary_rays + bounce_rays + shadow_rays; }
@@ -49,10 +51,11 @@ class DeviceFrames {
 };
 
 struct DeviceRenderTotals {
-  double gpu_ms = 0.0;  // sum of the frames' CUDA-event spans (cuda/device_path_tracer.h frame_ms)
-  uint64_t rays = 0;    // every ray traced: camera, first bounce, later bounces, shadow rays
-  std::string clock;    // "measured" on a GPU, "simulated" under GPGPU-Sim
-  std::string device;   // the device's name
+  double gpu_ms = 0.0;   // sum of the frames' CUDA-event spans (cuda/device_path_tracer.h frame_ms)
+  DeviceStageMs stages;  // gpu_ms by stage, summed over the frames
+  uint64_t rays = 0;     // every ray traced: camera, first bounce, later bounces, shadow rays
+  std::string clock;     // "measured" on a GPU, "simulated" under GPGPU-Sim
+  std::string device;    // the device's name
 };
 
 // The device time of a reference's frames (--device cuda): summed GPU milliseconds, frames, clock and device.
