@@ -6,15 +6,16 @@
 // set, through its KHR_texture_transform (bilinear, with the sampler's wrap modes: core/alpha_mask.h's rule, as
 // the glTF viewers filter), and the texels times the material's factors are the shading point's BSDF parameters;
 // the class follows with core/material.h's classify(), so a shading point's class is that of the texel it hit.
-// Colours are 8-bit sRGB (base colour, emissive) converted to linear after filtering; metallic-roughness,
-// transmission and normal texels are linear. A normal texel tilts the interpolated shading normal in the
-// triangle's tangent frame (tangent = dP/du of the normal texture's coordinates, bitangent = -dP/dv as in
-// MikkTSpace with glTF's v pointing down; the TANGENT attribute is not read).
+// Colours are 8-bit sRGB (base colour, emissive) converted to linear after filtering (core/srgb_decode.h: the same
+// bits on host and device); metallic-roughness, transmission and normal texels are linear. A normal texel tilts the
+// interpolated shading normal in the triangle's tangent frame (tangent = dP/du of the normal texture's coordinates,
+// bitangent = -dP/dv as in MikkTSpace with glTF's v pointing down; the TANGENT attribute is not read).
 #pragma once
 
 #include "core/alpha_mask.h"
 #include "core/material.h"
 #include "core/platform.h"
+#include "core/srgb_decode.h"
 #include "core/vec.h"
 
 namespace raycoh {
@@ -52,10 +53,6 @@ struct SurfaceTexturesView {
   const SurfaceTexture* textures = nullptr;
   const uint8_t* texels = nullptr;
 };
-
-RAYCOH_HD RAYCOH_INLINE float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c * (1.f / 12.92f) : powf((c + 0.055f) * (1.f / 1.055f), 2.4f);
-}
 
 // Bilinear RGBA in [0, 1] of texture tex at (u, v), already through its transform.
 RAYCOH_HD RAYCOH_INLINE void texel_rgba(const SurfaceTexture& tex, const uint8_t* texels, float u, float v,

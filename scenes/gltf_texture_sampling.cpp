@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/srgb_decode.h"
+
 namespace raycoh::gltf {
 
 namespace {
-
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 double number_of(const tinygltf::Value& v, const char* key, int i, double def) {
   if (!v.Has(key)) return def;

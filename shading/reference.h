@@ -17,7 +17,7 @@
 // spec; the generator (always noopt); the frame block; the device when it is not the CPU; and the renderer revision
 // "r<kRendererVersion>/<git describe>". kRendererVersion is bumped by hand whenever the renderer's output changes,
 // which the git revision alone does not catch while a tree is "-dirty" (2: frames are summed in blocks, below; 3: glTF
-// punctual lights and per-texel alpha cut-outs).
+// punctual lights and per-texel alpha cut-outs; 4: textures' sRGB decode by core/srgb_decode.h instead of powf).
 //
 // Frame blocks: frames 0 .. frames-1 are rendered in blocks of frame_block frames (the last one may be shorter);
 // each block is summed on its own, in double, in frame order, and the reference's sums are the block sums added
@@ -57,7 +57,7 @@
 
 namespace raycoh {
 
-constexpr int kRendererVersion = 3;
+constexpr int kRendererVersion = 4;
 constexpr int kReferenceFrameBlock = 64;
 
 // "r<kRendererVersion>/<git describe --always --dirty>" of this build.
