@@ -1,9 +1,10 @@
-// The noopt generator on the GPU and the host side of every GPU generator (cuda/device_generators.h explains the
-// method; the primary rays are in device_primary.cu, the `ours` / `contiguous` grouping in device_grouping.cu).
+// The noopt, sadeghi and microjitter generators on the GPU and the host side of every GPU generator
+// (cuda/device_generators.h explains the method; the primary rays are in device_primary.cu, the `ours` /
+// `contiguous` grouping in device_grouping.cu).
 // The per-ray math is the shared host/device code the CPU generators call (core/own_lobe.h, core/batch_view.h,
-// core/tile_grid.h, generators/grouping.h), pinned by the gpu-labelled tests (tests/gpu_generators_test.cpp).
-// The device pipeline (cuda/device_pipeline.cpp) runs upload / launch / finish and keeps the batch on the device.
-// (No fmt here: its consteval format strings do not compile under nvcc 13.)
+// core/tile_grid.h, generators/grouping.h, generators/shared_sample.h), pinned by the gpu-labelled tests
+// (tests/gpu_generators_test.cpp). The device pipeline (cuda/device_pipeline.cpp) runs upload / launch / finish and
+// keeps the batch on the device. (No fmt here: its consteval format strings do not compile under nvcc 13.)
 #include <cuda_runtime.h>
 
 #include <cub/device/device_scan.cuh>
@@ -44,10 +45,34 @@ __global__ void hit_flags_kernel(const ShadingPoint* points, size_t n, uint32_t*
   if (p < n) flags[p] = has_hit(points[p]) ? 1u : 0u;
 }
 
-// ---- noopt ------------------------------------------------------------------------------------------------------
+// ---- noopt, sadeghi, microjitter -------------------------------------------------------------------------------
 
-__global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame,
-                             TileGrid grid, const uint32_t* offsets, BatchView out, unsigned long long* stats) {
+// How a pixel of the per-pixel kernel samples: its own numbers (noopt), or shared ones (sadeghi, microjitter:
+// generators/shared_sample.h, the rule the CPU generator calls). `reused` says whether the ray counts as reused.
+struct OwnNumbers {
+  static constexpr bool kCountsReuse = false;
+  __device__ DirectionSample operator()(const BsdfParams& m, const ShadingPoint& sp, uint32_t seed, uint32_t frame,
+                                        uint32_t, uint32_t, uint32_t p) const {
+    return sample_own_lobe(m, sp, seed, frame, p);
+  }
+};
+struct SharedNumbers {
+  static constexpr bool kCountsReuse = true;
+  SharedSampleConfig config;
+  bool reused;  // !shared_sample_all_own for this image
+  __device__ DirectionSample operator()(const BsdfParams& m, const ShadingPoint& sp, uint32_t seed, uint32_t frame,
+                                        uint32_t x, uint32_t y, uint32_t p) const {
+    return shared_sample_direction(config, m, sp, seed, frame, x, y, p);
+  }
+};
+
+// The body of a per-pixel kernel, one block per tile: its hit pixels ranked row-major (warp ballots), each writes
+// its ray at the tile's offset.
+template <class Numbers>
+__device__ __forceinline__ void per_pixel_rays(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed,
+                                               uint32_t frame, const TileGrid& grid, const uint32_t* offsets,
+                                               const BatchView& out, unsigned long long* stats,
+                                               const Numbers& numbers) {
   __shared__ uint32_t warp_totals[32];
   const int t = blockIdx.x;
   int x0, y0, w, h;
@@ -58,13 +83,14 @@ __global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* mater
   uint32_t rays = 0, below_geometric = 0, below_shading = 0, non_finite = 0;
   for (int base = 0; base < m; base += blockDim.x) {
     const int i = base + static_cast<int>(threadIdx.x);
-    const auto p = static_cast<uint32_t>(i < m ? (y0 + i / w) * grid.width + x0 + i % w : 0);
+    const auto x = static_cast<uint32_t>(i < m ? x0 + i % w : 0), y = static_cast<uint32_t>(i < m ? y0 + i / w : 0);
+    const auto p = static_cast<uint32_t>(i < m ? y * grid.width + x : 0);
     const bool hit = i < m && has_hit(points[p]);
     uint32_t total;
     const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
     if (hit) {
       const ShadingPoint& sp = points[p];
-      const DirectionSample s = sample_own_lobe(materials[sp.material], sp, seed, frame, p);
+      const DirectionSample s = numbers(materials[sp.material], sp, seed, frame, x, y, p);
       const uint32_t flags = write_ray(out, next + rank, sp, p, s);
       ++rays;
       below_geometric += (flags & kSampleBelowGeometric) != 0;
@@ -83,6 +109,20 @@ __global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* mater
   if (non_finite) atomicAdd(&sums[3], static_cast<unsigned long long>(non_finite));
   __syncthreads();
   if (threadIdx.x < 4 && sums[threadIdx.x]) atomicAdd(stats + kStatRays + threadIdx.x, sums[threadIdx.x]);
+  // sadeghi, microjitter: every ray's numbers came from a shared stream unless each pixel has its own.
+  if constexpr (Numbers::kCountsReuse)
+    if (threadIdx.x == 0 && numbers.reused && sums[0]) atomicAdd(stats + kStatReused, sums[0]);
+}
+
+// Two kernels, so that each keeps its own name (scripts/count-stage-instructions reads noopt_kernel's SASS).
+__global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame,
+                             TileGrid grid, const uint32_t* offsets, BatchView out, unsigned long long* stats) {
+  per_pixel_rays(points, materials, seed, frame, grid, offsets, out, stats, OwnNumbers{});
+}
+__global__ void shared_sample_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed,
+                                     uint32_t frame, TileGrid grid, const uint32_t* offsets, BatchView out,
+                                     unsigned long long* stats, SharedNumbers numbers) {
+  per_pixel_rays(points, materials, seed, frame, grid, offsets, out, stats, numbers);
 }
 
 }  // namespace
@@ -91,11 +131,16 @@ __global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* mater
 
 namespace {
 
-// What the GPU runs: the CPU generator's typed recipe (noopt, or the grouping of ours / contiguous).
-DeviceRecipe gpu_recipe(const Generator& cpu) {
+// What the GPU runs: the CPU generator's typed recipe (noopt, sadeghi / microjitter's sharing, or the grouping of
+// ours / contiguous).
+DeviceRecipe gpu_recipe(const Generator& cpu, bool fused) {
   const DeviceRecipe r = cpu.device_recipe();
   if (r.kind == DeviceRecipe::Kind::None)
-    throw Error("this generator has no GPU version; GPU generators: noopt, ours, contiguous");
+    throw Error(std::string("this generator has no GPU version; GPU generators: ") + kGpuGeneratorNames);
+  if (fused && r.kind == DeviceRecipe::Kind::SharedSample)
+    throw Error(
+        "sadeghi and microjitter have no fused form (cuda:pipeline=fused makes noopt, ours and contiguous); "
+        "use cuda:pipeline=device");
   if (r.kind == DeviceRecipe::Kind::Grouping && r.tile_w * r.tile_h > kMaxGroupTile)
     throw Error("GPU generator: tile=" + std::to_string(r.tile_w) + "x" + std::to_string(r.tile_h) + " has " +
                 std::to_string(r.tile_w * r.tile_h) + " pixels; the GPU version takes at most " +
@@ -105,7 +150,7 @@ DeviceRecipe gpu_recipe(const Generator& cpu) {
 
 }  // namespace
 
-void check_gpu_generator(const Generator& cpu) { gpu_recipe(cpu); }
+void check_gpu_generator(const Generator& cpu, bool fused) { gpu_recipe(cpu, fused); }
 
 struct DeviceGenerator::Impl {
   DeviceBuffer<BsdfParams> materials;
@@ -127,7 +172,7 @@ struct DeviceGenerator::Impl {
   bool fused = false;  // the last launch was launch_fused (no batch, no tile offsets)
   BatchView view{};
   struct Plan;
-  Plan plan(uint32_t seed, const Generator& cpu) const;
+  Plan plan(uint32_t seed, const Generator& cpu, bool fused) const;
 
   // out[i] = sum of in[0 .. i) for i <= n (CUB's device-wide scan).
   void exclusive_sum(const uint32_t* in, uint32_t* out, size_t n) {
@@ -148,6 +193,18 @@ struct DeviceGenerator::Impl {
       slots.reserve(pixels);
     }
     return batch.reserve(n, grouping);
+  }
+
+  // The per-pixel kernel (noopt; sadeghi, microjitter with `shared`) over the launch's tiles, into view.
+  void launch_per_pixel(uint32_t seed, const TileGrid& grid, size_t n_tiles, const SharedNumbers* shared) {
+    const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
+    const auto blocks = static_cast<unsigned>(n_tiles);
+    if (shared)
+      shared_sample_kernel<<<blocks, block>>>(point_data, point_materials, seed, frame, grid, offsets.get(), view,
+                                              stats.get(), *shared);
+    else
+      noopt_kernel<<<blocks, block>>>(point_data, point_materials, seed, frame, grid, offsets.get(), view, stats.get());
+    RAYCOH_CUDA_CHECK_LAUNCH();
   }
 
   GenerationStats download_stats() const {
@@ -211,18 +268,22 @@ void DeviceGenerator::use_device(const DeviceGBufferView& g) {
 // What one launch generates: the CPU generator's typed configuration and the tile grid of its order.
 struct DeviceGenerator::Impl::Plan {
   bool grouping = false, scanline = false;
+  bool shared = false;  // sadeghi, microjitter: the per-pixel kernel with shared numbers
   GroupingConfig config{};
+  SharedSampleConfig sharing{};
   TileGrid grid;
   size_t pixels = 0, tiles = 0;
 };
 
-DeviceGenerator::Impl::Plan DeviceGenerator::Impl::plan(uint32_t seed, const Generator& cpu) const {
+DeviceGenerator::Impl::Plan DeviceGenerator::Impl::plan(uint32_t seed, const Generator& cpu, bool fused) const {
   if (!uploaded) throw Error("cuda: DeviceGenerator::launch before upload (no G-buffer on the device)");
   Plan p;
-  const DeviceRecipe r = gpu_recipe(cpu);
+  const DeviceRecipe r = gpu_recipe(cpu, fused);
   p.grouping = r.kind == DeviceRecipe::Kind::Grouping;
   p.config = p.grouping ? r.config(seed, frame) : GroupingConfig{};
-  // NoOpt's scanline order is its tile order with one-row tiles, as on the CPU.
+  p.shared = r.kind == DeviceRecipe::Kind::SharedSample;
+  p.sharing = r.shared;
+  // The per-pixel kernels' scanline order is their tile order with one-row tiles, as on the CPU.
   p.grid = !p.grouping && r.order == RayOrder::Scanline ? TileGrid(width, height, width, 1)
                                                         : TileGrid(width, height, r.tile_w, r.tile_h);
   p.pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
@@ -233,7 +294,7 @@ DeviceGenerator::Impl::Plan DeviceGenerator::Impl::plan(uint32_t seed, const Gen
 
 void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
   Impl& m = *impl_;
-  const Impl::Plan p = m.plan(seed, cpu);
+  const Impl::Plan p = m.plan(seed, cpu, false);
   const size_t n = m.hits;
   m.view = m.reserve(n, p.pixels, p.tiles, p.grouping, p.scanline);
   m.grouping = p.grouping;
@@ -253,11 +314,11 @@ void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
     if (p.grouping) {
       launch_group_kernel(p.config, p.grid, m.point_data, m.point_materials, m.offsets.get(), m.slots.get(), m.view,
                           m.stats.get());
+    } else if (p.shared) {
+      const SharedNumbers numbers{p.sharing, !shared_sample_all_own(p.sharing, m.width, m.height)};
+      m.launch_per_pixel(seed, p.grid, p.tiles, &numbers);
     } else {
-      const int block = std::min(256, round_up_warp(p.grid.tile_w * p.grid.tile_h));
-      noopt_kernel<<<static_cast<unsigned>(p.tiles), block>>>(m.point_data, m.point_materials, seed, m.frame, p.grid,
-                                                              m.offsets.get(), m.view, m.stats.get());
-      RAYCOH_CUDA_CHECK_LAUNCH();
+      m.launch_per_pixel(seed, p.grid, p.tiles, nullptr);
     }
   }
   m.timer.stop();
@@ -267,7 +328,7 @@ void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
 void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const DeviceTracer& tracer,
                                    const TraceLaunch& trace, Hit* hits) {
   Impl& m = *impl_;
-  const Impl::Plan p = m.plan(seed, cpu);
+  const Impl::Plan p = m.plan(seed, cpu, true);
   m.stats.zero(kStatCount);
   m.grouping = p.grouping;
   m.tiles = p.tiles;

@@ -1,6 +1,6 @@
 // Host API of the per-frame ray pipeline on the GPU (cuda/device_primary.cu, device_generators.cu,
-// device_grouping.cu): primary rays and the `noopt`, `ours` and `contiguous` generators, meant for measuring
-// generation overheads as GPU overheads. Plain C++ (included by g++-compiled code and tests).
+// device_grouping.cu): primary rays and the `noopt`, `ours`, `contiguous`, `sadeghi` and `microjitter` generators,
+// meant for measuring generation overheads as GPU overheads. Plain C++ (included by g++-compiled code and tests).
 //
 // Used by the device pipeline (cuda/device_pipeline.h: a `cuda` run with pipeline=device), which keeps the batch
 // on the device; the gpu tests (tests/gpu_generators_test.cpp) check that the GPU batches equal the CPU's.
@@ -16,6 +16,8 @@
 //   noopt    hit pixels per tile (one block per tile), an exclusive scan over tiles (CUB DeviceScan) for each
 //            tile's first slot, then one block per tile ranks its hit pixels row-major with warp ballots and
 //            writes each ray.
+//   sadeghi, the same kernel with the pixels' shared numbers (generators/shared_sample.h, the rule the CPU
+//   microj.  generator calls); its reused rays counted per block.
 //   ours /   the same tile offsets; one block per tile (W H <= 1024: one thread per pixel) runs the phases of
 //   contig.  generators/grouping_block.h: per pixel, one thread shuffles and groups its pixel number and ranks
 //            itself among its group's k slots; per group, one thread counts its members and, walking only them
@@ -27,7 +29,8 @@
 // its parameter text.
 // The G-buffer is not a generator's: it is uploaded (upload) or, in the device pipeline and the device path
 // tracer, made on the device by the camera pass (cuda/device_gbuffer.h) and read where it lies (use_device); it is
-// not part of a generator's overhead. Not on the GPU: the `direct` ablation.
+// not part of a generator's overhead. Not on the GPU: the `direct` ablation; sadeghi and microjitter have no fused
+// form (launch_fused).
 #pragma once
 
 #include <cstdint>
@@ -58,9 +61,13 @@ void make_primary_rays_gpu(const Camera& camera, int width, int height, RayOrder
 // the CPU and GPU results to the same bits.
 void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
 
-// Throws raycoh::Error unless cpu's device_recipe() has a GPU version (noopt, ours, contiguous), and for ours /
-// contiguous tiles of more than 1024 pixels (one thread per pixel).
-void check_gpu_generator(const Generator& cpu);
+// The generators with a GPU version, as refusals name them.
+inline constexpr const char* kGpuGeneratorNames = "noopt, ours, contiguous, sadeghi, microjitter";
+
+// Throws raycoh::Error unless cpu's device_recipe() has a GPU version (kGpuGeneratorNames), for ours / contiguous
+// tiles of more than 1024 pixels (one thread per pixel), and with `fused` (cuda:pipeline=fused) for sadeghi and
+// microjitter, which have no fused form.
+void check_gpu_generator(const Generator& cpu, bool fused = false);
 
 // The scene's materials on the device (uploaded once), the G-buffer (with its material table when the scene has
 // textures, per frame) and batch buffers (grown on demand).

@@ -240,10 +240,10 @@ std::string device_pipeline_refusal(const std::string& generator_name, const Gen
   const char* const host = "; cuda:pipeline=host traces host-made batches of it";
   const DeviceRecipe device = generator.device_recipe();
   if (device.kind == DeviceRecipe::Kind::None)
-    return fmt::format("generator '{}' has no device version; device generators: noopt, ours, contiguous{}",
-                       generator_name, host);
+    return fmt::format("generator '{}' has no device version; device generators: {}{}", generator_name,
+                       kGpuGeneratorNames, host);
   try {
-    check_gpu_generator(generator);
+    check_gpu_generator(generator, fused);
   } catch (const Error& e) {
     return fmt::format("generator '{}': {}{}", generator_name, e.what(), host);
   }

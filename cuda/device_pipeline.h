@@ -16,8 +16,9 @@
 // acosf may round a direction bit differently from glibc's: cuda/device_keys.h).
 //
 // What has no device version is refused, never run on the CPU in its place (device_pipeline_refusal): the
-// generators direct, sadeghi and microjitter, ours / contiguous tiles of more than 1024 pixels, and the `window`
-// encoder. `cuda:pipeline=host` traces host-made batches instead (the batches every other tracer traces).
+// generator direct (sadeghi and microjitter with pipeline=fused), ours / contiguous tiles of more than 1024 pixels,
+// and the `window` encoder. `cuda:pipeline=host` traces host-made batches instead (the batches every other tracer
+// traces).
 //
 // `cuda:pipeline=fused` (PipelineTrace::fused): a secondary pass is one kernel that makes each tile's rays from
 // the G-buffer and traces them where they are made (noopt, ours and contiguous, in tile or group order; no

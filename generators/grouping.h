@@ -14,6 +14,7 @@
 #include "core/sampling.h"
 #include "core/tile_grid.h"
 #include "core/tile_shuffle.h"
+#include "generators/shared_sample.h"
 
 namespace raycoh {
 
@@ -44,16 +45,17 @@ struct GroupingConfig {
 };
 
 // What a device needs to make a generator's batch itself, typed (never its parameter text): Generator::
-// device_recipe(). NoOpt: its tile and order (scanline order: one-row tiles); Grouping (ours, contiguous): its tile
-// and its grouping, of which config() gives one frame's. Kind None: no device version (the device pipeline refuses
-// it in one line).
+// device_recipe(). NoOpt: its tile and order (scanline order: one-row tiles); SharedSample (sadeghi, microjitter):
+// the same, and its sharing (generators/shared_sample.h); Grouping (ours, contiguous): its tile and its grouping, of
+// which config() gives one frame's. Kind None: no device version (the device pipeline refuses it in one line).
 struct DeviceRecipe {
-  enum class Kind { None, NoOpt, Grouping };
+  enum class Kind { None, NoOpt, SharedSample, Grouping };
   Kind kind = Kind::None;
   int tile_w = 0, tile_h = 0;
   RayOrder order = RayOrder::Tile;
-  GroupingConfig grouping{};  // seed, group_seed and frame are config()'s
-  uint32_t salt_hash = 0;     // group_seed = seed ^ salt_hash
+  GroupingConfig grouping{};    // seed, group_seed and frame are config()'s
+  uint32_t salt_hash = 0;       // group_seed = seed ^ salt_hash
+  SharedSampleConfig shared{};  // SharedSample: sharing, interleave, radius
   // The grouping of one frame, as the CPU loop and the device kernels read it.
   GroupingConfig config(uint32_t seed, uint32_t frame) const {
     GroupingConfig c = grouping;

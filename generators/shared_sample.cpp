@@ -14,31 +14,28 @@
 // is exactly its BSDF's (unbiased; tests/shared_sample_test.cpp checks it like `ours`); only the correlation
 // between pixels changes. Batch order and tiles as NoOpt (order=tile, tile=8x8 by default); every ray counts as
 // reused (its random numbers came from a shared stream) except with interleave=N where N^2 >= pixels.
+// The numbers rule is generators/shared_sample.h's, which the device kernel (cuda/device_generators.cu) calls too:
+// device_recipe() hands it over typed (DeviceRecipe::Kind::SharedSample).
 //
 // Parameters: sadeghi_params() and microjitter_params() below.
-#include <cmath>
+#include "generators/shared_sample.h"
 
-#include "core/bsdf.h"
-#include "core/rng.h"
 #include "generators/emit_per_pixel.h"
+#include "generators/grouping.h"
 
 namespace raycoh {
 namespace {
 
-// Pixel ids of the shared streams in rng(): far above any image's pixel numbers.
-constexpr uint32_t kSharedStreamBase = 0xF0000000u;
-
-enum class Sharing { Sadeghi, MicroJitter };
-
 class SharedSampleGenerator final : public Generator {
  public:
-  SharedSampleGenerator(ParamSet& params, Sharing sharing) : sharing_(sharing) {
+  SharedSampleGenerator(ParamSet& params, Sharing sharing) {
+    config_.sharing = sharing;
     order_ = parse_ray_order(params.get_choice("order"));
     tile_ = params.get_size("tile");
-    if (sharing_ == Sharing::Sadeghi)
-      interleave_ = params.get_int("interleave");
+    if (sharing == Sharing::Sadeghi)
+      config_.interleave = static_cast<uint32_t>(params.get_int("interleave"));
     else
-      radius_ = params.get_float("radius");
+      config_.radius = params.get_float("radius");
     params.finish();
     params_ = params.canonical();
   }
@@ -48,41 +45,30 @@ class SharedSampleGenerator final : public Generator {
   void generate(const Scene& scene, const GBuffer& gbuffer, uint32_t seed, RayBatch& out,
                 GenerationStats& stats) override {
     const MaterialTable materials(scene, gbuffer);
-    const bool all_own = sharing_ == Sharing::Sadeghi &&
-                         uint64_t(interleave_) * uint64_t(interleave_) >= uint64_t(gbuffer.width) * gbuffer.height;
+    const bool all_own = shared_sample_all_own(config_, gbuffer.width, gbuffer.height);
     emit_per_valid_pixel(gbuffer, order_, tile_, out, stats,
                          [&](int x, int y, uint32_t p, const ShadingPoint& sp, GenerationStats& local) {
-                           float u[3];
-                           numbers(seed, gbuffer.frame, x, y, p, u);
-                           const BsdfParams& m = materials[sp.material];
                            if (!all_own) ++local.reused_rays;
-                           return sample_direction(m, sp.ns, sp.ng, sp.wo, sp.front_face, u[0], u[1], u[2]);
+                           return shared_sample_direction(config_, materials[sp.material], sp, seed, gbuffer.frame,
+                                                          static_cast<uint32_t>(x), static_cast<uint32_t>(y), p);
                          });
   }
 
- private:
-  // The three numbers (direction u1, u2, lobe choice) of pixel p at (x, y).
-  void numbers(uint32_t seed, uint32_t frame, int x, int y, uint32_t p, float u[3]) const {
-    static constexpr uint32_t kDims[3] = {kDimSecondary0, kDimSecondary1, kDimSecondaryLobe};
-    if (sharing_ == Sharing::Sadeghi) {
-      const auto n = static_cast<uint32_t>(interleave_);
-      const uint32_t stream = (static_cast<uint32_t>(y) % n) * n + static_cast<uint32_t>(x) % n;
-      for (int d = 0; d < 3; ++d) u[d] = rng_float(seed, frame, kSharedStreamBase + stream, kDims[d]);
-      return;
-    }
-    for (int d = 0; d < 3; ++d) {
-      const float shared = rng_float(seed, frame, kSharedStreamBase, kDims[d]);
-      const float jitter = rng_float(seed, frame, p, kDims[d]);
-      const float v = shared + radius_ * (jitter - 0.5f);
-      u[d] = std::fmin(v - std::floor(v), 0x1.fffffep-1f);  // frac, kept below 1 against rounding
-    }
+  // The typed configuration the device kernel runs (cuda/device_generators.h).
+  DeviceRecipe device_recipe() const override {
+    DeviceRecipe r;
+    r.kind = DeviceRecipe::Kind::SharedSample;
+    r.tile_w = tile_.first;
+    r.tile_h = tile_.second;
+    r.order = order_;
+    r.shared = config_;
+    return r;
   }
 
-  Sharing sharing_;
+ private:
+  SharedSampleConfig config_;
   RayOrder order_;
   std::pair<int, int> tile_;
-  int interleave_ = 1;
-  float radius_ = 0.f;
   std::string params_;
 };
 

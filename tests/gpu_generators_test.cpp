@@ -1,8 +1,8 @@
 // The per-frame pipeline on the GPU (cuda/device_generators.h) against the CPU, byte for byte: sincos_turns on
-// every rng_float value, primary rays in tile and scanline order, and the noopt / ours / tile batches (every array
-// and the statistics) on cornell, voxels and sibenik, with stiff G-buffer entries mixed in. The sincos accuracy
-// test runs on the CPU alone (it pins the polynomial that replaced sinf/cosf); the others skip cleanly when
-// cuda::device_count() == 0. Label `gpu`.
+// every rng_float value, primary rays in tile and scanline order, and the noopt / ours / contiguous / sadeghi /
+// microjitter batches (every array and the statistics) on cornell, voxels and sibenik, with stiff G-buffer entries
+// mixed in. The sincos accuracy test and the configuration checks run on the CPU alone; the others skip cleanly
+// when cuda::device_count() == 0. Label `gpu`.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -257,6 +257,26 @@ TEST(GpuGenerators, BatchesEqualTheCpuByteForByte) {
   }
 }
 
+// sadeghi (interleave 1 and 4, N^2 >= pixels: no reuse) and microjitter (two radii), tile and scanline order: the
+// per-pixel kernel with the shared numbers rule (generators/shared_sample.h), reused rays counted as on the CPU.
+TEST(GpuGenerators, SharedSampleBatchesEqualTheCpuByteForByte) {
+  SKIP_WITHOUT_GPU();
+  for (const char* name : {"cornell", "voxels:size=48"}) {
+    SCOPED_TRACE(name);
+    const Scene scene = load_scene(name);
+    const Bvh bvh = build_bvh(scene);
+    cuda::DeviceGenerator device(scene);
+    for (bool stiff : {false, true}) {
+      SCOPED_TRACE(stiff ? "stiff G-buffer" : "G-buffer");
+      const GBuffer g =
+          frame_gbuffer(scene, bvh, test::gpu_test_size(250, 70), test::gpu_test_size(190, 38), stiff ? 3u : 1u, stiff);
+      for (const char* spec : {"sadeghi", "sadeghi:interleave=4", "sadeghi:interleave=4,order=scanline,tile=16x4",
+                               "sadeghi:interleave=300", "microjitter", "microjitter:radius=0.5,tile=32x16"})
+        expect_gpu_generator_matches(scene, g, spec, device);
+    }
+  }
+}
+
 // Images smaller than a tile, 1x1, K = W H, K not dividing W H, and an image with no hit at all.
 TEST(GpuGenerators, EdgeCasesEqualTheCpu) {
   SKIP_WITHOUT_GPU();
@@ -266,13 +286,14 @@ TEST(GpuGenerators, EdgeCasesEqualTheCpu) {
   for (auto [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {13, 9}, {5, 3}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
     const GBuffer g = frame_gbuffer(scene, bvh, w, h, 1, false);
-    for (const char* spec : {"noopt", "ours", "ours:tile=4x4,k=16", "ours:tile=4x4,k=3", "contiguous:tile=16x16,k=7"})
+    for (const char* spec : {"noopt", "ours", "ours:tile=4x4,k=16", "ours:tile=4x4,k=3", "contiguous:tile=16x16,k=7",
+                             "sadeghi:interleave=2", "microjitter"})
       expect_gpu_generator_matches(scene, g, spec, device);
   }
   GBuffer empty = frame_gbuffer(scene, bvh, 16, 16, 0, false);
   for (ShadingPoint& sp : empty.points) sp = ShadingPoint{};
   empty.hits = 0;
-  for (const char* spec : {"noopt", "ours"}) expect_gpu_generator_matches(scene, empty, spec, device);
+  for (const char* spec : {"noopt", "ours", "sadeghi"}) expect_gpu_generator_matches(scene, empty, spec, device);
 }
 
 TEST(GpuGenerators, TakeTheCpuGeneratorsConfigAndRejectWhatTheGpuCannotDo) {
@@ -280,6 +301,13 @@ TEST(GpuGenerators, TakeTheCpuGeneratorsConfigAndRejectWhatTheGpuCannotDo) {
   EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({"noopt", "order=scanline,tile=64x64"})));
   EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"direct", ""})), Error);
   EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"ours", "tile=64x64"})), Error);  // over one block
+  for (const char* g : {"sadeghi", "microjitter"}) {
+    EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({g, "tile=64x64"}))) << g;  // any tile: a loop
+    const std::string why = test::error_of([&] { cuda::check_gpu_generator(*make_generator({g, ""}), true); });
+    EXPECT_NE(why.find("no fused form"), std::string::npos) << why;
+  }
+  const std::string why = test::error_of([] { cuda::check_gpu_generator(*make_generator({"direct", ""})); });
+  EXPECT_NE(why.find("GPU generators: noopt, ours, contiguous, sadeghi, microjitter"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -314,11 +314,17 @@ TEST(GpuPipeline, TableWritesMeasuredDeviceRows) {
 TEST(DevicePipelineRefusal, NamesWhatHasNoDeviceVersionAndWhatIsValid) {
   const Bounds box{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
   auto none = make_encoder({"none", ""}, EncoderContext{box, nullptr});
-  for (const char* g : {"direct", "sadeghi", "microjitter"}) {
+  for (const char* g : {"direct"}) {
     const std::string why = cuda::device_pipeline_refusal(g, *make_generator({g, ""}), *none);
     EXPECT_NE(why.find(std::string("generator '") + g + "' has no device version"), std::string::npos) << why;
-    EXPECT_NE(why.find("device generators: noopt, ours, contiguous"), std::string::npos) << why;
+    EXPECT_NE(why.find("device generators: noopt, ours, contiguous, sadeghi, microjitter"), std::string::npos) << why;
     EXPECT_NE(why.find("pipeline=host"), std::string::npos) << why;
+  }
+  for (const char* g : {"sadeghi", "microjitter"}) {  // no fused form
+    const std::string why = cuda::device_pipeline_refusal(g, *make_generator({g, ""}), *none, true);
+    EXPECT_NE(why.find(std::string("generator '") + g + "': sadeghi and microjitter have no fused form"),
+              std::string::npos)
+        << why;
   }
   const std::string big = cuda::device_pipeline_refusal("ours", *make_generator({"ours", "tile=64x32,k=8"}), *none);
   EXPECT_NE(big.find("generator 'ours'"), std::string::npos) << big;
@@ -327,7 +333,7 @@ TEST(DevicePipelineRefusal, NamesWhatHasNoDeviceVersionAndWhatIsValid) {
   const std::string w = cuda::device_pipeline_refusal("noopt", *make_generator({"noopt", ""}), *window);
   EXPECT_NE(w.find("encoder 'window' has no device version"), std::string::npos) << w;
   EXPECT_NE(w.find("device encoders: none, origin, reis, costa, aila, twopoint, mlhcc"), std::string::npos) << w;
-  for (const char* g : {"noopt", "ours", "contiguous"})
+  for (const char* g : {"noopt", "ours", "contiguous", "sadeghi", "microjitter"})
     for (const char* e : {"none", "origin", "reis", "costa", "aila", "twopoint"}) {
       auto encoder = make_encoder({e, ""}, EncoderContext{box, nullptr});
       EXPECT_EQ(cuda::device_pipeline_refusal(g, *make_generator({g, ""}), *encoder), "") << g << " + " << e;

@@ -2,12 +2,17 @@
 // direction is its BSDF's (the same goodness-of-fit test as `ours`, tests/reuse_test.cpp), pixels share their
 // random numbers as documented (one stream per frame, N x N interleaved streams, a jitter within the radius),
 // and parameters are checked.
+#include "generators/shared_sample.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <vector>
 
+#include "core/rng.h"
 #include "core/sampling.h"
 #include "generators/generator.h"
 #include "tests/test_util.h"
@@ -134,6 +139,127 @@ TEST(MicroJitter, DirectionsStayWithinTheJitter) {
   }
   EXPECT_GT(spread_tight, 0.f);
   EXPECT_LT(spread_tight, 0.2f);  // within a 0.01 jitter of the shared sample (away from the torus seam)
+}
+
+// ---- the batches pinned: the CPU generators' output recorded before the numbers rule became shared with the
+// device kernel (generators/shared_sample.h), on a synthetic G-buffer of every material class with holes ----
+
+Scene mixed_scene() {
+  Scene s;
+  s.name = "mixed";
+  Material d, g, sp, t;
+  d.cls = MaterialClass::Diffuse;
+  g.cls = MaterialClass::Glossy;
+  g.roughness = 0.3f;
+  g.metallic = 1.f;
+  sp.cls = MaterialClass::Specular;
+  sp.roughness = 0.02f;
+  t.cls = MaterialClass::Transmissive;
+  t.transmission = 1.f;
+  s.materials = {d, g, sp, t};
+  return s;
+}
+
+// 21 x 13 (partial tiles), every 7th pixel without a hit, normals tilted per pixel, materials cycling.
+GBuffer mixed_gbuffer(uint32_t frame) {
+  GBuffer g = gbuffer(21, 13, true);
+  g.frame = frame;
+  g.hits = 0;
+  for (size_t i = 0; i < g.points.size(); ++i) {
+    ShadingPoint& p = g.points[i];
+    p.material = static_cast<uint32_t>(i * 5 / 3 % 4);
+    p.cls = mixed_scene().materials[p.material].cls;
+    p.front_face = i % 5 != 0;
+    if (i % 7 == 3) p.prim = kNoHit;
+    g.hits += p.valid();
+  }
+  return g;
+}
+
+uint64_t fnv(uint64_t h, const void* data, size_t bytes) {
+  const auto* b = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+  return h;
+}
+
+// FNV-1a of every column and the statistics of each spec's batch at frames 0 and 5, seed 7.
+uint64_t batches_checksum(const std::vector<std::string>& specs) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  const Scene scene = mixed_scene();
+  for (const std::string& spec : specs)
+    for (uint32_t frame : {0u, 5u}) {
+      RayBatch b;
+      GenerationStats st;
+      make_generator(parse_plugin_spec(spec))->generate(scene, mixed_gbuffer(frame), 7, b, st);
+#define RAYCOH_HASH_COLUMN(name, T, grouped) h = fnv(h, b.name.data(), b.name.size() * sizeof(T));
+      RAYCOH_BATCH_COLUMNS(RAYCOH_HASH_COLUMN)
+#undef RAYCOH_HASH_COLUMN
+      const uint64_t counts[] = {st.rays, st.below_geometric, st.below_shading, st.non_finite, st.reused_rays};
+      h = fnv(h, counts, sizeof(counts));
+    }
+  return h;
+}
+
+TEST(SharedSample, BatchesEqualThoseRecordedBeforeTheRuleWasShared) {
+  const uint64_t sadeghi = batches_checksum(
+      {"sadeghi", "sadeghi:interleave=4", "sadeghi:interleave=3,order=scanline", "sadeghi:interleave=17,tile=4x4"});
+  const uint64_t microjitter = batches_checksum({"microjitter", "microjitter:radius=0.5,tile=16x4",
+                                                 "microjitter:radius=1,order=scanline", "microjitter:radius=0"});
+  // Recorded by running the generators as they were before generators/shared_sample.h (commit 3fa2473).
+  EXPECT_EQ(sadeghi, 0x1a73bea2e5a2b0f1ull) << std::hex << sadeghi;
+  EXPECT_EQ(microjitter, 0xb2362e0fe8815775ull) << std::hex << microjitter;
+}
+
+// The shared rule (generators/shared_sample.h) against the rule written out here as the papers state it: the
+// batch's every ray is its pixel's BSDF sampled with those numbers, and the reused count is every ray unless
+// each pixel has its own stream.
+void expect_reference_rule(const std::string& spec, const SharedSampleConfig& c) {
+  SCOPED_TRACE(spec);
+  const Scene scene = mixed_scene();
+  const GBuffer g = mixed_gbuffer(2);
+  RayBatch b;
+  GenerationStats st;
+  auto generator = make_generator(parse_plugin_spec(spec));
+  generator->generate(scene, g, 11, b, st);
+  const DeviceRecipe r = generator->device_recipe();
+  ASSERT_EQ(r.kind, DeviceRecipe::Kind::SharedSample);
+  EXPECT_EQ(r.shared.sharing, c.sharing);
+  EXPECT_EQ(r.shared.interleave, c.interleave);
+  EXPECT_EQ(r.shared.radius, c.radius);
+  ASSERT_EQ(b.size(), g.hits);
+  const uint32_t dims[3] = {kDimSecondary0, kDimSecondary1, kDimSecondaryLobe};
+  for (size_t i = 0; i < b.size(); ++i) {
+    const uint32_t p = b.pixel[i], x = p % 21, y = p / 21;
+    float u[3], v[3];
+    for (int d = 0; d < 3; ++d) {
+      if (c.sharing == Sharing::Sadeghi) {
+        u[d] = rng_float(11, 2, 0xF0000000u + (y % c.interleave) * c.interleave + x % c.interleave, dims[d]);
+      } else {
+        const float t = rng_float(11, 2, 0xF0000000u, dims[d]) + c.radius * (rng_float(11, 2, p, dims[d]) - 0.5f);
+        u[d] = std::min(t - std::floor(t), 0x1.fffffep-1f);
+      }
+    }
+    shared_sample_numbers(c, 11, 2, x, y, p, v);
+    ASSERT_EQ(std::memcmp(u, v, sizeof(u)), 0) << "pixel " << p;
+    for (float n : v) ASSERT_TRUE(n >= 0.f && n < 1.f) << n;
+    const ShadingPoint& sp = g.points[p];
+    const DirectionSample s = sample_direction(bsdf_params(scene.materials[sp.material]), sp.ns, sp.ng, sp.wo,
+                                               sp.front_face, u[0], u[1], u[2]);
+    ASSERT_EQ(std::memcmp(&s.dir, &b.rays[i].dir, sizeof(Vec3)), 0) << "pixel " << p;
+    ASSERT_EQ(std::memcmp(&s.pdf, &b.pdf[i], sizeof(float)), 0) << "pixel " << p;
+  }
+  EXPECT_EQ(st.reused_rays, shared_sample_all_own(c, 21, 13) ? 0u : b.size());
+}
+
+TEST(SharedSample, TheSharedRuleIsThePapersRule) {
+  expect_reference_rule("sadeghi", {Sharing::Sadeghi, 1, 0.f});
+  expect_reference_rule("sadeghi:interleave=4", {Sharing::Sadeghi, 4, 0.f});
+  expect_reference_rule("sadeghi:interleave=17", {Sharing::Sadeghi, 17, 0.f});  // 289 >= 273 pixels: all own
+  expect_reference_rule("microjitter", {Sharing::MicroJitter, 1, 0.05f});
+  expect_reference_rule("microjitter:radius=1", {Sharing::MicroJitter, 1, 1.f});
+  EXPECT_FALSE(shared_sample_all_own({Sharing::Sadeghi, 16, 0.f}, 21, 13));
+  EXPECT_TRUE(shared_sample_all_own({Sharing::Sadeghi, 65536, 0.f}, 65536, 65536));
+  EXPECT_FALSE(shared_sample_all_own({Sharing::MicroJitter, 65536, 1.f}, 1, 1));
 }
 
 TEST(SharedSample, ParametersAreChecked) {
