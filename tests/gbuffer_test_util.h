@@ -3,13 +3,9 @@
 // (HitMaterials: BSDF parameters and emission), floats by their bits; padding bytes, which hold whatever a store
 // left there, are not compared.
 //
-// The one place the two sides' maths libraries meet: a textured hit's base colour and emission are sRGB-decoded
-// texels (core/surface_textures.h srgb_to_linear calls powf), and CUDA's powf and glibc's round some arguments 1 ulp
-// apart (under GPGPU-Sim at 24x16 pixels: 16 of DamagedHelmet's 384 per-pixel slots and 26 of AlphaBlendModeTest's,
-// each channel within 1 ulp; roughness and metalness, decoded linearly, equal). compare_gbuffers(a, b, srgb_ulps)
-// counts a per-pixel table slot whose fields are all equal but for base-colour or emission channels each within
-// srgb_ulps ulps in `srgb` instead of `bsdf` / `emission`; every other field of every point and entry stays bit for
-// bit.
+// No field is exempt: a textured hit's base colour and emission are sRGB-decoded texels, and the decode
+// (core/srgb_decode.h) evaluates the same float operations on both sides (before it, CUDA's powf and glibc's rounded
+// some arguments 1 ulp apart, which this comparison let through).
 #pragma once
 
 #include <array>
@@ -30,12 +26,10 @@ struct GBufferDiff {
   size_t points = 0;    // ShadingPoints that differ in any field
   size_t bsdf = 0;      // table entries whose BSDF parameters differ
   size_t emission = 0;  // table entries whose emission differs
-  size_t srgb = 0;      // per-pixel slots apart only in sRGB-decoded channels, within srgb_ulps (not in total)
   size_t total() const { return header + points + bsdf + emission; }
   std::string summary() const {
     return "header " + std::to_string(header) + ", points " + std::to_string(points) + ", table bsdf " +
-           std::to_string(bsdf) + ", table emission " + std::to_string(emission) +
-           " (sRGB channels within the ulp bound " + std::to_string(srgb) + ")";
+           std::to_string(bsdf) + ", table emission " + std::to_string(emission);
   }
 };
 
@@ -59,26 +53,7 @@ size_t differing_by(const std::vector<T>& a, const std::vector<T>& b, Bits bits)
   return n;
 }
 
-// Each channel of a and b within ulps units in the last place (same sign; a float's bits order its magnitude).
-inline bool within_ulps(const Vec3& a, const Vec3& b, int ulps) {
-  const std::array<uint32_t, 3> x = vec_bits(a), y = vec_bits(b);
-  for (int c = 0; c < 3; ++c) {
-    if ((x[c] >> 31) != (y[c] >> 31)) return false;
-    const int64_t d = static_cast<int64_t>(x[c]) - static_cast<int64_t>(y[c]);
-    if (d > ulps || d < -ulps) return false;
-  }
-  return true;
-}
-
-// Table entry i apart only in its sRGB-decoded channels, each within ulps.
-inline bool srgb_only(const HitMaterials& ta, const HitMaterials& tb, size_t i, int ulps) {
-  BsdfParams x = ta.bsdf[i];
-  x.base_color = tb.bsdf[i].base_color;
-  return bsdf_bits(x) == bsdf_bits(tb.bsdf[i]) && within_ulps(ta.bsdf[i].base_color, tb.bsdf[i].base_color, ulps) &&
-         within_ulps(ta.emission[i], tb.emission[i], ulps);
-}
-
-inline GBufferDiff compare_gbuffers(const GBuffer& a, const GBuffer& b, int srgb_ulps = 0) {
+inline GBufferDiff compare_gbuffers(const GBuffer& a, const GBuffer& b) {
   GBufferDiff d;
   d.header += a.width != b.width;
   d.header += a.height != b.height;
@@ -96,15 +71,8 @@ inline GBufferDiff compare_gbuffers(const GBuffer& a, const GBuffer& b, int srgb
     return d;
   }
   for (size_t i = 0; i < ta.bsdf.size(); ++i) {
-    const bool bsdf = bsdf_bits(ta.bsdf[i]) != bsdf_bits(tb.bsdf[i]);
-    const bool emission = vec_bits(ta.emission[i]) != vec_bits(tb.emission[i]);
-    if (!bsdf && !emission) continue;
-    if (srgb_ulps > 0 && i >= ta.scene_count && srgb_only(ta, tb, i, srgb_ulps)) {
-      ++d.srgb;
-      continue;
-    }
-    d.bsdf += bsdf;
-    d.emission += emission;
+    d.bsdf += bsdf_bits(ta.bsdf[i]) != bsdf_bits(tb.bsdf[i]);
+    d.emission += vec_bits(ta.emission[i]) != vec_bits(tb.emission[i]);
   }
   return d;
 }
