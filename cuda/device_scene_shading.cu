@@ -6,20 +6,19 @@
 
 #include "core/error.h"
 #include "cuda/cuda_check.cuh"
+#include "cuda/device_gbuffer.h"
 #include "cuda/device_scene_shading.h"
 #include "generators/generator.h"
 
 namespace raycoh::cuda {
 
 struct DeviceSceneShading::Impl {
-  DeviceBuffer<Vec3> positions, normals, emission;
-  DeviceBuffer<uint32_t> indices, tri_material, tex_tri_material, emitter_tris;
-  DeviceBuffer<MaterialClass> classes;
+  explicit Impl(const Scene& scene) : mesh(scene) {}
+  DeviceMesh mesh;  // what hit_surface reads: triangles, normals, materials' classes, surface textures
+  DeviceBuffer<Vec3> emission;
+  DeviceBuffer<uint32_t> emitter_tris;
   DeviceBuffer<BsdfParams> bsdf;
-  DeviceBuffer<float> tex_uv, tex_tangent, emitter_cdf, pmf_by_prim, area_by_prim, light_cdf, light_pmf;
-  DeviceBuffer<TexturedMaterial> tex_materials;
-  DeviceBuffer<SurfaceTexture> textures;
-  DeviceBuffer<uint8_t> texels;
+  DeviceBuffer<float> emitter_cdf, pmf_by_prim, area_by_prim, light_cdf, light_pmf;
   DeviceBuffer<PunctualLightView> lights;
   ShadingSceneView view;
 };
@@ -29,24 +28,6 @@ namespace {
 template <class T>
 void upload(DeviceBuffer<T>& buffer, const std::vector<T>& host) {
   buffer.upload(host.data(), host.size());
-}
-
-// The surface textures (only when the scene has them).
-void upload_textures(DeviceSceneShading::Impl& d, const Scene& scene, MeshView& mesh) {
-  mesh.textured = !scene.textures.empty();
-  if (!mesh.textured) return;
-  const SurfaceTextures& t = scene.textures;
-  RAYCOH_CHECK(t.tri_material.size() == scene.triangle_count() && t.tri_uv.size() == 12 * t.tri_material.size() &&
-                   t.tri_tangent.size() == 4 * t.tri_material.size(),
-               "surface texture arrays do not match the scene's triangles");
-  upload(d.tex_tri_material, t.tri_material);
-  upload(d.tex_uv, t.tri_uv);
-  upload(d.tex_tangent, t.tri_tangent);
-  upload(d.tex_materials, t.materials);
-  upload(d.textures, t.textures);
-  upload(d.texels, t.texels);
-  mesh.textures = {d.tex_tri_material.get(), d.tex_uv.get(),   d.tex_tangent.get(),
-                   d.tex_materials.get(),    d.textures.get(), d.texels.get()};
 }
 
 // The emissive triangles' and punctual lights' distributions of host_lights.
@@ -76,32 +57,18 @@ void upload_lights(DeviceSceneShading::Impl& d, const LightsView& host, size_t t
 }  // namespace
 
 DeviceSceneShading::DeviceSceneShading(const Scene& scene, const LightsView& host_lights)
-    : impl_(std::make_unique<Impl>()) {
+    : impl_(std::make_unique<Impl>(scene)) {
   Impl& d = *impl_;
-  RAYCOH_CHECK(scene.normals.size() == scene.positions.size() && scene.tri_material.size() == scene.triangle_count(),
-               "scene arrays do not match");
-  std::vector<MaterialClass> classes;
   std::vector<BsdfParams> bsdf;
   std::vector<Vec3> emission;
   for (const Material& m : scene.materials) {
-    classes.push_back(m.cls);
     bsdf.push_back(bsdf_params(m));
     emission.push_back(m.emission);
   }
-  upload(d.positions, scene.positions);
-  upload(d.normals, scene.normals);
-  upload(d.indices, scene.indices);
-  upload(d.tri_material, scene.tri_material);
-  upload(d.classes, classes);
   upload(d.bsdf, bsdf);
   upload(d.emission, emission);
   ShadingSceneView& v = d.view;
-  v.mesh.positions = d.positions.get();
-  v.mesh.normals = d.normals.get();
-  v.mesh.indices = d.indices.get();
-  v.mesh.tri_material = d.tri_material.get();
-  v.mesh.material_cls = d.classes.get();
-  upload_textures(d, scene, v.mesh);
+  v.mesh = d.mesh.view();
   v.bsdf = d.bsdf.get();
   v.emission = d.emission.get();
   v.lights.mesh = v.mesh;
