@@ -8,26 +8,9 @@
 
 #include "core/material.h"
 #include "core/ray.h"
+#include "core/shading_point.h"
 
 namespace raycoh {
-
-// One first hit. Normals face the side the camera ray came from (all shared-scene materials are double-sided):
-// ng is the geometric normal, ns the interpolated shading normal (tilted by a normal map where the material has
-// one) flipped into ng's hemisphere. material indexes the material table of the G-buffer the point belongs to
-// (GBuffer::materials): its first entries are the scene's materials in Scene::materials order, and a hit on a
-// textured glTF material has an entry of its own holding the texels at the hit (core/surface_textures.h). cls is
-// that entry's class.
-struct ShadingPoint {
-  Vec3 position;
-  Vec3 ng;
-  Vec3 ns;
-  Vec3 wo;  // unit, towards the camera
-  uint32_t prim = kNoHit;
-  uint32_t material = 0;
-  MaterialClass cls = MaterialClass::Diffuse;
-  bool front_face = true;  // the camera ray hit the side the triangle's winding faces
-  RAYCOH_HD bool valid() const { return prim != kNoHit; }
-};
 
 // The materials a G-buffer's points index: the scene's materials (entries [0, scene_count)) and, in a scene with
 // textures, one entry per point slot i at scene_count + i for the texel its hit found. Shared (read-only) by the
@@ -39,7 +22,8 @@ struct HitMaterials {
   bool per_hit() const { return bsdf.size() > scene_count; }
 };
 
-// Per pixel (index y * width + x).
+// Per pixel (index y * width + x); a point is a ShadingPoint (core/shading_point.h: its 64-byte layout and the
+// device's 16-byte reads).
 struct GBuffer {
   int width = 0, height = 0;
   uint32_t frame = 0;

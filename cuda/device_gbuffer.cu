@@ -36,7 +36,7 @@ __global__ void gbuffer_kernel(MeshView mesh, const Ray* rays, const uint32_t* p
       }
     }
     valid = sp.valid();
-    points[p] = sp;
+    store_point(points, p, sp);  // four 16-byte stores (core/shading_point.h)
     if (per_hit) {
       bsdf[scene_count + p] = b;
       emission[scene_count + p] = e;

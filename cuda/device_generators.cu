@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/own_lobe.h"
+#include "core/shading_point.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_batch.cuh"
 #include "cuda/device_common.cuh"
@@ -24,7 +25,8 @@ namespace {
 
 // ---- tile offsets -----------------------------------------------------------------------------------------------
 
-// counts[t] = hit pixels of tile t (one block per tile).
+// counts[t] = hit pixels of tile t (one block per tile). Reads one word of each point (prim: a 4-byte load, where
+// load_point would move the point's last 16 bytes).
 __global__ void tile_hits_kernel(const ShadingPoint* points, TileGrid grid, uint32_t* counts) {
   const int t = blockIdx.x;
   int x0, y0, w, h;
@@ -85,11 +87,11 @@ __device__ __forceinline__ void per_pixel_rays(const ShadingPoint* points, const
     const int i = base + static_cast<int>(threadIdx.x);
     const auto x = static_cast<uint32_t>(i < m ? x0 + i % w : 0), y = static_cast<uint32_t>(i < m ? y0 + i / w : 0);
     const auto p = static_cast<uint32_t>(i < m ? y * grid.width + x : 0);
-    const bool hit = i < m && has_hit(points[p]);
+    const ShadingPoint sp = load_point(points, p);  // four 16-byte loads (core/shading_point.h)
+    const bool hit = i < m && has_hit(sp);
     uint32_t total;
     const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
     if (hit) {
-      const ShadingPoint& sp = points[p];
       const DirectionSample s = numbers(materials[sp.material], sp, seed, frame, x, y, p);
       const uint32_t flags = write_ray(out, next + rank, sp, p, s);
       ++rays;

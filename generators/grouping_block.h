@@ -8,9 +8,13 @@
 // only the group's k slots. Phase 2 ranks each hit member among its group's hit members in row-major order and
 // files it there (members), so the later group phases visit the members in the CPU tile loop's order: the float
 // sums of phase 6 are the CPU's, term by term.
+//
+// Every read of a point is load_point (core/shading_point.h): on the device, 16-byte loads of the words a phase
+// uses.
 #pragma once
 
 #include "core/batch_view.h"
+#include "core/shading_point.h"
 #include "core/tile_grid.h"
 #include "generators/grouping.h"
 
@@ -97,7 +101,7 @@ RAYCOH_HD RAYCOH_INLINE TileBlock make_tile_block(const GroupingConfig& c, const
 
 // Phase 1 (pixel i < m): group and flags. Returns whether the pixel has a hit.
 RAYCOH_HD RAYCOH_INLINE bool phase_assign(const TileBlock& b, uint32_t i) {
-  const ShadingPoint& sp = b.points[b.rect.pixel(i, b.image_width)];
+  const ShadingPoint sp = load_point(b.points, b.rect.pixel(i, b.image_width));  // its last 16 bytes only
   const bool hit = has_hit(sp);
   const uint32_t slot = b.config.interleaved ? tile_shuffle(b.config, b.m, b.tile)(i) : i;
   b.sh.group_of[i] = slot / b.config.k;
@@ -173,18 +177,20 @@ RAYCOH_HD RAYCOH_INLINE size_t pixel_slot(const TileBlock& b, uint32_t i, uint32
 RAYCOH_HD RAYCOH_INLINE uint32_t write_pixel(const TileBlock& b, const BatchView& out, uint32_t i, size_t slot,
                                              const DirectionSample& s) {
   const uint32_t p = b.rect.pixel(i, b.image_width), q = b.sh.group_of[i];
-  return write_group_ray(out, slot, b.points[p], p, s, b.tile, group_id(b.config, b.tile, q),
+  return write_group_ray(out, slot, load_point(b.points, p), p, s, b.tile, group_id(b.config, b.tile, q),
                          static_cast<GroupType>(b.sh.type[q]));
 }
 
 // The reference normal of group q (its donor's; frame=rotate). Groups without a diffuse member have donor
 // pixel 0 and never read it.
-RAYCOH_HD RAYCOH_INLINE Vec3 group_ref(const TileBlock& b, uint32_t q) { return b.points[b.sh.donor[q]].ns; }
+RAYCOH_HD RAYCOH_INLINE Vec3 group_ref(const TileBlock& b, uint32_t q) {
+  return load_point(b.points, b.sh.donor[q]).ns;
+}
 
 // Phase 5 (hit pixel i that is not diffuse-like): its own lobe, and its mean vote.
 RAYCOH_HD RAYCOH_INLINE DirectionSample own_lobe_sample(const TileBlock& b, uint32_t i) {
   const uint32_t p = b.rect.pixel(i, b.image_width);
-  const ShadingPoint& sp = b.points[p];
+  const ShadingPoint sp = load_point(b.points, p);
   const DirectionSample s = sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p);
   if (mean_vote(b.config, sp, s, group_ref(b, b.sh.group_of[i]), b.sh.local[i])) b.sh.flags[i] |= kPixelMeanVote;
   return s;
@@ -211,7 +217,7 @@ RAYCOH_HD RAYCOH_INLINE SharedDirection phase_shared_direction(const TileBlock& 
       const uint32_t j = members[r];
       if (!is_glossy_like(b.sh.cls[j]) || seen++ != pick) continue;
       const uint32_t p = b.rect.pixel(j, b.image_width);
-      const ShadingPoint& sp = b.points[p];
+      const ShadingPoint sp = load_point(b.points, p);
       d = glossy_direction(b.config, sp,
                            sample_own_lobe(b.materials[sp.material], sp, b.config.seed, b.config.frame, p), ref);
     }
@@ -229,7 +235,7 @@ RAYCOH_HD RAYCOH_INLINE SharedDirection phase_shared_direction(const TileBlock& 
 // Phase 7 (diffuse-like hit pixel i): the group's direction carried to its frame.
 RAYCOH_HD RAYCOH_INLINE DirectionSample reuse_sample(const TileBlock& b, uint32_t i) {
   const uint32_t p = b.rect.pixel(i, b.image_width), q = b.sh.group_of[i];
-  const ShadingPoint& sp = b.points[p];
+  const ShadingPoint sp = load_point(b.points, p);
   SharedDirection d;
   d.local = b.sh.shared_dir[q];
   d.glossy_pdf = b.sh.glossy_pdf[q];
