@@ -34,6 +34,8 @@ double window_bytes(size_t n, bool physical) {
   return physical ? 2.0 * double(n) * batch_bytes_per_ray() : double(n) * (sizeof(Ray) + kIndexBytes);
 }
 
+// The generators read every pixel's whole point (64 bytes: core/shading_point.h; the device in four 16-byte
+// loads) and write the batch.
 double generation_bytes(size_t pixels, size_t rays) {
   return double(pixels) * sizeof(ShadingPoint) + double(rays) * batch_bytes_per_ray();
 }

@@ -68,7 +68,7 @@ double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w) {
   const double tiles = div_up(w.width, w.tile_w) * div_up(w.height, w.tile_h);
   const double tile_pixels = double(w.tile_w) * w.tile_h;
   const StageKernelCosts& c = gpu.stages;
-  // tile_hits: one 32-byte sector per pixel (its hit flag; a ShadingPoint is 60 bytes), a count per tile written.
+  // tile_hits: one 32-byte sector per pixel (its hit flag; a ShadingPoint is 64 bytes), a count per tile written.
   double ms = stage_kernel_ms(gpu, double(w.pixels()) * kSectorBytes + 4.0 * tiles,
                               tiles * div_up(std::min(tile_pixels, kTileHitsThreads), kWarp), c.tile_hits);
   ms += scan_ms(gpu, tiles + 1);
@@ -123,15 +123,17 @@ ModeledStages stage_model(const GpuModelConfig& gpu, const StageWork& w, const s
 
 // The device pipeline's stage kernels (StageKernelCosts, simt/stage_model.h): partition cycles per warp counted by
 // scripts/count-stage-instructions (nvcc 13's SASS of cuda/device_*.cu and CUB 3.0's onesweep kernel, every
-// branch and loop body once; its output for each architecture is results/model/h200-stages/instructions-*.txt).
+// branch and loop body once). The generation kernels' counts (tile_hits, noopt, group) are those of the 64-byte
+// G-buffer read with 16-byte loads (core/shading_point.h), results/model/wide-gbuffer-loads/instructions-*.txt; the
+// others are unchanged from results/model/h200-stages/instructions-*.txt, which the h200 prediction used.
 // CUB's onesweep tile, from its tuning (cub/device/dispatch/tuning/tuning_radix_sort.cuh, CUDA 13): sm_90
 // (Policy900, sm90_small_key_tuning) 384 threads x 23 items for 32-bit keys with 32-bit values and 32-bit offsets,
 // 30 for 64-bit keys; sm_86 (Policy800) 384 x 21 for both.
 StageKernelCosts stage_costs_sm90() {
   StageKernelCosts c;
-  c.tile_hits = 172;
-  c.noopt = 1620;
-  c.group = 7241;
+  c.tile_hits = 168;
+  c.noopt = 1599;
+  c.group = 7186;
   const double keys[7] = {0, 270, 480, 428, 540, 680, 536};  // none, origin, reis, costa, aila, twopoint, mlhcc
   std::copy(keys, keys + 7, c.key);
   c.gather = 160;
@@ -142,9 +144,9 @@ StageKernelCosts stage_costs_sm90() {
 
 StageKernelCosts stage_costs_sm86() {
   StageKernelCosts c;
-  c.tile_hits = 170;
-  c.noopt = 1604;
-  c.group = 7068;
+  c.tile_hits = 166;
+  c.noopt = 1577;
+  c.group = 7015;
   const double keys[7] = {0, 268, 480, 428, 538, 680, 502};
   std::copy(keys, keys + 7, c.key);
   c.gather = 146;
