@@ -51,6 +51,7 @@
 #include "bvh/cwbvh_build.h"
 #include "core/error.h"
 #include "cuda/cuda_device.h"
+#include "cuda/device_path_tracer.h"
 #include "cuda/device_pipeline.h"
 #include "cuda/hw_profiler.h"
 #include "cuda/trace_kernels.h"
@@ -253,20 +254,7 @@ std::unique_ptr<Tracer> make_cuda_tracer(ParamSet& params, const Scene& scene, c
   // in both cache presets).
   const SimtConfig layout = simt_config(bvh.view(), 32, line, 32);
   // Alpha MASK arrays (empty when the scene has none), uploaded with the BVH.
-  cuda::AlphaMaskArrays alpha;
-  if (!scene.alpha.empty()) {
-    const AlphaMasks& a = scene.alpha;
-    alpha.tri_texture = a.tri_texture.data();
-    alpha.tri_uv = a.tri_uv.data();
-    alpha.tri_count = a.tri_texture.size();
-    alpha.textures = a.textures.data();
-    alpha.texture_count = a.textures.size();
-    alpha.texels = a.texels.data();
-    alpha.texel_count = a.texels.size();
-    RAYCOH_CHECK(a.tri_uv.size() == 6 * a.tri_texture.size(),
-                 fmt::format("scene '{}': {} alpha uv values for {} triangles", scene.name, a.tri_uv.size(),
-                             a.tri_texture.size()));
-  }
+  const cuda::AlphaMaskArrays alpha = cuda::scene_alpha_arrays(scene);
   // The CWBVH's host copy is dropped once uploaded.
   std::unique_ptr<cuda::DeviceTracer> device;
   if (cwbvh) {

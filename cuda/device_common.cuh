@@ -1,4 +1,4 @@
-// Block-level helpers of the generator kernels (cuda/device_primary.cu, device_generators.cu,
+// Block-level helpers of the generator kernels (cuda/device_primary.cu, device_generators.cu, device_per_pixel.cu,
 // device_grouping.cu): statistics slots, block-wide counts, launch sizes. Included by .cu files only.
 #pragma once
 
@@ -116,14 +116,22 @@ void launch_group_kernel(const GroupingConfig& config, const TileGrid& grid, con
                          const BsdfParams* materials, const uint32_t* offsets, const uint32_t* scanline_slots,
                          const BatchView& out, unsigned long long* stats);
 
+// The batch a fused trace also writes (cuda/fused_kernels.cu): none (offsets null), or `out` with each tile's rays
+// from offsets[tile] in the materialized generator's slots.
+struct FusedBatch {
+  BatchView out{};
+  const uint32_t* offsets = nullptr;
+};
+
 // The fused trace (cuda/fused_kernels.cu): one block per tile makes the tile's rays (noopt, or ours / contiguous
-// with `config`) and traces them with the launch's kernel form over `scene`; hits[pixel] for every ray's pixel.
+// with `config`) and traces them with the launch's kernel form over `scene`; hits[pixel] for every ray's pixel,
+// or with a batch hits[slot] for every ray's batch slot.
 void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
-                        const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid, Hit* hits,
-                        unsigned long long* stats);
+                        const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid,
+                        const FusedBatch& batch, Hit* hits, unsigned long long* stats);
 void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, const GroupingConfig& config,
-                           const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials, Hit* hits,
-                           unsigned long long* stats);
+                           const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials,
+                           const FusedBatch& batch, Hit* hits, unsigned long long* stats);
 
 // Camera rays of make_primary_rays_gpu (cuda/device_primary.cu) into device arrays of width x height entries,
 // queued on the default stream (nothing waited for): d_rays[slot] and d_pixels[slot] in the batch order.

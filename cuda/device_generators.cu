@@ -1,6 +1,6 @@
-// The noopt, sadeghi and microjitter generators on the GPU and the host side of every GPU generator
-// (cuda/device_generators.h explains the method; the primary rays are in device_primary.cu, the `ours` /
-// `contiguous` grouping in device_grouping.cu).
+// The host side of every GPU generator and the tile offsets' kernels (cuda/device_generators.h explains the
+// method; the primary rays are in device_primary.cu, noopt, sadeghi and microjitter in device_per_pixel.cu, the
+// `ours` / `contiguous` grouping in device_grouping.cu).
 // The per-ray math is the shared host/device code the CPU generators call (core/own_lobe.h, core/batch_view.h,
 // core/tile_grid.h, generators/grouping.h, generators/shared_sample.h), pinned by the gpu-labelled tests
 // (tests/gpu_generators_test.cpp). The device pipeline (cuda/device_pipeline.cpp) runs upload / launch / finish and
@@ -17,6 +17,7 @@
 #include "cuda/device_batch.cuh"
 #include "cuda/device_common.cuh"
 #include "cuda/device_generators.h"
+#include "cuda/pixel_numbers.cuh"
 #include "generators/generator.h"
 
 namespace raycoh::cuda {
@@ -47,86 +48,6 @@ __global__ void hit_flags_kernel(const ShadingPoint* points, size_t n, uint32_t*
   if (p < n) flags[p] = has_hit(points[p]) ? 1u : 0u;
 }
 
-// ---- noopt, sadeghi, microjitter -------------------------------------------------------------------------------
-
-// How a pixel of the per-pixel kernel samples: its own numbers (noopt), or shared ones (sadeghi, microjitter:
-// generators/shared_sample.h, the rule the CPU generator calls). `reused` says whether the ray counts as reused.
-struct OwnNumbers {
-  static constexpr bool kCountsReuse = false;
-  __device__ DirectionSample operator()(const BsdfParams& m, const ShadingPoint& sp, uint32_t seed, uint32_t frame,
-                                        uint32_t, uint32_t, uint32_t p) const {
-    return sample_own_lobe(m, sp, seed, frame, p);
-  }
-};
-struct SharedNumbers {
-  static constexpr bool kCountsReuse = true;
-  SharedSampleConfig config;
-  bool reused;  // !shared_sample_all_own for this image
-  __device__ DirectionSample operator()(const BsdfParams& m, const ShadingPoint& sp, uint32_t seed, uint32_t frame,
-                                        uint32_t x, uint32_t y, uint32_t p) const {
-    return shared_sample_direction(config, m, sp, seed, frame, x, y, p);
-  }
-};
-
-// The body of a per-pixel kernel, one block per tile: its hit pixels ranked row-major (warp ballots), each writes
-// its ray at the tile's offset.
-template <class Numbers>
-__device__ __forceinline__ void per_pixel_rays(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed,
-                                               uint32_t frame, const TileGrid& grid, const uint32_t* offsets,
-                                               const BatchView& out, unsigned long long* stats,
-                                               const Numbers& numbers) {
-  __shared__ uint32_t warp_totals[32];
-  const int t = blockIdx.x;
-  int x0, y0, w, h;
-  grid.rect(t, x0, y0, w, h);
-  const int m = w * h;
-  uint32_t next = offsets[t];
-  // Tallies of this thread's rays (a thread may write several in a large tile).
-  uint32_t rays = 0, below_geometric = 0, below_shading = 0, non_finite = 0;
-  for (int base = 0; base < m; base += blockDim.x) {
-    const int i = base + static_cast<int>(threadIdx.x);
-    const auto x = static_cast<uint32_t>(i < m ? x0 + i % w : 0), y = static_cast<uint32_t>(i < m ? y0 + i / w : 0);
-    const auto p = static_cast<uint32_t>(i < m ? y * grid.width + x : 0);
-    const ShadingPoint sp = load_point(points, p);  // four 16-byte loads (core/shading_point.h)
-    const bool hit = i < m && has_hit(sp);
-    uint32_t total;
-    const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
-    if (hit) {
-      const DirectionSample s = numbers(materials[sp.material], sp, seed, frame, x, y, p);
-      const uint32_t flags = write_ray(out, next + rank, sp, p, s);
-      ++rays;
-      below_geometric += (flags & kSampleBelowGeometric) != 0;
-      below_shading += (flags & kSampleBelowShading) != 0;
-      non_finite += (flags & kSampleNonFinite) != 0;
-    }
-    next += total;
-  }
-  // Few rays per block: shared-memory sums, then one global atomic per counter.
-  __shared__ unsigned long long sums[4];
-  if (threadIdx.x < 4) sums[threadIdx.x] = 0;
-  __syncthreads();
-  if (rays) atomicAdd(&sums[0], static_cast<unsigned long long>(rays));
-  if (below_geometric) atomicAdd(&sums[1], static_cast<unsigned long long>(below_geometric));
-  if (below_shading) atomicAdd(&sums[2], static_cast<unsigned long long>(below_shading));
-  if (non_finite) atomicAdd(&sums[3], static_cast<unsigned long long>(non_finite));
-  __syncthreads();
-  if (threadIdx.x < 4 && sums[threadIdx.x]) atomicAdd(stats + kStatRays + threadIdx.x, sums[threadIdx.x]);
-  // sadeghi, microjitter: every ray's numbers came from a shared stream unless each pixel has its own.
-  if constexpr (Numbers::kCountsReuse)
-    if (threadIdx.x == 0 && numbers.reused && sums[0]) atomicAdd(stats + kStatReused, sums[0]);
-}
-
-// Two kernels, so that each keeps its own name (scripts/count-stage-instructions reads noopt_kernel's SASS).
-__global__ void noopt_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed, uint32_t frame,
-                             TileGrid grid, const uint32_t* offsets, BatchView out, unsigned long long* stats) {
-  per_pixel_rays(points, materials, seed, frame, grid, offsets, out, stats, OwnNumbers{});
-}
-__global__ void shared_sample_kernel(const ShadingPoint* points, const BsdfParams* materials, uint32_t seed,
-                                     uint32_t frame, TileGrid grid, const uint32_t* offsets, BatchView out,
-                                     unsigned long long* stats, SharedNumbers numbers) {
-  per_pixel_rays(points, materials, seed, frame, grid, offsets, out, stats, numbers);
-}
-
 }  // namespace
 
 // ---- host side --------------------------------------------------------------------------------------------------
@@ -143,6 +64,10 @@ DeviceRecipe gpu_recipe(const Generator& cpu, bool fused) {
     throw Error(
         "sadeghi and microjitter have no fused form (cuda:pipeline=fused makes noopt, ours and contiguous); "
         "use cuda:pipeline=device");
+  if (fused && r.kind == DeviceRecipe::Kind::Grouping && r.order == RayOrder::Scanline)
+    throw Error(
+        "order=scanline has no fused form (a fused block makes one tile's rays); use order=tile or order=group, or "
+        "cuda:pipeline=device");
   if (r.kind == DeviceRecipe::Kind::Grouping && r.tile_w * r.tile_h > kMaxGroupTile)
     throw Error("GPU generator: tile=" + std::to_string(r.tile_w) + "x" + std::to_string(r.tile_h) + " has " +
                 std::to_string(r.tile_w * r.tile_h) + " pixels; the GPU version takes at most " +
@@ -171,10 +96,11 @@ struct DeviceGenerator::Impl {
   uint32_t frame = 0;
   size_t hits = 0, tiles = 0;
   bool grouping = false, uploaded = false, launched = false;
-  bool fused = false;  // the last launch was launch_fused (no batch, no tile offsets)
+  bool fused = false;  // the last launch was launch_fused without a batch (no batch, no tile offsets)
   BatchView view{};
   struct Plan;
   Plan plan(uint32_t seed, const Generator& cpu, bool fused) const;
+  void start_batch(const Plan& p);
 
   // out[i] = sum of in[0 .. i) for i <= n (CUB's device-wide scan).
   void exclusive_sum(const uint32_t* in, uint32_t* out, size_t n) {
@@ -195,18 +121,6 @@ struct DeviceGenerator::Impl {
       slots.reserve(pixels);
     }
     return batch.reserve(n, grouping);
-  }
-
-  // The per-pixel kernel (noopt; sadeghi, microjitter with `shared`) over the launch's tiles, into view.
-  void launch_per_pixel(uint32_t seed, const TileGrid& grid, size_t n_tiles, const SharedNumbers* shared) {
-    const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
-    const auto blocks = static_cast<unsigned>(n_tiles);
-    if (shared)
-      shared_sample_kernel<<<blocks, block>>>(point_data, point_materials, seed, frame, grid, offsets.get(), view,
-                                              stats.get(), *shared);
-    else
-      noopt_kernel<<<blocks, block>>>(point_data, point_materials, seed, frame, grid, offsets.get(), view, stats.get());
-    RAYCOH_CUDA_CHECK_LAUNCH();
   }
 
   GenerationStats download_stats() const {
@@ -294,20 +208,24 @@ DeviceGenerator::Impl::Plan DeviceGenerator::Impl::plan(uint32_t seed, const Gen
   return p;
 }
 
+// The batch's buffers for the plan, and each tile's first slot (offsets) once the timer has started.
+void DeviceGenerator::Impl::start_batch(const Plan& p) {
+  view = reserve(hits, p.pixels, p.tiles, p.grouping, p.scanline);
+  grouping = p.grouping;
+  tiles = p.tiles;
+  fused = false;
+  timer.start();
+  if (p.tiles == 0 || hits == 0) return;
+  tile_hits_kernel<<<static_cast<unsigned>(p.tiles), 128>>>(point_data, p.grid, counts.get());
+  RAYCOH_CUDA_CHECK_LAUNCH();
+  exclusive_sum(counts.get(), offsets.get(), p.tiles + 1);
+}
+
 void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
   Impl& m = *impl_;
   const Impl::Plan p = m.plan(seed, cpu, false);
-  const size_t n = m.hits;
-  m.view = m.reserve(n, p.pixels, p.tiles, p.grouping, p.scanline);
-  m.grouping = p.grouping;
-  m.tiles = p.tiles;
-  m.fused = false;
-
-  m.timer.start();
-  if (p.tiles > 0 && n > 0) {
-    tile_hits_kernel<<<static_cast<unsigned>(p.tiles), 128>>>(m.point_data, p.grid, m.counts.get());
-    RAYCOH_CUDA_CHECK_LAUNCH();
-    m.exclusive_sum(m.counts.get(), m.offsets.get(), p.tiles + 1);
+  m.start_batch(p);
+  if (p.tiles > 0 && m.hits > 0) {
     if (p.scanline) {
       hit_flags_kernel<<<blocks_for(p.pixels, 256), 256>>>(m.point_data, p.pixels, m.flags.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
@@ -318,9 +236,11 @@ void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
                           m.stats.get());
     } else if (p.shared) {
       const SharedNumbers numbers{p.sharing, !shared_sample_all_own(p.sharing, m.width, m.height)};
-      m.launch_per_pixel(seed, p.grid, p.tiles, &numbers);
+      launch_per_pixel_kernel(p.grid, m.point_data, m.point_materials, seed, m.frame, m.offsets.get(), m.view,
+                              m.stats.get(), &numbers);
     } else {
-      m.launch_per_pixel(seed, p.grid, p.tiles, nullptr);
+      launch_per_pixel_kernel(p.grid, m.point_data, m.point_materials, seed, m.frame, m.offsets.get(), m.view,
+                              m.stats.get(), nullptr);
     }
   }
   m.timer.stop();
@@ -328,21 +248,29 @@ void DeviceGenerator::launch(uint32_t seed, const Generator& cpu) {
 }
 
 void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const DeviceTracer& tracer,
-                                   const TraceLaunch& trace, Hit* hits) {
+                                   const TraceLaunch& trace, Hit* hits, bool keep_batch) {
   Impl& m = *impl_;
   const Impl::Plan p = m.plan(seed, cpu, true);
-  m.stats.zero(kStatCount);
-  m.grouping = p.grouping;
-  m.tiles = p.tiles;
-  m.fused = true;
-  m.view = BatchView{};
+  FusedBatch batch;
+  if (keep_batch) {
+    m.start_batch(p);  // zeroes the statistics
+    batch = FusedBatch{m.view, m.offsets.get()};
+  } else {
+    m.stats.zero(kStatCount);
+    m.grouping = p.grouping;
+    m.tiles = p.tiles;
+    m.fused = true;
+    m.view = BatchView{};
+    m.timer.start();
+  }
   const DeviceScene scene = tracer.device_scene();
-  m.timer.start();
   if (p.tiles > 0 && m.hits > 0) {
     if (p.grouping)
-      launch_fused_grouping(scene, trace, p.config, p.grid, m.point_data, m.point_materials, hits, m.stats.get());
+      launch_fused_grouping(scene, trace, p.config, p.grid, m.point_data, m.point_materials, batch, hits,
+                            m.stats.get());
     else
-      launch_fused_noopt(scene, trace, m.point_data, m.point_materials, seed, m.frame, p.grid, hits, m.stats.get());
+      launch_fused_noopt(scene, trace, m.point_data, m.point_materials, seed, m.frame, p.grid, batch, hits,
+                         m.stats.get());
   }
   m.timer.stop();
   m.launched = true;

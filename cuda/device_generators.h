@@ -1,4 +1,4 @@
-// Host API of the per-frame ray pipeline on the GPU (cuda/device_primary.cu, device_generators.cu,
+// Host API of the per-frame ray pipeline on the GPU (cuda/device_primary.cu, device_generators.cu, device_per_pixel.cu,
 // device_grouping.cu): primary rays and the `noopt`, `ours`, `contiguous`, `sadeghi` and `microjitter` generators,
 // meant for measuring generation overheads as GPU overheads. Plain C++ (included by g++-compiled code and tests).
 //
@@ -91,11 +91,14 @@ class DeviceGenerator {
   // read where it lies (points and material table, no copy); it must stay unchanged while launches read it.
   void use_device(const DeviceGBufferView& gbuffer);
   void launch(uint32_t seed, const Generator& cpu);
-  // The fused form of launch (cuda:pipeline=fused): no batch; each tile's rays are made and traced by one block
-  // with the tracer's kernel form, hits[pixel] for each ray's pixel (width x height entries). Timed as one kernel
-  // by the same timer; finish() as after launch(). device_batch() is then empty.
+  // The fused form of launch (cuda:pipeline=fused): each tile's rays are made and traced by one block with the
+  // tracer's kernel form (the trace reads each ray from shared memory, where the block made it). Without
+  // keep_batch: no batch, hits[pixel] for each ray's pixel (width x height entries); device_batch() is then empty.
+  // With keep_batch (the device path tracer's fused first bounce, whose shading reads the batch after the trace):
+  // the blocks also write the batch launch() writes, the same bytes in the same slots, and hits[i] is ray i's hit
+  // (device_count() entries). Timed by the same timer (tile offsets and the kernel); finish() as after launch().
   void launch_fused(uint32_t seed, const Generator& cpu, const DeviceTracer& tracer, const TraceLaunch& trace,
-                    Hit* hits);
+                    Hit* hits, bool keep_batch = false);
   void finish(GenerationStats& stats);
   BatchView device_batch() const;
   size_t device_count() const;

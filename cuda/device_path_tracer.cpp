@@ -2,6 +2,8 @@
 // generator, then per bounce next-event estimation, bounce sampling and hit gathering on the device.
 #include "cuda/device_path_tracer.h"
 
+#include <fmt/format.h>
+
 #include <utility>
 
 #include "bvh/bvh_build.h"
@@ -24,20 +26,25 @@ enum Stage : int { kCamera, kGeneration, kNextEvent, kSample, kTrace, kGather, k
 
 }  // namespace
 
-std::unique_ptr<DeviceTracer> make_scene_device_tracer(const Scene& scene, const Bvh& bvh) {
+AlphaMaskArrays scene_alpha_arrays(const Scene& scene) {
   AlphaMaskArrays alpha;
-  if (!scene.alpha.empty()) {
-    const AlphaMasks& a = scene.alpha;
-    RAYCOH_CHECK(a.tri_uv.size() == 6 * a.tri_texture.size(), "alpha uv arrays do not match the triangles");
-    alpha.tri_texture = a.tri_texture.data();
-    alpha.tri_uv = a.tri_uv.data();
-    alpha.tri_count = a.tri_texture.size();
-    alpha.textures = a.textures.data();
-    alpha.texture_count = a.textures.size();
-    alpha.texels = a.texels.data();
-    alpha.texel_count = a.texels.size();
-  }
-  return std::make_unique<DeviceTracer>(bvh.view(), alpha);
+  if (scene.alpha.empty()) return alpha;
+  const AlphaMasks& a = scene.alpha;
+  RAYCOH_CHECK(a.tri_uv.size() == 6 * a.tri_texture.size(),
+               fmt::format("scene '{}': {} alpha uv values for {} triangles", scene.name, a.tri_uv.size(),
+                           a.tri_texture.size()));
+  alpha.tri_texture = a.tri_texture.data();
+  alpha.tri_uv = a.tri_uv.data();
+  alpha.tri_count = a.tri_texture.size();
+  alpha.textures = a.textures.data();
+  alpha.texture_count = a.textures.size();
+  alpha.texels = a.texels.data();
+  alpha.texel_count = a.texels.size();
+  return alpha;
+}
+
+std::unique_ptr<DeviceTracer> make_scene_device_tracer(const Scene& scene, const Bvh& bvh) {
+  return std::make_unique<DeviceTracer>(bvh.view(), scene_alpha_arrays(scene));
 }
 
 struct DevicePathTracer::Impl {
@@ -81,12 +88,21 @@ struct DevicePathTracer::Impl {
     shading.camera(frame, gbuffer.finish(), stages.primary_rays(), stages.primary_pixels(), hits, n);
   }
 
-  // The first wave: the device generator's batch over the device G-buffer.
+  // The first wave: the device generator's batch over the device G-buffer, traced by the trace kernel in gather;
+  // fused: made and traced in one kernel per tile, which also writes the batch for the wave's shading (the
+  // kernel, and the tile offsets before it, count as trace).
   void first_bounce(GenerationStats& stats) {
     device_generator.use_device(gbuffer.view());
-    device_generator.launch(settings.seed, generator);
+    const size_t n = device_generator.device_count();
+    if (settings.fused) {
+      const int was = clock.enter(kTrace);
+      device_generator.launch_fused(settings.seed, generator, *tracer, launch, shading.first_wave_hits(n), true);
+      clock.enter(was);
+    } else {
+      device_generator.launch(settings.seed, generator);
+    }
     device_generator.finish(stats);
-    shading.first_bounce(device_generator.device_batch(), device_generator.device_count());
+    shading.first_bounce(device_generator.device_batch(), n, settings.fused);
   }
 
   DeviceFrameStages stage_times() const {
@@ -108,7 +124,7 @@ DevicePathTracer::DevicePathTracer(const Scene& scene, const Bvh& bvh, const Lig
                                    const TraceLaunch& launch) {
   if (settings.width < 1 || settings.height < 1 || settings.max_depth < 1 || settings.rr_depth < 1)
     throw Error("device path tracer: width, height, max depth and roulette depth must be positive");
-  check_gpu_generator(generator);
+  check_gpu_generator(generator, settings.fused);
   impl_ = std::make_unique<Impl>(scene, bvh, host_lights, generator, settings, launch);
 }
 

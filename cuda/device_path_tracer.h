@@ -8,14 +8,16 @@
 //      the device trace kernel; their G-buffer made on the device by the G-buffer kernel (cuda/device_gbuffer.h:
 //      make_gbuffer's hit_surface per hit, equal to make_gbuffer bit for bit) and kept there: only its hit count
 //      comes to the host (download_gbuffer copies the rest where a caller asks for it);
-//   2. the first bounce's batch made by the device generator (cuda/device_generators.h, materialized: noopt,
-//      ours, contiguous), equal to the CPU generator's batch bit for bit;
+//   2. the first bounce's batch made by the device generator (cuda/device_generators.h: noopt, ours, contiguous,
+//      sadeghi, microjitter), equal to the CPU generator's batch bit for bit; materialized (the batch written,
+//      then traced by the trace kernel) or, with settings.fused (cuda:pipeline=fused; noopt, ours, contiguous),
+//      made and traced in one kernel per tile that reads each ray from shared memory and also writes the batch
+//      for the wave's shading (cuda/fused_kernels.cu): the same rays and hits;
 //   3. per bounce: next-event estimation, bounce sampling (later bounces), the wave traced and gathered
 //      (cuda/device_shading.h), every batch traced by the device trace kernel (cuda/trace_kernels.h);
 //   4. the frame's radiance downloaded (the caller accumulates it, e.g. into a shading/image.h Accumulator).
 // Scene data (mesh, materials, textures, emitters, punctual lights, environment) is uploaded once, when the path
-// tracer is made (cuda/device_scene_shading.h). Not on the device: the accumulation. The fused first bounce
-// (cuda:pipeline=fused) is not used here.
+// tracer is made (cuda/device_scene_shading.h). Not on the device: the accumulation.
 //
 // frame_ms: CUDA events around the whole frame on the device's stream (camera rays to the last gather), which
 // includes the device's idle time while the host reads counts and batch sizes and launches: a measured GPU time
@@ -45,7 +47,8 @@ namespace raycoh::cuda {
 // the stages add up to at most frame_ms (up to the events' resolution).
 struct DeviceFrameStages {
   float camera_ms = 0.f;      // camera rays, the G-buffer kernel and its hit count, camera shading, compaction
-  float generation_ms = 0.f;  // first bounce: the device generator and its batch made the first wave
+  float generation_ms = 0.f;  // first bounce: the device generator and its batch made the first wave (fused: the
+                              // wave only; the kernel that makes and traces the rays counts as trace)
   float next_event_ms = 0.f;  // next-event estimation: shadow rays made, resolved, added (not their traces)
   float sample_ms = 0.f;      // bounce sampling of the later bounces, compaction
   float trace_ms = 0.f;       // every trace kernel: camera rays, shadow rounds, waves
@@ -60,6 +63,9 @@ struct DeviceFrameStats {
   DeviceFrameStages stages;  // frame_ms by stage (see above)
 };
 
+// The scene's alpha MASK arrays (Scene::alpha) as the DeviceTracer takes them (empty when the scene has none);
+// they point into the scene. Throws raycoh::Error when its uv arrays do not match its triangles.
+AlphaMaskArrays scene_alpha_arrays(const Scene& scene);
 // A DeviceTracer for scene's BVH2 with the scene's alpha MASK arrays (as the `cuda` tracer makes it).
 std::unique_ptr<DeviceTracer> make_scene_device_tracer(const Scene& scene, const Bvh& bvh);
 
@@ -67,7 +73,7 @@ class DevicePathTracer {
  public:
   // scene, bvh and generator outlive the path tracer. host_lights: EmitterDistribution(scene).view(scene)
   // (shading/emitters.h, above this layer). Throws raycoh::Error when the generator has no device version
-  // (check_gpu_generator) or on any CUDA error.
+  // (check_gpu_generator; with settings.fused, no fused form) or on any CUDA error.
   DevicePathTracer(const Scene& scene, const Bvh& bvh, const LightsView& host_lights, const Generator& generator,
                    const DevicePathSettings& settings, const TraceLaunch& launch = {});
   ~DevicePathTracer();

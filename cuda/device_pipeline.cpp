@@ -253,11 +253,6 @@ std::string device_pipeline_refusal(const std::string& generator_name, const Gen
         "encoder '{}' sorts a batch, and cuda:pipeline=fused keeps none (it traces each ray where it "
         "is made): use encoder none, or cuda:pipeline=device",
         encoder.name());
-  if (fused && device.kind == DeviceRecipe::Kind::Grouping && device.order == RayOrder::Scanline)
-    return fmt::format(
-        "generator '{}': order=scanline has no fused form (a fused block makes one tile's rays); "
-        "use order=tile or order=group, or cuda:pipeline=device",
-        generator_name);
   if (encoder.key_bits() > 0 && (recipe.kind == KeyKind::None || recipe.bits != encoder.key_bits()))
     return fmt::format("encoder '{}' has no device version; device encoders: none, {}{}", encoder.name(),
                        key_kind_names(), host);

@@ -59,7 +59,7 @@ __global__ void camera_kernel(ShadingSceneView s, const ShadingPoint* points, co
     radiance[p] = environment_radiance(s.env, rays[i].dir);
     return;
   }
-  const ShadingPoint sp = points[p];
+  const ShadingPoint sp = load_point(points, p);
   radiance[p] = emission_seen(sp, table_emission[sp.material]);
   verts[i] = Vertex{sp, table_bsdf[sp.material], p, Vec3(1.f), MisState{}};
   keep[i] = 1;
@@ -118,7 +118,7 @@ __global__ void first_bounce_kernel(BatchView batch, size_t n, const ShadingPoin
   if (i >= n) return;
   const Ray r = batch.rays[i];
   const uint32_t p = batch.pixel[i];
-  const ShadingPoint sp = points[p];
+  const ShadingPoint sp = load_point(points, p);
   rays[i] = r;
   info[i] = WaveInfo{p, batch.weight[i],
                      first_bounce_mis(sp, table_bsdf[sp.material], r.dir, batch.pdf[i], batch.material[i])};
@@ -186,7 +186,8 @@ struct DeviceShading::Impl {
   TraceLaunch launch;
   DevicePathSettings settings;
   uint32_t frame = 0;
-  size_t nv = 0, nw = 0;  // vertices, rays of the current wave
+  size_t nv = 0, nw = 0;     // vertices, rays of the current wave
+  bool wave_traced = false;  // the current wave's hits are already in `hits` (a fused first bounce)
   DeviceRayCounts counts;
   DeviceBuffer<Vec3> radiance;
   DeviceGBufferView gbuffer;  // the camera pass's, on the device (points, table_bsdf, table_emission)
@@ -305,9 +306,15 @@ void DeviceShading::next_event(int bounce) {
   d.shadow_rounds();
 }
 
-void DeviceShading::first_bounce(const BatchView& batch, size_t n) {
+Hit* DeviceShading::first_wave_hits(size_t n) {
+  impl_->hits.reserve(n);
+  return impl_->hits.get();
+}
+
+void DeviceShading::first_bounce(const BatchView& batch, size_t n, bool traced) {
   Impl& d = *impl_;
   d.nw = n;
+  d.wave_traced = traced;
   d.rays.reserve(n);
   d.info.reserve(n);
   if (n == 0) return;
@@ -333,7 +340,8 @@ void DeviceShading::sample(int bounce) {
 
 void DeviceShading::gather(int bounce) {
   Impl& d = *impl_;
-  d.trace(d.rays.get(), d.nw);
+  if (!d.wave_traced) d.trace(d.rays.get(), d.nw);
+  d.wave_traced = false;
   (bounce == 0 ? d.counts.secondary : d.counts.bounce) += d.nw;
   if (d.nw > 0) {
     gather_kernel<<<blocks_for(d.nw, kBlock), kBlock>>>(d.scene.view(), d.rays.get(), d.info.get(), d.hits.get(), d.nw,

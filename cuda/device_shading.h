@@ -5,7 +5,8 @@
 //   camera        the camera rays' hits (their G-buffer made on the device, cuda/device_gbuffer.h, read where it
 //                 lies): emitters and environment seen directly; the first path vertices
 //   next_event    two shadow rays per non-delta vertex (slots 2i, 2i + 1), traced in rounds through thin panes
-//   first_bounce  the generator's batch (already on the device) as the first wave
+//   first_bounce  the generator's batch (already on the device) as the first wave; its hits too when the first
+//                 bounce was fused (made and traced in one kernel)
 //   sample        BSDF-sampled directions of later bounces, Russian roulette
 //   gather        the wave traced; light found by it; the hits become the next vertices
 // Every array is per ray or per vertex and compacted in a fixed order (a prefix sum over keep flags), every
@@ -36,6 +37,9 @@ struct DevicePathSettings {
   uint32_t seed = 1;
   int max_depth = 5;
   int rr_depth = 3;
+  // The first bounce made and traced in one kernel per tile (cuda:pipeline=fused, cuda/fused_kernels.cu) instead
+  // of a materialized batch traced by the trace kernel; the same rays, hits and image bit for bit.
+  bool fused = false;
 };
 
 // Rays traced by one frame, by kind (as FrameStats of shading/path_tracer.h counts them).
@@ -64,8 +68,11 @@ class DeviceShading {
   size_t vertices() const;
   // Next-event estimation at the vertices of bounce b (their shadow rays traced here).
   void next_event(int bounce);
-  // The first wave: the generator's batch on the device (n rays; rays, pixel, pdf, weight, material).
-  void first_bounce(const BatchView& batch, size_t n);
+  // The first wave: the generator's batch on the device (n rays; rays, pixel, pdf, weight, material). traced: its
+  // hits are already in first_wave_hits(n) (a fused first bounce), so gather(0) does not trace it again.
+  void first_bounce(const BatchView& batch, size_t n, bool traced = false);
+  // Where a fused first bounce writes the hits of its n rays (valid until the next trace).
+  Hit* first_wave_hits(size_t n);
   // The wave leaving the vertices of bounce b (b >= 1).
   void sample(int bounce);
   // Traces the wave of bounce b, adds the light it finds, and makes the hits the next vertices.

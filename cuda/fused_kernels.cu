@@ -6,6 +6,10 @@
 // warp holds the rays a warp of the materialized batch holds wherever the tile's hits fill whole warps. For ours,
 // the group's shared direction is computed once per group in shared memory, as the paper does. Each hit is written
 // at its ray's pixel (hits[pixel]); the generation statistics are gathered per block in shared memory.
+// With a batch (FusedBatch: the device path tracer's fused first bounce, whose shading reads the rays' pixels,
+// pdfs and weights after the trace), each block also writes its rays into the batch at its tile's offset, in the
+// materialized generator's slots, and each hit at its ray's slot (hits[slot]); the trace still reads each ray from
+// shared memory, where the block made it.
 #include <cuda_runtime.h>
 
 #include "core/own_lobe.h"
@@ -34,18 +38,25 @@ __device__ inline Staged carve_staged(unsigned char* base, size_t state_bytes, u
   return Staged{rays, reinterpret_cast<uint32_t*>(rays + slots)};
 }
 
-// Thread t traces staged slot t (t < count) into hits[pixel]. Between two barriers of the caller.
+// `first` of trace_staged: each hit at its ray's pixel (no batch).
+constexpr size_t kAtPixel = ~size_t{0};
+
+// Thread t traces staged slot t (t < count) into hits[pixel], or with a batch into hits[first + t] (the staged
+// slot's batch slot). Between two barriers of the caller.
 template <class View, class Filter>
-__device__ void trace_staged(const View& view, const Filter& filter, const Staged& staged, uint32_t count, Hit* hits) {
-  if (threadIdx.x < count)
-    store_hit(hits, staged.pixel[threadIdx.x], trace_ray(view, staged.rays[threadIdx.x], filter));
+__device__ void trace_staged(const View& view, const Filter& filter, const Staged& staged, uint32_t count, Hit* hits,
+                             size_t first) {
+  if (threadIdx.x < count) {
+    const size_t at = first == kAtPixel ? staged.pixel[threadIdx.x] : first + threadIdx.x;
+    store_hit(hits, at, trace_ray(view, staged.rays[threadIdx.x], filter));
+  }
 }
 
 // noopt: a tile's hit pixels in row-major order, blockDim.x at a time (a tile may have more pixels than threads).
 template <class View, class Filter>
 __global__ void __launch_bounds__(256, 4)
     fused_noopt_kernel(View view, Filter filter, const ShadingPoint* points, const BsdfParams* materials, uint32_t seed,
-                       uint32_t frame, TileGrid grid, Hit* hits, unsigned long long* stats) {
+                       uint32_t frame, TileGrid grid, FusedBatch batch, Hit* hits, unsigned long long* stats) {
   extern __shared__ unsigned char shared_bytes[];
   __shared__ uint32_t warp_totals[32];
   __shared__ uint32_t block_slots[kStatCount];
@@ -54,23 +65,26 @@ __global__ void __launch_bounds__(256, 4)
   const Staged staged = carve_staged(shared_bytes, 0, blockDim.x);
   const TileRect rect = grid.rect(static_cast<int>(blockIdx.x));
   const auto m = static_cast<int>(rect.area());
+  size_t next = batch.offsets ? batch.offsets[blockIdx.x] : kAtPixel;  // the round's first batch slot
   for (int base = 0; base < m; base += blockDim.x) {
     const int i = base + static_cast<int>(threadIdx.x);
     const uint32_t p = i < m ? rect.pixel(static_cast<uint32_t>(i), grid.width) : 0u;
-    const bool hit = i < m && has_hit(points[p]);
+    const ShadingPoint sp = load_point(points, p);  // four 16-byte loads (core/shading_point.h)
+    const bool hit = i < m && has_hit(sp);
     uint32_t total;
     const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
     uint32_t flags = 0;
     if (hit) {
-      const ShadingPoint& sp = points[p];
       const DirectionSample s = sample_own_lobe(materials[sp.material], sp, seed, frame, p);
       const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, s);
       staged.rays[rank] = r.ray;
       staged.pixel[rank] = p;
       flags = r.flags;
+      if (batch.offsets) write_ray(batch.out, next + rank, sp, p, s);
     }
     tally_block(hit, flags, block_stats);  // its barriers also publish the staged rays
-    trace_staged(view, filter, staged, total, hits);
+    trace_staged(view, filter, staged, total, hits, next);
+    if (batch.offsets) next += total;
     __syncthreads();  // the staged slots are rewritten by the next round
   }
   __syncthreads();
@@ -81,7 +95,8 @@ __global__ void __launch_bounds__(256, 4)
 template <class View, class Filter>
 __global__ void __launch_bounds__(kMaxGroupTile)
     fused_group_kernel(View view, Filter filter, GroupingConfig config, TileGrid grid, const ShadingPoint* points,
-                       const BsdfParams* materials, size_t state_bytes, Hit* hits, unsigned long long* stats) {
+                       const BsdfParams* materials, size_t state_bytes, FusedBatch batch, Hit* hits,
+                       unsigned long long* stats) {
   extern __shared__ unsigned char shared_bytes[];
   __shared__ uint32_t warp_totals[32];
   __shared__ uint32_t block_slots[kStatCount];
@@ -96,14 +111,15 @@ __global__ void __launch_bounds__(kMaxGroupTile)
     // The tile's first position is 0 (start[0] = 0), so pos is the slot in group order.
     const uint32_t slot = config.order == RayOrder::Group ? b.sh.pos[i] : t.rank;
     const uint32_t p = b.rect.pixel(i, b.image_width);
-    const ShadingPoint& sp = points[p];
+    const ShadingPoint sp = load_point(points, p);
     const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, t.sample);
     staged.rays[slot] = r.ray;
     staged.pixel[slot] = p;
     flags = r.flags;
+    if (batch.offsets) write_pixel(b, batch.out, i, pixel_slot(b, i, t.rank, batch.offsets, nullptr), t.sample);
   }
   tally_block(t.hit, flags, block_stats);  // its barriers also publish the staged rays
-  trace_staged(view, filter, staged, t.hits, hits);
+  trace_staged(view, filter, staged, t.hits, hits, batch.offsets ? batch.offsets[b.tile] : kAtPixel);
   __syncthreads();
   block_stats.flush(stats);
 }
@@ -129,22 +145,22 @@ void allow_shared(Kernel kernel, size_t shared) {
 }  // namespace
 
 void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
-                        const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid, Hit* hits,
-                        unsigned long long* stats) {
+                        const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid,
+                        const FusedBatch& batch, Hit* hits, unsigned long long* stats) {
   const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
   const size_t shared = staged_bytes(0, static_cast<uint32_t>(block));
   with_trace_view(scene, launch, [&](auto view, auto filter) {
     auto kernel = fused_noopt_kernel<decltype(view), decltype(filter)>;
     allow_shared(kernel, shared);
     kernel<<<static_cast<unsigned>(grid.count()), block, shared>>>(view, filter, points, materials, seed, frame, grid,
-                                                                   hits, stats);
+                                                                   batch, hits, stats);
   });
   RAYCOH_CUDA_CHECK_LAUNCH();
 }
 
 void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, const GroupingConfig& config,
-                           const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials, Hit* hits,
-                           unsigned long long* stats) {
+                           const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials,
+                           const FusedBatch& batch, Hit* hits, unsigned long long* stats) {
   const auto full_m = static_cast<uint32_t>(grid.tile_w * grid.tile_h);
   if (full_m > static_cast<uint32_t>(kMaxGroupTile) || config.k < 1)
     throw Error("cuda: the fused trace groups tiles of at most 1024 pixels with k >= 1");
@@ -157,7 +173,7 @@ void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, 
     auto kernel = fused_group_kernel<decltype(view), decltype(filter)>;
     allow_shared(kernel, shared);
     kernel<<<static_cast<unsigned>(grid.count()), block, shared>>>(view, filter, config, grid, points, materials, state,
-                                                                   hits, stats);
+                                                                   batch, hits, stats);
   });
   RAYCOH_CUDA_CHECK_LAUNCH();
 }

@@ -14,7 +14,7 @@
 // is exactly its BSDF's (unbiased; tests/shared_sample_test.cpp checks it like `ours`); only the correlation
 // between pixels changes. Batch order and tiles as NoOpt (order=tile, tile=8x8 by default); every ray counts as
 // reused (its random numbers came from a shared stream) except with interleave=N where N^2 >= pixels.
-// The numbers rule is generators/shared_sample.h's, which the device kernel (cuda/device_generators.cu) calls too:
+// The numbers rule is generators/shared_sample.h's, which the device kernel (cuda/device_per_pixel.cu) calls too:
 // device_recipe() hands it over typed (DeviceRecipe::Kind::SharedSample).
 //
 // Parameters: sadeghi_params() and microjitter_params() below.

@@ -1,6 +1,6 @@
 // The per-pixel random numbers of the prior-art generators that share them between pixels (`sadeghi`,
 // `microjitter`; generators/shared_sample.cpp states the methods and their parameters), one rule for the CPU
-// generator and the device kernel (cuda/device_generators.cu). Plain structs and RAYCOH_HD functions only, under
+// generator and the device kernel (cuda/device_per_pixel.cu). Plain structs and RAYCOH_HD functions only, under
 // the project's floating-point rules (no FMA contraction on either side, the exact floorf and fminf), so the two
 // make the same rays bit for bit.
 #pragma once

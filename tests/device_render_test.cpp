@@ -1,8 +1,9 @@
-// --device cpu|cuda of `render`, `reference`, `quality` and `converge`: anything else a one-line error naming --device;
-// `cuda` either renders on the device path tracer with its GPU time labelled by its clock, or (no CUDA in the build,
-// no device) says why in one line. Without a device: the seams the device plugs into (a reference's frames from
-// another renderer and its own cache entry, the converge device clock's sums and ratios, the CSV columns and the
-// refusal of a CSV written before them). The device rows themselves: tests/gpu_device_rows_test.cpp (label gpu).
+// --device cpu|cuda|cuda:pipeline=fused of `render`, `reference`, `quality` and `converge`: anything else a one-line
+// error naming --device; `cuda` (and its fused form) either renders on the device path tracer with its GPU time
+// labelled by its clock, or (no CUDA in the build, no device) says why in one line. Without a device: the seams the
+// device plugs into (a reference's frames from another renderer and its own cache entry, the converge device clock's
+// sums and ratios, the CSV columns and the refusal of a CSV written before them). The device rows themselves:
+// tests/gpu_device_rows_test.cpp (label gpu).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -36,27 +37,35 @@ TEST(DeviceRender, DeviceIsCpuOrCuda) {
   test::expect_error("render --device gpu --res 8x8 --frames 1 --out /tmp/raycoh_device_gpu.pfm", "--device gpu");
   const std::string dir = temp_dir("device_option").string();
   test::expect_error("quality --device gpu --res 16x16 --frames 1 --ref-frames 1 --out " + dir + "/q.csv",
-                     "--device gpu: expected cpu or cuda");
+                     "--device gpu: expected cpu, cuda or cuda:pipeline=fused");
   test::expect_error("converge --device tpu --res 16x16 --time 1s --out " + dir + "/c.csv",
-                     "--device tpu: expected cpu or cuda");
+                     "--device tpu: expected cpu, cuda or cuda:pipeline=fused");
   test::expect_error("reference --device CUDA --res 16x16 --frames 1 --cache " + dir + "/cache", "--device CUDA");
+  // The device path tracer's first bounce is fused or materialized; the `cuda` tracer's other pipelines are not.
+  test::expect_error("render --device cuda:pipeline=host --res 8x8 --frames 1 --out /tmp/raycoh_device_host.pfm",
+                     "--device cuda:pipeline=host: expected cpu, cuda or cuda:pipeline=fused");
   EXPECT_FALSE(fs::exists(dir + "/q.csv"));
   EXPECT_FALSE(fs::exists(dir + "/c.csv"));
 }
 
 TEST(DeviceRender, CudaRendersWithALabelledGpuTimeOrSaysWhyNot) {
-  const auto out = temp_dir("device_render") / "r.pfm";
-  const CommandResult r =
-      run_raycoh("render --device cuda --scene cornell --res 16x16 --frames 2 --force --out " + out.string());
-  if (r.exit_code == 0) {
-    EXPECT_TRUE(fs::exists(out));
-    EXPECT_NE(r.output.find("GPU time"), std::string::npos) << r.output;
-    EXPECT_TRUE(r.output.find("measured") != std::string::npos || r.output.find("simulated") != std::string::npos)
-        << r.output;
-  } else {
-    EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("--device cuda"), std::string::npos) << r.output;
-    EXPECT_FALSE(fs::exists(out));
+  for (const std::string device : {"cuda", "cuda:pipeline=fused"}) {
+    SCOPED_TRACE(device);
+    const auto out = temp_dir("device_render") / "r.pfm";
+    const CommandResult r = run_raycoh("render --device " + device +
+                                       " --scene cornell --res 16x16 --frames 2 --force " + "--out " + out.string());
+    if (r.exit_code == 0) {
+      EXPECT_TRUE(fs::exists(out));
+      EXPECT_NE(r.output.find("GPU time"), std::string::npos) << r.output;
+      EXPECT_TRUE(r.output.find("measured") != std::string::npos || r.output.find("simulated") != std::string::npos)
+          << r.output;
+      EXPECT_EQ(r.output.find("first bounce fused") != std::string::npos, device != "cuda") << r.output;
+    } else {
+      EXPECT_EQ(r.exit_code, 2) << r.output;
+      EXPECT_NE(r.output.find("--device " + device + ": "), std::string::npos) << r.output;
+      EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+      EXPECT_FALSE(fs::exists(out));
+    }
   }
 }
 

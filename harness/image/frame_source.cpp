@@ -10,7 +10,7 @@ namespace raycoh {
 FrameSource::FrameSource(const std::string& device, const LoadedScene& ls, Generator& generator,
                          const RenderSettings& rs)
     : cpu_(std::make_unique<PathTracer>(ls.scene, *ls.tracer, generator, rs)) {
-  if (device == "cuda") device_ = std::make_unique<DeviceFrames>(ls, generator, rs);
+  if (raycoh::on_device(device)) device_ = std::make_unique<DeviceFrames>(ls, generator, rs, device);
 }
 
 FrameSource::~FrameSource() = default;

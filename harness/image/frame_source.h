@@ -33,7 +33,8 @@ struct SourcedFrame {
 
 class FrameSource {
  public:
-  // device: "cpu" or "cuda" (check_device has accepted it). ls and generator outlive the source.
+  // device: a --device value (cpu, cuda, cuda:pipeline=fused; check_device has accepted it). ls and generator outlive
+  // the source.
   FrameSource(const std::string& device, const LoadedScene& ls, Generator& generator, const RenderSettings& rs);
   ~FrameSource();
   FrameSource(const FrameSource&) = delete;

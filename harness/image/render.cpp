@@ -46,7 +46,7 @@ std::string render_device(const RenderOptions& o, LoadedScene& ls, Generator& ge
   Progress bar;
   const auto t0 = std::chrono::steady_clock::now();
   const DeviceRenderTotals t = render_on_device(
-      ls, generator, settings_of(o.common, o.common.seed), o.frames, acc,
+      ls, generator, settings_of(o.common, o.common.seed), o.common.device, o.frames, acc,
       [&](int f) { bar.update(0, 1, f, o.frames, fmt::format("{} {} (device)", ls.scene.name, o.generator.text())); });
   bar.clear();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -78,7 +78,7 @@ int run_render(const RenderOptions& o, const Provenance& provenance) {
   auto ls = load(o.scene, o.common.tracer);
   Accumulator acc(o.common.width, o.common.height);
   const std::string timing =
-      o.common.device == "cuda" ? render_device(o, *ls, *generator, acc) : render_cpu(o, *ls, *generator, acc);
+      on_device(o.common.device) ? render_device(o, *ls, *generator, acc) : render_cpu(o, *ls, *generator, acc);
   const Image image = acc.mean();
   const ToneMap tm = resolved(o.common.tone_map, image);
   write_image(image, o.out, tm);
@@ -89,9 +89,10 @@ int run_render(const RenderOptions& o, const Provenance& provenance) {
     std::printf("crop %d,%d,%d,%d -> %s\n", o.crops[i].x, o.crops[i].y, o.crops[i].w, o.crops[i].h, path.c_str());
   }
   // --device cuda traces every batch with the device trace kernel (BVH2), not with --tracer.
-  const std::string tracer = o.common.device == "cuda"
-                                 ? std::string("device trace kernel [bvh=bvh2]")
-                                 : fmt::format("{} [{}]", o.common.tracer.name, ls->tracer->params());
+  const std::string tracer =
+      on_device(o.common.device)
+          ? fmt::format("device trace kernel [bvh=bvh2{}]", fused_device(o.common.device) ? ", first bounce fused" : "")
+          : fmt::format("{} [{}]", o.common.tracer.name, ls->tracer->params());
   std::printf("%s, %s [%s], tracer %s: %d frames of %dx%d, seed %u, max depth %d\n", ls->scene.name.c_str(),
               o.generator.name.c_str(), generator->params().c_str(), tracer.c_str(), o.frames, o.common.width,
               o.common.height, o.common.seed, o.common.max_depth);

@@ -20,7 +20,8 @@ void bind_render_common(CLI::App* cmd, RenderCommon& c, RenderText& t) {
   t.exposure = c.tone_map.auto_exposure ? "auto" : fmt::format("{}", c.tone_map.exposure);
   cmd->add_option("--tracer", t.tracer, "tracer of every bounce (cpu or embree)")->capture_default_str();
   cmd->add_option("--device", c.device,
-                  "cpu, or cuda: every frame on the device path tracer (its GPU time labelled measured or simulated)")
+                  "cpu; cuda: every frame on the device path tracer (its GPU time labelled measured or simulated); "
+                  "cuda:pipeline=fused: the same with its first bounce made and traced in one kernel per tile")
       ->capture_default_str();
   cmd->add_option("--res", t.res, "resolution WxH")->capture_default_str();
   cmd->add_option("--seed", c.seed, "random seed")->capture_default_str();

@@ -18,20 +18,21 @@ namespace raycoh {
 namespace {
 
 [[maybe_unused]] constexpr const char* kNoCuda =
-    "{} cuda: this build has no CUDA (configure with nvcc found, RAYCOH_CUDA=ON)";
-[[maybe_unused]] constexpr const char* kNoDevice = "{} cuda: no CUDA device (this machine has no usable GPU)";
+    "{} {}: this build has no CUDA (configure with nvcc found, RAYCOH_CUDA=ON)";
+[[maybe_unused]] constexpr const char* kNoDevice = "{} {}: no CUDA device (this machine has no usable GPU)";
 
 }  // namespace
 
 void check_device(const std::string& device, const char* option) {
   if (device == "cpu") return;
-  if (device != "cuda")
+  if (device != "cuda" && !fused_device(device))
     throw Error(
-        fmt::format("{} {}: expected cpu or cuda (the device path tracer, cuda/device_path_tracer.h)", option, device));
+        fmt::format("{} {}: expected cpu, cuda or {} (the device path tracer, its first bounce materialized or fused)",
+                    option, device, kFusedDevice));
 #if defined(RAYCOH_HAVE_CUDA)
-  if (cuda::device_count() == 0) throw Error(fmt::format(fmt::runtime(kNoDevice), option));
+  if (cuda::device_count() == 0) throw Error(fmt::format(fmt::runtime(kNoDevice), option, device));
 #else
-  throw Error(fmt::format(fmt::runtime(kNoCuda), option));
+  throw Error(fmt::format(fmt::runtime(kNoCuda), option, device));
 #endif
 }
 
@@ -42,15 +43,16 @@ struct DeviceFrames::Impl {
   EmitterDistribution lights;
   cuda::DevicePathTracer tracer;
   std::vector<Vec3> radiance;
-  Impl(const LoadedScene& ls, const Generator& g, const RenderSettings& rs)
+  Impl(const LoadedScene& ls, const Generator& g, const RenderSettings& rs, bool fused)
       : lights(ls.scene),
         tracer(ls.scene, ls.bvh, lights.view(ls.scene), g,
-               cuda::DevicePathSettings{rs.width, rs.height, rs.seed, rs.max_depth, rs.rr_depth}) {}
+               cuda::DevicePathSettings{rs.width, rs.height, rs.seed, rs.max_depth, rs.rr_depth, fused}) {}
 };
 
-DeviceFrames::DeviceFrames(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs) {
-  if (cuda::device_count() == 0) throw Error(kNoDevice);
-  impl_ = std::make_unique<Impl>(ls, generator, rs);
+DeviceFrames::DeviceFrames(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs,
+                           const std::string& device) {
+  check_device(device);
+  impl_ = std::make_unique<Impl>(ls, generator, rs, fused_device(device));
   impl_->device = cuda::device_name();
   std::string lower = impl_->device;
   for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
@@ -81,9 +83,14 @@ struct DeviceFrames::Impl {
   std::string device, clock;
 };
 
-DeviceFrames::DeviceFrames(const LoadedScene&, const Generator&, const RenderSettings&) { throw Error(kNoCuda); }
+DeviceFrames::DeviceFrames(const LoadedScene&, const Generator&, const RenderSettings&, const std::string& device) {
+  check_device(device);
+  throw Error(fmt::format(fmt::runtime(kNoCuda), "--device", device));
+}
 
-DeviceFrame DeviceFrames::render(uint32_t, Accumulator&) { throw Error(kNoCuda); }
+DeviceFrame DeviceFrames::render(uint32_t, Accumulator&) {
+  throw Error(fmt::format(fmt::runtime(kNoCuda), "--device", "cuda"));
+}
 
 #endif
 
@@ -93,13 +100,14 @@ const std::string& DeviceFrames::device() const { return impl_->device; }
 
 void render_reference_on_device(ReferenceRequest& req, const LoadedScene& ls, std::shared_ptr<DeviceTime> time) {
   const RenderSettings rs = req.settings;
-  req.make_renderer = [&ls, rs, time]() -> FrameRenderer {
+  const std::string device = req.device;
+  req.make_renderer = [&ls, rs, device, time]() -> FrameRenderer {
     struct Frames {
       std::unique_ptr<Generator> noopt = make_generator({"noopt", ""});
       std::unique_ptr<DeviceFrames> frames;
     };
     auto f = std::make_shared<Frames>();
-    f->frames = std::make_unique<DeviceFrames>(ls, *f->noopt, rs);
+    f->frames = std::make_unique<DeviceFrames>(ls, *f->noopt, rs, device);
     time->clock = f->frames->clock();
     time->device = f->frames->device();
     return [f, time](uint32_t frame, Accumulator& acc) {
@@ -110,8 +118,9 @@ void render_reference_on_device(ReferenceRequest& req, const LoadedScene& ls, st
 }
 
 DeviceRenderTotals render_on_device(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs,
-                                    int frames, Accumulator& acc, const std::function<void(int)>& progress) {
-  DeviceFrames device(ls, generator, rs);
+                                    const std::string& on, int frames, Accumulator& acc,
+                                    const std::function<void(int)>& progress) {
+  DeviceFrames device(ls, generator, rs, on);
   DeviceRenderTotals totals;
   totals.device = device.device();
   totals.clock = device.clock();

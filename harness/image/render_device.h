@@ -19,8 +19,16 @@
 
 namespace raycoh {
 
-// Throws raycoh::Error naming `option` (--device, tune's --render-device): a value other than cpu or cuda, or cuda in a
-// build without CUDA or on a machine without a CUDA device.
+// The values of --device (and tune's --render-device): the CPU path tracer; the device path tracer with its first
+// bounce materialized (the device generator writes the batch, the trace kernel reads it); or with its first bounce
+// fused (cuda:pipeline=fused: one kernel per tile makes each ray and traces it from shared memory; noopt, ours and
+// contiguous). Both device forms render the same image bit for bit; rows and reference cache entries name which.
+inline constexpr const char* kFusedDevice = "cuda:pipeline=fused";
+inline bool on_device(const std::string& device) { return device != "cpu"; }
+inline bool fused_device(const std::string& device) { return device == kFusedDevice; }
+
+// Throws raycoh::Error naming `option` (--device, tune's --render-device): a value other than cpu, cuda or
+// cuda:pipeline=fused, or a device value in a build without CUDA or on a machine without a CUDA device.
 void check_device(const std::string& device, const char* option = "--device");
 
 // One frame on the device.
@@ -35,8 +43,9 @@ struct DeviceFrame {
 // The frames of one render (one generator, one seed) on the device path tracer; scene and generator outlive it.
 class DeviceFrames {
  public:
-  // Throws raycoh::Error in a build without CUDA, without a device, or for a generator without a device version.
-  DeviceFrames(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs);
+  // device: cuda or cuda:pipeline=fused (check_device). Throws raycoh::Error in a build without CUDA, without a
+  // device, or for a generator without a device version (fused: without a fused form).
+  DeviceFrames(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs, const std::string& device);
   ~DeviceFrames();
   DeviceFrames(const DeviceFrames&) = delete;
   DeviceFrames& operator=(const DeviceFrames&) = delete;
@@ -64,13 +73,14 @@ struct DeviceTime {
   int frames = 0;
   std::string clock, device;
 };
-// --device cuda of a reference: req.make_renderer renders NoOpt's frames on the device path tracer (made when the
-// first frame is needed, so a cached reference never touches the device), each frame's GPU time added to *time.
-// ls outlives the request.
+// --device cuda of a reference: req.make_renderer renders NoOpt's frames on the device path tracer of req.device
+// (made when the first frame is needed, so a cached reference never touches the device), each frame's GPU time
+// added to *time. ls outlives the request.
 void render_reference_on_device(ReferenceRequest& req, const LoadedScene& ls, std::shared_ptr<DeviceTime> time);
 
-// Frames 0 .. frames - 1 with settings rs into acc; progress(f) after frame f. Throws as DeviceFrames.
+// Frames 0 .. frames - 1 with settings rs on `device` into acc; progress(f) after frame f. Throws as DeviceFrames.
 DeviceRenderTotals render_on_device(const LoadedScene& ls, const Generator& generator, const RenderSettings& rs,
-                                    int frames, Accumulator& acc, const std::function<void(int)>& progress);
+                                    const std::string& device, int frames, Accumulator& acc,
+                                    const std::function<void(int)>& progress);
 
 }  // namespace raycoh

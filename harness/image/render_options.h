@@ -31,8 +31,9 @@ struct RenderCommon {
   // --metrics tonemapped|linear (quality, converge): the space of PSNR and SSIM (shading/metrics.h).
   MetricSpace metrics = MetricSpace::ToneMapped;
   std::string protocol = "ci";  // --protocol (quality, converge, reference): recorded in the CSV
-  // --device cpu|cuda: the path tracer every frame is rendered on, the CPU's (shading/path_tracer.h) or the device's
-  // (cuda/device_path_tracer.h, harness/image/render_device.h); checked by check_device.
+  // --device cpu|cuda|cuda:pipeline=fused: the path tracer every frame is rendered on, the CPU's
+  // (shading/path_tracer.h) or the device's (cuda/device_path_tracer.h, harness/image/render_device.h: its first
+  // bounce materialized or fused); checked by check_device.
   std::string device = "cpu";
   bool force = false;  // --force: replace an existing --out (and what its .partial holds)
 };

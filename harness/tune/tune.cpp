@@ -292,8 +292,9 @@ BoundCommand bind_tune(CLI::App& parent) {
   cmd->add_option("--tracer", s->tracer, "speed tracer (simt: modeled; cpu, embree, cuda: measured)")
       ->capture_default_str();
   cmd->add_option("--render-tracer", s->render_tracer, "tracer of the quality renders")->capture_default_str();
-  cmd->add_option("--render-device", o.error.device,
-                  "cpu, or cuda: the quality renders on the device path tracer (as quality --device)")
+  cmd->add_option(
+         "--render-device", o.error.device,
+         "cpu, cuda or cuda:pipeline=fused: the quality renders on the device path tracer (as quality --device)")
       ->capture_default_str();
   cmd->add_option("--res", s->res, "resolution WxH")->capture_default_str();
   cmd->add_option("--budget", o.error.budget, "error ratios to noopt: ds8=R,rel=R,flip=R,bias=none|any")
