@@ -37,7 +37,9 @@ StageWork stage_work(const Generator& generator, const Encoder& encoder, bool ph
     w.tile_w = r.tile_w;
     w.tile_h = r.tile_h;
   }
-  if (r.kind == DeviceRecipe::Kind::NoOpt && r.order == RayOrder::Scanline) {  // one-row tiles (device_generators.cu)
+  // The per-pixel kernels (noopt, sadeghi, microjitter) run scanline order as one-row tiles (device_generators.cu).
+  const bool per_pixel = r.kind == DeviceRecipe::Kind::NoOpt || r.kind == DeviceRecipe::Kind::SharedSample;
+  if (per_pixel && r.order == RayOrder::Scanline) {
     w.tile_w = width;
     w.tile_h = 1;
   }

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "core/error.h"
+#include "encoders/encoder.h"
+#include "generators/generator.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
 
@@ -123,6 +125,20 @@ TEST(StageModel, BandwidthBoundStagePricedByItsBytes) {
   EXPECT_NEAR(t, stage_launch_ms(g) + stage_stream_ms(g, bytes), 1e-12);
   g.gpu.dram_gb_s /= 2;  // half the bandwidth: the bytes term doubles
   EXPECT_NEAR(stage_permute_ms(g, bytes, n) - stage_launch_ms(g), 2 * (t - stage_launch_ms(g)), 1e-12);
+}
+
+// The per-pixel generators (noopt, sadeghi, microjitter) run order=scanline as one-row tiles on the device
+// (cuda/device_generators.cu plan): the model prices that grid, not the 8x8 tile of their tile order.
+TEST(StageModel, ScanlinePerPixelGeneratorsArePricedWithTheirOneRowTiles) {
+  const auto none = make_encoder({"none", ""}, EncoderContext{});
+  for (const char* name : {"noopt", "sadeghi", "microjitter"}) {
+    SCOPED_TRACE(name);
+    const StageWork scan = stage_work(*make_generator({name, "order=scanline"}), *none, false, 64, 32, 100);
+    EXPECT_EQ(scan.tile_w, 64);
+    EXPECT_EQ(scan.tile_h, 1);
+    const StageWork tile = stage_work(*make_generator({name, ""}), *none, false, 64, 32, 100);
+    EXPECT_EQ(tile.tile_w * tile.tile_h, 64);
+  }
 }
 
 }  // namespace
