@@ -208,7 +208,7 @@ const ParamTable& cuda_params() {
                    "(bvh=cwbvh only)"),
       choice_param("pipeline", "device", {"device", "fused", "host"},
                    "device: generate, key, sort, permute and trace on the GPU; fused: one kernel makes each tile's "
-                   "secondary rays and traces them (noopt, ours, contiguous; no batch, no encoder); host: trace "
+                   "secondary rays and traces them (every device generator; no batch, no encoder); host: trace "
                    "host-made batches"),
   };
   return table;

@@ -123,12 +123,10 @@ struct FusedBatch {
   const uint32_t* offsets = nullptr;
 };
 
-// The fused trace (cuda/fused_kernels.cu): one block per tile makes the tile's rays (noopt, or ours / contiguous
-// with `config`) and traces them with the launch's kernel form over `scene`; hits[pixel] for every ray's pixel,
-// or with a batch hits[slot] for every ray's batch slot.
-void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
-                        const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid,
-                        const FusedBatch& batch, Hit* hits, unsigned long long* stats);
+// The fused trace of ours / contiguous (cuda/fused_kernels.cu; noopt, sadeghi and microjitter:
+// launch_fused_per_pixel, cuda/pixel_numbers.cuh): one block per tile makes the tile's rays with `config` and
+// traces them with the launch's kernel form over `scene`; hits[pixel] for every ray's pixel, or with a batch
+// hits[slot] for every ray's batch slot.
 void launch_fused_grouping(const DeviceScene& scene, const TraceLaunch& launch, const GroupingConfig& config,
                            const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials,
                            const FusedBatch& batch, Hit* hits, unsigned long long* stats);

@@ -60,10 +60,6 @@ DeviceRecipe gpu_recipe(const Generator& cpu, bool fused) {
   const DeviceRecipe r = cpu.device_recipe();
   if (r.kind == DeviceRecipe::Kind::None)
     throw Error(std::string("this generator has no GPU version; GPU generators: ") + kGpuGeneratorNames);
-  if (fused && r.kind == DeviceRecipe::Kind::SharedSample)
-    throw Error(
-        "sadeghi and microjitter have no fused form (cuda:pipeline=fused makes noopt, ours and contiguous); "
-        "use cuda:pipeline=device");
   if (fused && r.kind == DeviceRecipe::Kind::Grouping && r.order == RayOrder::Scanline)
     throw Error(
         "order=scanline has no fused form (a fused block makes one tile's rays); use order=tile or order=group, or "
@@ -264,13 +260,14 @@ void DeviceGenerator::launch_fused(uint32_t seed, const Generator& cpu, const De
     m.timer.start();
   }
   const DeviceScene scene = tracer.device_scene();
+  const SharedNumbers numbers{p.sharing, !shared_sample_all_own(p.sharing, m.width, m.height)};
   if (p.tiles > 0 && m.hits > 0) {
     if (p.grouping)
       launch_fused_grouping(scene, trace, p.config, p.grid, m.point_data, m.point_materials, batch, hits,
                             m.stats.get());
     else
-      launch_fused_noopt(scene, trace, m.point_data, m.point_materials, seed, m.frame, p.grid, batch, hits,
-                         m.stats.get());
+      launch_fused_per_pixel(scene, trace, m.point_data, m.point_materials, seed, m.frame, p.grid, batch, hits,
+                             m.stats.get(), p.shared ? &numbers : nullptr);
   }
   m.timer.stop();
   m.launched = true;

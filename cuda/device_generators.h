@@ -29,8 +29,8 @@
 // its parameter text.
 // The G-buffer is not a generator's: it is uploaded (upload) or, in the device pipeline and the device path
 // tracer, made on the device by the camera pass (cuda/device_gbuffer.h) and read where it lies (use_device); it is
-// not part of a generator's overhead. Not on the GPU: the `direct` ablation; sadeghi and microjitter have no fused
-// form (launch_fused).
+// not part of a generator's overhead. Not on the GPU: the `direct` ablation; ours / contiguous in scanline order
+// have no fused form (launch_fused: a block makes one tile's rays).
 #pragma once
 
 #include <cstdint>
@@ -65,8 +65,8 @@ void sincos_turns_gpu(const float* u, size_t n, float* s, float* c);
 inline constexpr const char* kGpuGeneratorNames = "noopt, ours, contiguous, sadeghi, microjitter";
 
 // Throws raycoh::Error unless cpu's device_recipe() has a GPU version (kGpuGeneratorNames), for ours / contiguous
-// tiles of more than 1024 pixels (one thread per pixel), and with `fused` (cuda:pipeline=fused) for sadeghi and
-// microjitter, which have no fused form.
+// tiles of more than 1024 pixels (one thread per pixel), and with `fused` (cuda:pipeline=fused) for ours /
+// contiguous in scanline order, which have no fused form.
 void check_gpu_generator(const Generator& cpu, bool fused = false);
 
 // The scene's materials on the device (uploaded once), the G-buffer (with its material table when the scene has

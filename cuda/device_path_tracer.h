@@ -10,7 +10,8 @@
 //      comes to the host (download_gbuffer copies the rest where a caller asks for it);
 //   2. the first bounce's batch made by the device generator (cuda/device_generators.h: noopt, ours, contiguous,
 //      sadeghi, microjitter), equal to the CPU generator's batch bit for bit; materialized (the batch written,
-//      then traced by the trace kernel) or, with settings.fused (cuda:pipeline=fused; noopt, ours, contiguous),
+//      then traced by the trace kernel) or, with settings.fused (cuda:pipeline=fused; all five, ours and
+//      contiguous in tile or group order),
 //      made and traced in one kernel per tile that reads each ray from shared memory and also writes the batch
 //      for the wave's shading (cuda/fused_kernels.cu): the same rays and hits;
 //   3. per bounce: next-event estimation, bounce sampling (later bounces), the wave traced and gathered

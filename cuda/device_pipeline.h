@@ -16,13 +16,13 @@
 // acosf may round a direction bit differently from glibc's: cuda/device_keys.h).
 //
 // What has no device version is refused, never run on the CPU in its place (device_pipeline_refusal): the
-// generator direct (sadeghi and microjitter with pipeline=fused), ours / contiguous tiles of more than 1024 pixels,
-// and the `window` encoder. `cuda:pipeline=host` traces host-made batches instead (the batches every other tracer
-// traces).
+// generator direct (ours / contiguous in scanline order with pipeline=fused), ours / contiguous tiles of more than 1024
+// pixels, and the `window` encoder. `cuda:pipeline=host` traces host-made batches instead (the batches every other
+// tracer traces).
 //
 // `cuda:pipeline=fused` (PipelineTrace::fused): a secondary pass is one kernel that makes each tile's rays from
-// the G-buffer and traces them where they are made (noopt, ours and contiguous, in tile or group order; no
-// encoder with keys). Its time is the pass's trace_ms (generation included; gen_ms is 0). download_secondary then
+// the G-buffer and traces them where they are made (every device generator, ours and contiguous in tile or group order;
+// no encoder with keys). Its time is the pass's trace_ms (generation included; gen_ms is 0). download_secondary then
 // gives the batch made again by the materialized generator (the fused pass keeps none) and the fused hits in its order,
 // hits[i] = the hit the fused kernel wrote at ray i's pixel.
 #pragma once

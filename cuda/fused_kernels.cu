@@ -12,11 +12,14 @@
 // shared memory, where the block made it.
 #include <cuda_runtime.h>
 
+#include <type_traits>
+
 #include "core/own_lobe.h"
 #include "core/secondary_ray.h"
 #include "cuda/cuda_check.cuh"
 #include "cuda/device_common.cuh"
 #include "cuda/device_grouping.cuh"
+#include "cuda/pixel_numbers.cuh"
 #include "cuda/ray_io.cuh"
 #include "cuda/trace_ray.cuh"
 
@@ -52,11 +55,13 @@ __device__ void trace_staged(const View& view, const Filter& filter, const Stage
   }
 }
 
-// noopt: a tile's hit pixels in row-major order, blockDim.x at a time (a tile may have more pixels than threads).
-template <class View, class Filter>
+// noopt, sadeghi, microjitter (Numbers: cuda/pixel_numbers.cuh, as the materialized kernel samples): a tile's hit
+// pixels in row-major order, blockDim.x at a time (a tile may have more pixels than threads).
+template <class View, class Filter, class Numbers>
 __global__ void __launch_bounds__(256, 4)
-    fused_noopt_kernel(View view, Filter filter, const ShadingPoint* points, const BsdfParams* materials, uint32_t seed,
-                       uint32_t frame, TileGrid grid, FusedBatch batch, Hit* hits, unsigned long long* stats) {
+    fused_per_pixel_kernel(View view, Filter filter, const ShadingPoint* points, const BsdfParams* materials,
+                           uint32_t seed, uint32_t frame, TileGrid grid, FusedBatch batch, Hit* hits,
+                           unsigned long long* stats, Numbers numbers) {
   extern __shared__ unsigned char shared_bytes[];
   __shared__ uint32_t warp_totals[32];
   __shared__ uint32_t block_slots[kStatCount];
@@ -75,7 +80,8 @@ __global__ void __launch_bounds__(256, 4)
     const uint32_t rank = block_exclusive_count(hit, warp_totals, total);
     uint32_t flags = 0;
     if (hit) {
-      const DirectionSample s = sample_own_lobe(materials[sp.material], sp, seed, frame, p);
+      const auto x = static_cast<uint32_t>(rect.x0 + i % rect.w), y = static_cast<uint32_t>(rect.y0 + i / rect.w);
+      const DirectionSample s = numbers(materials[sp.material], sp, seed, frame, x, y, p);
       const SecondaryRay r = make_secondary_ray(sp.position, sp.ng, sp.ns, s);
       staged.rays[rank] = r.ray;
       staged.pixel[rank] = p;
@@ -87,6 +93,9 @@ __global__ void __launch_bounds__(256, 4)
     if (batch.offsets) next += total;
     __syncthreads();  // the staged slots are rewritten by the next round
   }
+  // sadeghi, microjitter: every ray's numbers came from a shared stream unless each pixel has its own.
+  if constexpr (Numbers::kCountsReuse)
+    if (threadIdx.x == 0 && numbers.reused) block_slots[kStatReused] += block_slots[kStatRays];
   __syncthreads();
   block_stats.flush(stats);
 }
@@ -144,17 +153,24 @@ void allow_shared(Kernel kernel, size_t shared) {
 
 }  // namespace
 
-void launch_fused_noopt(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
-                        const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid,
-                        const FusedBatch& batch, Hit* hits, unsigned long long* stats) {
+void launch_fused_per_pixel(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
+                            const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid,
+                            const FusedBatch& batch, Hit* hits, unsigned long long* stats,
+                            const SharedNumbers* shared_numbers) {
   const int block = std::min(256, round_up_warp(grid.tile_w * grid.tile_h));
   const size_t shared = staged_bytes(0, static_cast<uint32_t>(block));
-  with_trace_view(scene, launch, [&](auto view, auto filter) {
-    auto kernel = fused_noopt_kernel<decltype(view), decltype(filter)>;
-    allow_shared(kernel, shared);
-    kernel<<<static_cast<unsigned>(grid.count()), block, shared>>>(view, filter, points, materials, seed, frame, grid,
-                                                                   batch, hits, stats);
-  });
+  const auto run = [&](const auto& numbers) {
+    with_trace_view(scene, launch, [&](auto view, auto filter) {
+      auto kernel = fused_per_pixel_kernel<decltype(view), decltype(filter), std::decay_t<decltype(numbers)>>;
+      allow_shared(kernel, shared);
+      kernel<<<static_cast<unsigned>(grid.count()), block, shared>>>(view, filter, points, materials, seed, frame, grid,
+                                                                     batch, hits, stats, numbers);
+    });
+  };
+  if (shared_numbers)
+    run(*shared_numbers);
+  else
+    run(OwnNumbers{});
   RAYCOH_CUDA_CHECK_LAUNCH();
 }
 

@@ -1,6 +1,6 @@
-// How a pixel of the per-pixel generators (noopt, sadeghi, microjitter) samples its direction, and the launch of
-// their kernel (cuda/device_per_pixel.cu). Shared by that kernel and the host side that picks it
-// (cuda/device_generators.cu). Included by .cu files only.
+// How a pixel of the per-pixel generators (noopt, sadeghi, microjitter) samples its direction, and the launches of
+// their kernel (cuda/device_per_pixel.cu) and its fused form (cuda/fused_kernels.cu). Shared by those kernels and
+// the host side that picks them (cuda/device_generators.cu). Included by .cu files only.
 #pragma once
 
 #include <cstdint>
@@ -36,5 +36,11 @@ struct SharedNumbers {
 void launch_per_pixel_kernel(const TileGrid& grid, const ShadingPoint* points, const BsdfParams* materials,
                              uint32_t seed, uint32_t frame, const uint32_t* offsets, const BatchView& out,
                              unsigned long long* stats, const SharedNumbers* shared);
+
+// Its fused form (cuda/fused_kernels.cu): the same rays made and traced by one block per tile with the launch's
+// kernel form over `scene`; hits and batch as launch_fused_grouping's (cuda/device_common.cuh).
+void launch_fused_per_pixel(const DeviceScene& scene, const TraceLaunch& launch, const ShadingPoint* points,
+                            const BsdfParams* materials, uint32_t seed, uint32_t frame, const TileGrid& grid,
+                            const FusedBatch& batch, Hit* hits, unsigned long long* stats, const SharedNumbers* shared);
 
 }  // namespace raycoh::cuda

@@ -3,10 +3,11 @@
 // writes the batch the wave's shading reads. Against the materialized first bounce (the batch written by the device
 // generator, then traced by the trace kernel) on the same seed: the first-bounce batch byte for byte, the
 // generation statistics, the ray counts and every frame's radiance bit for bit, for noopt, ours (tile and group
-// order) and contiguous, on built-in scenes and an alpha-masked glTF sample (the fused kernel's any-hit test) when
-// the samples are there. The materialized path equals the CPU's (tests/gpu_path_tracer_test.cpp), so the fused
-// one does too. Generators without a fused form are refused in one line before anything reaches the device.
-// Label `gpu`; skips without a device.
+// order), contiguous, sadeghi and microjitter (scanline order too), on built-in scenes and an alpha-masked glTF sample
+// (the fused kernel's any-hit test) when the samples are there. The materialized path equals the CPU's
+// (tests/gpu_path_tracer_test.cpp), so the fused one does too. ours / contiguous in scanline order have no fused form
+// (a block makes one tile's rays): refused in one line before anything reaches the device. Label `gpu`; skips without a
+// device.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -71,7 +72,8 @@ void expect_same_stats(const cuda::DeviceFrameStats& f, const cuda::DeviceFrameS
 
 TEST(GpuFusedPath, FirstBounceAndFramesEqualTheMaterializedPathBitForBit) {
   SKIP_WITHOUT_GPU();
-  const std::vector<PluginSpec> generators = {{"noopt", ""}, {"ours", ""}, {"ours", "order=group"}, {"contiguous", ""}};
+  const std::vector<PluginSpec> generators = {{"noopt", ""},      {"ours", ""},    {"ours", "order=group"},
+                                              {"contiguous", ""}, {"sadeghi", ""}, {"microjitter", "order=scanline"}};
   for (const std::string& spec : fused_scenes()) {
     SCOPED_TRACE(spec);
     const Scene scene = load_scene(spec);
@@ -99,15 +101,14 @@ TEST(GpuFusedPath, FirstBounceAndFramesEqualTheMaterializedPathBitForBit) {
   }
 }
 
-// The fused form makes noopt, ours and contiguous in tile or group order; the rest is refused when the path tracer
-// is made, in one line naming the way out, before any device call (so this runs without a device too).
-TEST(GpuFusedPath, GeneratorsWithoutAFusedFormAreRefused) {
+// A fused block makes one tile's rays: ours and contiguous in scanline order are refused when the path tracer is
+// made, in one line naming the way out, before any device call (so this runs without a device too).
+TEST(GpuFusedPath, ScanlineGroupingHasNoFusedFormAndIsRefused) {
   const Scene scene = load_scene("cornell");
   const Bvh bvh = build_bvh(scene);
   const EmitterDistribution lights(scene);
   const RenderSettings rs = test::path_settings(1);
-  for (const PluginSpec& g : std::vector<PluginSpec>{
-           {"sadeghi", ""}, {"microjitter", ""}, {"ours", "order=scanline"}, {"contiguous", "order=scanline"}}) {
+  for (const PluginSpec& g : std::vector<PluginSpec>{{"ours", "order=scanline"}, {"contiguous", "order=scanline"}}) {
     SCOPED_TRACE(g.text());
     auto generator = make_generator(g);
     const std::string why = test::error_of(

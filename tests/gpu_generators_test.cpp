@@ -302,9 +302,15 @@ TEST(GpuGenerators, TakeTheCpuGeneratorsConfigAndRejectWhatTheGpuCannotDo) {
   EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"direct", ""})), Error);
   EXPECT_THROW(cuda::check_gpu_generator(*make_generator({"ours", "tile=64x64"})), Error);  // over one block
   for (const char* g : {"sadeghi", "microjitter"}) {
-    EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({g, "tile=64x64"}))) << g;  // any tile: a loop
-    const std::string why = test::error_of([&] { cuda::check_gpu_generator(*make_generator({g, ""}), true); });
-    EXPECT_NE(why.find("no fused form"), std::string::npos) << why;
+    EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({g, "tile=64x64"}))) << g;            // any tile: a loop
+    EXPECT_NO_THROW(cuda::check_gpu_generator(*make_generator({g, "order=scanline"}), true)) << g;  // fused too
+  }
+  // A fused block makes one tile's rays: ours / contiguous in scanline order have no fused form.
+  for (const char* g : {"ours", "contiguous"}) {
+    const std::string why = test::error_of([&] {
+      cuda::check_gpu_generator(*make_generator({g, "order=scanline"}), true);
+    });
+    EXPECT_NE(why.find("order=scanline has no fused form"), std::string::npos) << why;
   }
   const std::string why = test::error_of([] { cuda::check_gpu_generator(*make_generator({"direct", ""})); });
   EXPECT_NE(why.find("GPU generators: noopt, ours, contiguous, sadeghi, microjitter"), std::string::npos) << why;

@@ -1,10 +1,11 @@
 // `sadeghi` and `microjitter` on the device (cuda/device_generators.h: the per-pixel kernel with the numbers rule of
 // generators/shared_sample.h) where the paper-protocol runs use them: the device pipeline (`cuda` with
-// pipeline=device) accepts them and its batch, statistics and hits equal the host pipeline's (the CPU generator
-// on the device's own G-buffer, traced by the `cpu` tracer) bit for bit; pipeline=fused refuses them in one line;
-// the device path tracer accepts them and its first bounce equals the CPU generator's on the CPU camera pass. The
-// batch-for-batch test over stiff G-buffers is GpuGenerators.SharedSampleBatchesEqualTheCpuByteForByte. Small
-// (48x32, 16x16 under RAYCOH_GPU_TEST_SIZE=sim); skips without a device. Label `gpu`.
+// pipeline=device, and its fused form pipeline=fused, which makes and traces each tile's rays in one kernel)
+// accepts them and its batch, statistics and hits equal the host pipeline's (the CPU generator on the device's own
+// G-buffer, traced by the `cpu` tracer) bit for bit; the device path tracer accepts them and its first bounce equals
+// the CPU generator's on the CPU camera pass. The batch-for-batch test over stiff G-buffers is
+// GpuGenerators.SharedSampleBatchesEqualTheCpuByteForByte. Small (48x32, 16x16 under RAYCOH_GPU_TEST_SIZE=sim); skips
+// without a device. Label `gpu`.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -64,54 +65,41 @@ void expect_same_rays(const RayBatch& gpu, const RayBatch& cpu) {
 TEST(GpuSharedSample, TheDevicePipelineMakesAndTracesTheHostPipelinesBatch) {
   SKIP_WITHOUT_GPU();
   const int width = test::gpu_test_size(48, 16), height = test::gpu_test_size(32, 16);
-  for (const char* name : {"cornell", "voxels:size=16"}) {
-    SCOPED_TRACE(name);
-    const Scene scene = load_scene(name);
-    const Bvh bvh = build_bvh(scene);
-    auto cpu = make_tracer({"cpu", ""}, scene, bvh);
-    auto cuda = make_tracer({"cuda", ""}, scene, bvh);
-    DevicePipeline* pipeline = cuda->device_pipeline();
-    ASSERT_NE(pipeline, nullptr) << "pipeline=device is the default";
-    pipeline->primary(width, height, 8, 8, kSeed, kFrame, true);
-    pipeline->first_hits_gbuffer();
-    const GBuffer g = pipeline->download_gbuffer();  // equal to the host's (GpuPipeline.CameraRaysHitsAndGBuffer...)
-    ASSERT_GT(g.hits, 0u);
-    auto none = make_encoder({"none", ""}, EncoderContext{scene.bounds, &bvh});
-    for (const std::string& spec : shared_specs()) {
-      SCOPED_TRACE(spec);
-      auto generator = make_generator(parse_plugin_spec(spec));
-      ASSERT_EQ(pipeline->refusal(spec, *generator, *none), "");
-      RayBatch host, generated, permuted;
-      GenerationStats host_stats, device_stats;
-      generator->generate(scene, g, kSeed, host, host_stats);
-      pipeline->secondary(*generator, *none, PermuteMode::Physical, kSeed, device_stats);
-      std::vector<uint32_t> order;
-      std::vector<Hit> hits;
-      pipeline->download_secondary(generated, order, permuted, hits);
-      expect_same_rays(generated, host);
-      EXPECT_EQ(device_stats.rays, host_stats.rays);
-      EXPECT_EQ(device_stats.below_geometric, host_stats.below_geometric);
-      EXPECT_EQ(device_stats.below_shading, host_stats.below_shading);
-      EXPECT_EQ(device_stats.non_finite, host_stats.non_finite);
-      EXPECT_EQ(device_stats.reused_rays, host_stats.reused_rays);
-      EXPECT_EQ(device_stats.reused_rays, host.size());  // interleave 4: 16 streams for hundreds of pixels
-      EXPECT_EQ(test::differing_hits(hits, test::trace_with(*cpu, host.rays)), 0u);
+  for (const char* name : {"cornell", "voxels:size=16"})
+    for (const char* form : {"pipeline=device", "pipeline=fused"}) {
+      SCOPED_TRACE(std::string(name) + " " + form);
+      const Scene scene = load_scene(name);
+      const Bvh bvh = build_bvh(scene);
+      auto cpu = make_tracer({"cpu", ""}, scene, bvh);
+      auto cuda = make_tracer({"cuda", form}, scene, bvh);
+      DevicePipeline* pipeline = cuda->device_pipeline();
+      ASSERT_NE(pipeline, nullptr) << "pipeline=device is the default";
+      pipeline->primary(width, height, 8, 8, kSeed, kFrame, true);
+      pipeline->first_hits_gbuffer();
+      const GBuffer g = pipeline->download_gbuffer();  // equal to the host's (GpuPipeline.CameraRaysHitsAndGBuffer...)
+      ASSERT_GT(g.hits, 0u);
+      auto none = make_encoder({"none", ""}, EncoderContext{scene.bounds, &bvh});
+      for (const std::string& spec : shared_specs()) {
+        SCOPED_TRACE(spec);
+        auto generator = make_generator(parse_plugin_spec(spec));
+        ASSERT_EQ(pipeline->refusal(spec, *generator, *none), "");
+        RayBatch host, generated, permuted;
+        GenerationStats host_stats, device_stats;
+        generator->generate(scene, g, kSeed, host, host_stats);
+        pipeline->secondary(*generator, *none, PermuteMode::Physical, kSeed, device_stats);
+        std::vector<uint32_t> order;
+        std::vector<Hit> hits;
+        pipeline->download_secondary(generated, order, permuted, hits);
+        expect_same_rays(generated, host);
+        EXPECT_EQ(device_stats.rays, host_stats.rays);
+        EXPECT_EQ(device_stats.below_geometric, host_stats.below_geometric);
+        EXPECT_EQ(device_stats.below_shading, host_stats.below_shading);
+        EXPECT_EQ(device_stats.non_finite, host_stats.non_finite);
+        EXPECT_EQ(device_stats.reused_rays, host_stats.reused_rays);
+        EXPECT_EQ(device_stats.reused_rays, host.size());  // interleave 4: 16 streams for hundreds of pixels
+        EXPECT_EQ(test::differing_hits(hits, test::trace_with(*cpu, host.rays)), 0u);
+      }
     }
-  }
-}
-
-TEST(GpuSharedSample, TheFusedPipelineRefusesThemInOneLine) {
-  SKIP_WITHOUT_GPU();
-  const Scene scene = load_scene("cornell");
-  const Bvh bvh = build_bvh(scene);
-  auto fused = make_tracer({"cuda", "pipeline=fused"}, scene, bvh);
-  ASSERT_NE(fused->device_pipeline(), nullptr);
-  auto none = make_encoder({"none", ""}, EncoderContext{scene.bounds, &bvh});
-  for (const std::string& spec : shared_specs()) {
-    const std::string why = fused->device_pipeline()->refusal(spec, *make_generator(parse_plugin_spec(spec)), *none);
-    EXPECT_NE(why.find("no fused form"), std::string::npos) << why;
-    EXPECT_EQ(why.find('\n'), std::string::npos) << why;
-  }
 }
 
 TEST(GpuSharedSample, TheDevicePathTracersFirstBounceEqualsTheCpuGenerators) {

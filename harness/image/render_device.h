@@ -21,8 +21,9 @@ namespace raycoh {
 
 // The values of --device (and tune's --render-device): the CPU path tracer; the device path tracer with its first
 // bounce materialized (the device generator writes the batch, the trace kernel reads it); or with its first bounce
-// fused (cuda:pipeline=fused: one kernel per tile makes each ray and traces it from shared memory; noopt, ours and
-// contiguous). Both device forms render the same image bit for bit; rows and reference cache entries name which.
+// fused (cuda:pipeline=fused: one kernel per tile makes each ray and traces it from shared memory; every device
+// generator, ours and contiguous in tile or group order). Both device forms render the same image bit for bit; rows and
+// reference cache entries name which.
 inline constexpr const char* kFusedDevice = "cuda:pipeline=fused";
 inline bool on_device(const std::string& device) { return device != "cpu"; }
 inline bool fused_device(const std::string& device) { return device == kFusedDevice; }
