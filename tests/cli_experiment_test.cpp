@@ -325,8 +325,9 @@ TEST(CliExperiment, ValidateMeasuresTheTablesWithIntervals) {
     }
     EXPECT_LE(std::stod(row.at("ratio_lo")), std::stod(row.at("measured_ratio")) + 1e-9) << row.at("row");
     EXPECT_GE(std::stod(row.at("ratio_hi")), std::stod(row.at("measured_ratio")) - 1e-9) << row.at("row");
-    if (row.at("table") != "bound")
+    if (row.at("table") != "bound") {
       EXPECT_TRUE(row.at("paper_in_interval") == "yes" || row.at("paper_in_interval") == "no");
+    }
   }
   EXPECT_EQ(count_lines(out.string() + ".table1-rows.csv"), 1 + 4 * (7 + 1));  // four stand-ins, 7 methods + primary
 }
