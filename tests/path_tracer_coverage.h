@@ -77,7 +77,9 @@ inline const std::vector<CoveredScene>& coverage_list() {
       {"lit_cornell", "lit cornell", "cornell",
        kDiffuse | kGlossy | kEmissive | kEmitterLight | kPointLight | kSpotLight | kDirectionalLight},
       {"sibenik_lamps", "shared", "sibenik_lamps", kDiffuse | kTransmissive | kEmitterLight},
-      {"conference_lamps", "shared", "conference_lamps", kDiffuse | kEmissive | kEmitterLight},
+      {"conference_lamps", "shared", "conference_lamps", kDiffuse | kEmissive | kEmitterLight, nullptr,
+       "16 frames of 16x16 are too noisy to reject a 1.5x brighter image (max |z| 2.66 under GPGPU-Sim, "
+       "2026-11-29)"},
       {"country_kitchen", "shared", "country_kitchen",
        kDiffuse | kGlossy | kSpecular | kTransmissive | kEmissive | kEmitterLight},
       {"DamagedHelmet", "sample", "DamagedHelmet",
