@@ -21,8 +21,9 @@ namespace {
 
 constexpr int kPrimaryTile = 8;  // the CPU path tracer's camera-ray order (shading/path_tracer.cpp)
 
-// The frame's stages on its StageClock (DeviceFrameStages, in this order).
-enum Stage : int { kCamera, kGeneration, kNextEvent, kSample, kTrace, kGather, kStages };
+// The frame's stages on its StageClock (DeviceFrameStages, in this order); the trace kernels of the first and
+// second bounces' waves have stages of their own (DeviceFrameStages::trace_ms holds them too).
+enum Stage : int { kCamera, kGeneration, kNextEvent, kSample, kTrace, kGather, kTraceFirst, kTraceSecond, kStages };
 
 }  // namespace
 
@@ -71,7 +72,7 @@ struct DevicePathTracer::Impl {
         shading(shading_scene, *tracer, l, ps),
         gbuffer(s, shading_scene.view().mesh),
         device_generator(s) {
-    shading.set_clock(&clock, kTrace);
+    shading.set_clock(&clock, TraceStages{kTrace, kTraceFirst, kTraceSecond});
   }
 
   // Camera rays on the device, traced; their G-buffer made on the device (only its hit count is read back).
@@ -95,7 +96,7 @@ struct DevicePathTracer::Impl {
     device_generator.use_device(gbuffer.view());
     const size_t n = device_generator.device_count();
     if (settings.fused) {
-      const int was = clock.enter(kTrace);
+      const int was = clock.enter(kTraceFirst);
       device_generator.launch_fused(settings.seed, generator, *tracer, launch, shading.first_wave_hits(n), true);
       clock.enter(was);
     } else {
@@ -113,8 +114,10 @@ struct DevicePathTracer::Impl {
     t.generation_ms = ms[kGeneration];
     t.next_event_ms = ms[kNextEvent];
     t.sample_ms = ms[kSample];
-    t.trace_ms = ms[kTrace];
+    t.trace_ms = ms[kTrace] + ms[kTraceFirst] + ms[kTraceSecond];
     t.gather_ms = ms[kGather];
+    t.first_wave_trace_ms = ms[kTraceFirst];
+    t.second_wave_trace_ms = ms[kTraceSecond];
     return t;
   }
 };

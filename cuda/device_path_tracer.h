@@ -55,6 +55,9 @@ struct DeviceFrameStages {
   float trace_ms = 0.f;       // every trace kernel: camera rays, shadow rounds, waves
   float gather_ms = 0.f;      // each wave's hits shaded, its light added, the next vertices compacted
   float sum_ms() const { return camera_ms + generation_ms + next_event_ms + sample_ms + trace_ms + gather_ms; }
+  // Of trace_ms: the trace kernel of the first bounce's wave (fused: the kernel that makes and traces it) and of
+  // the second bounce's wave (rays.secondary and rays.second rays), so that their trace speeds can be compared.
+  float first_wave_trace_ms = 0.f, second_wave_trace_ms = 0.f;
 };
 
 struct DeviceFrameStats {

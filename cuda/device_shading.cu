@@ -192,7 +192,7 @@ struct DeviceShading::Impl {
   DeviceBuffer<Vec3> radiance;
   DeviceGBufferView gbuffer;  // the camera pass's, on the device (points, table_bsdf, table_emission)
   StageClock* clock = nullptr;
-  int trace_stage = 0;
+  TraceStages trace_stages;
   DeviceBuffer<Vertex> verts, sparse_verts;
   DeviceBuffer<ShadowSlot> slots;
   DeviceBuffer<Ray> rays, sparse_rays, shadow_rays;
@@ -229,11 +229,11 @@ struct DeviceShading::Impl {
     return static_cast<size_t>(last[0]) + last[1];
   }
 
-  // Closest hits of rays[0, n) into hits (the device trace kernel).
-  void trace(const Ray* d_rays, size_t n) {
+  // Closest hits of rays[0, n) into hits (the device trace kernel), timed as clock stage `stage`.
+  void trace(const Ray* d_rays, size_t n, int stage) {
     hits.reserve(n);
     if (n == 0) return;
-    const int was = clock ? clock->enter(trace_stage) : 0;
+    const int was = clock ? clock->enter(stage) : 0;
     tracer.trace_device(d_rays, nullptr, n, hits.get(), launch);
     if (clock) clock->enter(was);
   }
@@ -246,7 +246,7 @@ struct DeviceShading::Impl {
       shadow_rays.reserve(m);
       shadow_rays_kernel<<<blocks_for(m, kBlock), kBlock>>>(slots.get(), index.get(), m, shadow_rays.get());
       RAYCOH_CUDA_CHECK_LAUNCH();
-      trace(shadow_rays.get(), m);
+      trace(shadow_rays.get(), m, trace_stages.other);
       counts.shadow += m;
       const ShadingSceneView& s = scene.view();
       shadow_resolve_kernel<<<blocks_for(m, kBlock), kBlock>>>(s, index.get(), shadow_rays.get(), hits.get(), m,
@@ -270,9 +270,9 @@ DeviceShading::DeviceShading(const DeviceSceneShading& scene, DeviceTracer& trac
 
 DeviceShading::~DeviceShading() = default;
 
-void DeviceShading::set_clock(StageClock* clock, int trace_stage) {
+void DeviceShading::set_clock(StageClock* clock, const TraceStages& stages) {
   impl_->clock = clock;
-  impl_->trace_stage = trace_stage;
+  impl_->trace_stages = stages;
 }
 
 void DeviceShading::camera(uint32_t frame, const DeviceGBufferView& gbuffer, const Ray* d_rays,
@@ -340,9 +340,11 @@ void DeviceShading::sample(int bounce) {
 
 void DeviceShading::gather(int bounce) {
   Impl& d = *impl_;
-  if (!d.wave_traced) d.trace(d.rays.get(), d.nw);
+  const TraceStages& t = d.trace_stages;
+  if (!d.wave_traced) d.trace(d.rays.get(), d.nw, bounce == 0 ? t.first_wave : bounce == 1 ? t.second_wave : t.other);
   d.wave_traced = false;
   (bounce == 0 ? d.counts.secondary : d.counts.bounce) += d.nw;
+  if (bounce == 1) d.counts.second = d.nw;
   if (d.nw > 0) {
     gather_kernel<<<blocks_for(d.nw, kBlock), kBlock>>>(d.scene.view(), d.rays.get(), d.info.get(), d.hits.get(), d.nw,
                                                         bounce + 1 >= d.settings.max_depth, d.radiance.get(),

@@ -45,6 +45,13 @@ struct DevicePathSettings {
 // Rays traced by one frame, by kind (as FrameStats of shading/path_tracer.h counts them).
 struct DeviceRayCounts {
   uint64_t primary = 0, secondary = 0, bounce = 0, shadow = 0;
+  uint64_t second = 0;  // of `bounce`: the second bounce's wave (the rays leaving the first bounce's hits)
+};
+
+// The clock stages a DeviceShading's traces run as (set_clock): the first and second bounces' waves each have a
+// stage of their own, so that their trace speeds can be told apart; every other trace runs as `other`.
+struct TraceStages {
+  int other = 0, first_wave = 0, second_wave = 0;
 };
 
 class DeviceShading {
@@ -56,9 +63,9 @@ class DeviceShading {
   DeviceShading(const DeviceShading&) = delete;
   DeviceShading& operator=(const DeviceShading&) = delete;
 
-  // Every trace from now on runs as stage `trace_stage` of clock (cuda/stage_clock.h; null: no clock), handing the
-  // time back to the stage that was current.
-  void set_clock(StageClock* clock, int trace_stage);
+  // Every trace from now on runs as a stage of clock (cuda/stage_clock.h; null: no clock), handing the time back
+  // to the stage that was current: the first and second bounces' waves as theirs, the rest as stages.other.
+  void set_clock(StageClock* clock, const TraceStages& stages);
   // Camera pass of frame `frame`: every pixel's radiance is set from its camera ray (d_rays[i] of pixel
   // d_pixels[i], hit d_hits[i], n = width x height; device arrays), the vertices are its hits, in ray order.
   // gbuffer: the G-buffer of those rays and hits on the device (DeviceGBuffer), read there until the next camera

@@ -162,10 +162,11 @@ TEST(DeviceRender, DeviceColumnsAndOlderCsvs) {
   EXPECT_EQ(std::vector<std::string>(q.end() - 3, q.end()),
             (std::vector<std::string>{"render_device", "gpu_clock", "gpu_frame_ms"}));
   const std::vector<std::string> c = column_names(converge_schema());
-  EXPECT_EQ(std::vector<std::string>(c.end() - 10, c.end()),
+  EXPECT_EQ(std::vector<std::string>(c.end() - 14, c.end()),
             (std::vector<std::string>{"render_device", "gpu_clock", "frame_gpu_ms", "gpu_s", "gpu_camera_ms",
                                       "gpu_generation_ms", "gpu_next_event_ms", "gpu_sample_ms", "gpu_trace_ms",
-                                      "gpu_gather_ms"}));
+                                      "gpu_gather_ms", "gpu_first_trace_ms", "gpu_second_trace_ms", "first_wave_rays",
+                                      "second_wave_rays"}));
   EXPECT_EQ(column_names(summary_schema()).back(), "render_device");
 
   const fs::path dir = temp_dir("device_columns");

@@ -63,6 +63,13 @@ void expect_same_stats(const cuda::DeviceFrameStats& f, const cuda::DeviceFrameS
   EXPECT_EQ(f.rays.secondary, m.rays.secondary);
   EXPECT_EQ(f.rays.bounce, m.rays.bounce);
   EXPECT_EQ(f.rays.shadow, m.rays.shadow);
+  EXPECT_EQ(f.rays.second, m.rays.second);
+  // The first two bounces' wave traces are parts of the trace stage in either form.
+  for (const cuda::DeviceFrameStats* s : {&f, &m}) {
+    EXPECT_GE(s->stages.first_wave_trace_ms, 0.f);
+    EXPECT_GE(s->stages.second_wave_trace_ms, 0.f);
+    EXPECT_LE(s->stages.first_wave_trace_ms + s->stages.second_wave_trace_ms, s->stages.trace_ms * (1.f + 1e-5f));
+  }
   EXPECT_EQ(f.generation.rays, m.generation.rays);
   EXPECT_EQ(f.generation.reused_rays, m.generation.reused_rays);
   EXPECT_EQ(f.generation.below_geometric, m.generation.below_geometric);

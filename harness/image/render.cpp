@@ -54,11 +54,15 @@ std::string render_device(const RenderOptions& o, LoadedScene& ls, Generator& ge
   for_each_stage(t.stages, [&](const char* name, double ms) {
     stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", name, ms / o.frames);
   });
+  const auto rate = [](double rays, double ms) { return ms > 0 ? rays / ms * 1e-3 : 0.0; };
+  const DeviceStageMs& s = t.stages;
   return fmt::format(
       "device path tracer on {}: GPU time {:.3f} ms per frame ({}: CUDA events around each frame); wall {:.2f} s; "
-      "{:.3g} rays ({:.2f} MRay/s of {} GPU time)\n  by stage, ms per frame ({}; the rest of the frame in none): {}",
-      t.device, t.gpu_ms / o.frames, t.clock, wall, static_cast<double>(t.rays),
-      t.gpu_ms > 0 ? static_cast<double>(t.rays) / t.gpu_ms * 1e-3 : 0.0, t.clock, t.clock, stages);
+      "{:.3g} rays ({:.2f} MRay/s of {} GPU time)\n  by stage, ms per frame ({}; the rest of the frame in none): {}\n"
+      "  trace by bounce ({}): first {:.3f} ms per frame, {:.2f} MRay/s; second {:.3f} ms per frame, {:.2f} MRay/s",
+      t.device, t.gpu_ms / o.frames, t.clock, wall, static_cast<double>(t.rays), rate(double(t.rays), t.gpu_ms),
+      t.clock, t.clock, stages, t.clock, s.first_trace / o.frames, rate(s.first_rays, s.first_trace),
+      s.second_trace / o.frames, rate(s.second_rays, s.second_trace));
 }
 
 }  // namespace

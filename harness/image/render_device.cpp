@@ -67,8 +67,16 @@ DeviceFrame DeviceFrames::render(uint32_t frame, Accumulator& acc) {
   for (size_t p = 0; p < impl_->radiance.size(); ++p) acc.add(p, impl_->radiance[p]);
   DeviceFrame f;
   f.gpu_ms = s.frame_ms;
-  f.stages = {s.stages.camera_ms, s.stages.generation_ms, s.stages.next_event_ms,
-              s.stages.sample_ms, s.stages.trace_ms,      s.stages.gather_ms};
+  f.stages = {s.stages.camera_ms,
+              s.stages.generation_ms,
+              s.stages.next_event_ms,
+              s.stages.sample_ms,
+              s.stages.trace_ms,
+              s.stages.gather_ms,
+              s.stages.first_wave_trace_ms,
+              s.stages.second_wave_trace_ms,
+              static_cast<double>(s.rays.secondary),
+              static_cast<double>(s.rays.second)};
   f.primary_rays = s.rays.primary;
   f.secondary_rays = s.rays.secondary;
   f.bounce_rays = s.rays.bounce;
