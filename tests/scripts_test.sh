@@ -158,6 +158,16 @@ grep -q "| ours | 1 | 0.99 (0.90–1.10) | 2.45 (2.00–3.00) | 2.46 (1.82–3.3
   grep -q "| noopt denoised / raw | 1 | | | 0.10 (0.10–0.10) | denoiser lowers the error | noopt 1 / 0.1 |" dn.md ||
   { echo "scripts_test: denoise_table.py table wrong: $(cat dn.md)"; exit 1; }
 expect_error "no column seed (a converge CSV of --denoise oidn is needed)" "$scripts/denoise_table.py" converge.csv
+# bounce_speed.py: each bounce's device trace speed and its ratio to noopt, said faster only outside the interval.
+{ echo "scene,method,frame,render_device,gpu_clock,gpu_first_trace_ms,gpu_second_trace_ms,first_wave_rays,second_wave_rays"
+  for f in 1 2 3 4 5 6; do
+    echo "s,noopt,$f,cuda,measured,1.0$f,2.0$f,1000,900"; echo "s,ours,$f,cuda,measured,0.5$f,2.0$((7 - f)),1000,900"
+  done; echo "s,ours,1,cpu,,,,,"; } > bounces.csv
+"$scripts/bounce_speed.py" bounces.csv > bounces.md
+grep -q "^### s, cuda: each bounce's trace speed, MEASURED" bounces.md &&
+  grep -qF "| ours | 6 | 1.869 [1.786, 1.961] | 0.4423 [0.4369, 0.4478] | 1.935× [1.864, 2.019] faster | 1.000× [0.988, 1.015] indistinguishable |" bounces.md ||
+  { echo "scripts_test: bounce_speed.py table wrong: $(cat bounces.md)"; exit 1; }
+expect_error "no column render_device (converge rows of the device path tracer" "$scripts/bounce_speed.py" converge.csv
 # scripts/paper-protocol refuses bad input before it renders or creates anything.
 expect_error "usage: scripts/paper-protocol" "$scripts/paper-protocol" build 480x270
 expect_error "no scene file ../shared/scenes/no_such_scene" "$scripts/paper-protocol" build 480x270 "$work/refs" no_such_scene
