@@ -1,16 +1,20 @@
 // quality and converge --device cuda on a device (label gpu; skips without one): the rows say where they were
 // rendered (render_device cuda, the device's name in `device`, tracer cuda), the GPU time per frame with its clock
-// (measured on a GPU, simulated under GPGPU-Sim), the converge summary reads the device's clock beside the wall
-// clock, and the reference they rendered on the device has a cache entry of its own (its key names the device).
+// (measured on a GPU, simulated under GPGPU-Sim) and each frame's stages and first two bounces' traces, the converge
+// summary reads the device's clock beside the wall clock, and the reference they rendered on the device has a cache
+// entry of its own (its key names the device). With the first bounce fused (--device cuda:pipeline=fused) converge's
+// errors equal the materialized form's row by row.
 // RAYCOH_GPU_TEST_SIZE=sim: 16x16 pixels, 2 frames, paths of 2 scattering events.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cuda/cuda_device.h"
 #include "tests/cli_util.h"
@@ -69,6 +73,15 @@ TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
       stages += ms;
     }
     EXPECT_LE(stages, number(r.at("frame_gpu_ms")) * 1.001 + 1e-3);
+    // The first two bounces' wave traces: parts of the trace stage, with their rays (each first-wave hit leaves at
+    // most one second-wave ray).
+    const double first = number(r.at("gpu_first_trace_ms")), second = number(r.at("gpu_second_trace_ms"));
+    EXPECT_GE(first, 0.0);
+    EXPECT_GE(second, 0.0);
+    EXPECT_LE(first + second, number(r.at("gpu_trace_ms")) * 1.001 + 1e-3);
+    EXPECT_GT(number(r.at("first_wave_rays")), 0.0);
+    EXPECT_GE(number(r.at("second_wave_rays")), 0.0);
+    EXPECT_LE(number(r.at("second_wave_rays")), number(r.at("first_wave_rays")));
     EXPECT_EQ(r.at("trace_s"), "");  // no trace time apart on the device
     if (r.at("method") == "ours") {
       EXPECT_GT(number(r.at("gpu_s")), last);
@@ -82,16 +95,35 @@ TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
   EXPECT_EQ(summary[1].at("render_device"), "cuda");
   EXPECT_GT(number(summary[1].at("horizon_s")), 0.0);
 
-  // quality rendered the reference on the device and converge read it from the cache: one entry, the device's.
-  int entries = 0;
+  // quality rendered the reference on the device and converge read it from the cache.
+  EXPECT_NE(c.output.find("cached"), std::string::npos) << c.output;
+
+  // The first bounce fused: the same images bit for bit (its reference too, in an entry of its own), so the same
+  // errors frame by frame; the rows name the form.
+  std::string fused_common = common;
+  fused_common.replace(fused_common.find("--device cuda"), 13, "--device cuda:pipeline=fused");
+  const test::CommandResult f =
+      test::run_raycoh("converge --scene cornell --generators noopt,ours --time 1000s --gpu-model none --max-frames " +
+                       frames + " --out " + (dir / "f.csv").string() + fused_common);
+  ASSERT_EQ(f.exit_code, 0) << f.output;
+  const auto fused = test::read_rows(dir / "f.csv");
+  ASSERT_EQ(fused.size(), curve.size());
+  for (size_t i = 0; i < fused.size(); ++i) {
+    EXPECT_EQ(fused[i].at("render_device"), "cuda:pipeline=fused");
+    EXPECT_EQ(fused[i].at("method"), curve[i].at("method"));
+    EXPECT_EQ(fused[i].at("rel_mse"), curve[i].at("rel_mse")) << "row " << i;
+    EXPECT_EQ(fused[i].at("first_wave_rays"), curve[i].at("first_wave_rays")) << "row " << i;
+    EXPECT_EQ(fused[i].at("second_wave_rays"), curve[i].at("second_wave_rays")) << "row " << i;
+  }
+  // One cache entry per form, each key naming its device.
+  std::vector<std::string> devices;
   for (const auto& e : fs::directory_iterator(dir / "cache"))
     if (e.path().extension() == ".json") {
-      ++entries;
       std::ifstream in(e.path());
-      EXPECT_EQ(nlohmann::json::parse(in).at("key").at("device"), "cuda") << e.path();
+      devices.push_back(nlohmann::json::parse(in).at("key").at("device"));
     }
-  EXPECT_EQ(entries, 1);
-  EXPECT_NE(c.output.find("cached"), std::string::npos) << c.output;
+  std::sort(devices.begin(), devices.end());
+  EXPECT_EQ(devices, (std::vector<std::string>{"cuda", "cuda:pipeline=fused"}));
 }
 
 }  // namespace
