@@ -2,16 +2,19 @@
 """The `simt` stage model (simt/stage_model.h) of the measured device passes, and later beside them.
 
 Usage:
-  scripts/stage_model_check.py predict [--model BIN] [--preset NAME] TABLE.csv... > prediction.csv
+  scripts/stage_model_check.py predict [--model BIN] [--preset NAME] [--gbuffer wide64|fields60] TABLE.csv...
+      > prediction.csv
 
 TABLE.csv: `raycoh table` / `raycoh sweep` CSVs of a `scripts/gpu-check --stages` run (results/stages/*/stages-*.csv).
 Their `cuda` secondary rows of the materialized pipeline (pipeline=device) describe each pass: resolution, rays,
 generator and its tiles, encoder and key bits, and the gather's bytes (modeled_permute_bytes, counted from the
 pass's own order). Only those descriptions go to the model (raycoh_stage_model, built from simt/stage_model_main.cpp;
 default build/simt/): no measured time is read by `predict`.
+--gbuffer: the generation kernels priced (simt/stage_l1.h GBufferRead): wide64, those since 63b5750, or fields60, the
+earlier ones that made the runs up to it (h200-a26f7f6); without it the model's default (wide64).
 Printed: one line per pass and stage that ran, every figure MODELED (kind = modeled).
 
-  scripts/stage_model_check.py compare PREDICTION.csv TABLE.csv... > model-vs-measured.md
+  scripts/stage_model_check.py compare [--ncu LOG.xz] [--l1-term] PREDICTION.csv TABLE.csv... > model-vs-measured.md
 
 Sets every measured stage (GPU: the row's gen_ms, key_ms, sort_ms, permute_ms, medians of the run's repeats) beside
 its modeled figure from PREDICTION.csv (`predict`'s output, committed before the comparison) with modeled /
@@ -19,6 +22,7 @@ measured, says which agree within ±25% and, for each miss, which part of the ke
 (docs/simt-model.md section 3, "Not modeled"). Measured and modeled figures stand side by side, never added.
 With --ncu LOG.xz (an Nsight Compute CSV log of the same kernels, e.g. results/stages/h200-6ebd003/ncu-stages.log.xz)
 it adds what bounded each profiled kernel (measured, under the profiler's clocks): the evidence for the reasons.
+--l1-term: PREDICTION.csv is of the model with its L1/TEX term (results/model/stage-l1-term/): the reasons say so.
 """
 import argparse
 import csv
@@ -61,15 +65,15 @@ def method_label(r):
     return r["method"]
 
 
-def describe(r, preset, label):
-    """raycoh_stage_model's input line for the pass of row r."""
+def describe(r, preset, label, gbuffer=None):
+    """raycoh_stage_model's input line for the pass of row r (gbuffer: the optional 12th field)."""
     tile = (param(r["generator_params"], "tile") or "8x8").split("x")
     generator = "noopt" if r["generator"] == "noopt" else "group"
     encoder = r.get("encoder") or "none"
     bits = param(r.get("encoder_params"), "bits") or "0"
     permute = r.get("modeled_permute_bytes", "") if r.get("permute") == "physical" else ""
     return ",".join([label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits,
-                     permute])
+                     permute] + ([gbuffer] if gbuffer else []))
 
 
 def model_binary(given):
@@ -82,7 +86,7 @@ def model_binary(given):
 
 def predict(args):
     rows = read_passes(args.tables)
-    lines = [describe(r, args.preset, str(i)) for i, r in enumerate(rows)]
+    lines = [describe(r, args.preset, str(i), args.gbuffer) for i, r in enumerate(rows)]
     out = subprocess.run([model_binary(args.model)], input="\n".join(lines) + "\n", capture_output=True, text=True,
                          check=True).stdout
     modeled = {m["label"]: m for m in csv.DictReader(out.splitlines())}
@@ -103,9 +107,18 @@ def predict(args):
 TOLERANCE = 0.25
 
 
-def reason(stage, r, ratio):
+NOOPT_L1 = ("noopt generation: the model with its L1 term prices this kernel issue-bound; the L1 term (the L1-hit "
+            "wavefronts of its 60-byte records read field by field, the batch's stores) is a third of the issue "
+            "term, so the L1/TEX load Nsight Compute measured (below) is work that rule does not count (the miss "
+            "path: fills from L2, misses in flight), at half occupancy (62 registers); tile_hits reads the whole "
+            "G-buffer from DRAM, not the one sector per pixel the model counts")
+
+
+def reason(stage, r, ratio, l1_term=False):
     """Why a stage misses (ratio = modeled / measured): the model's known gaps for that kernel."""
     low = ratio < 1
+    if l1_term and stage == "gen" and r["generator"] == "noopt" and low:
+        return NOOPT_L1
     if stage == "gen" and r["generator"] != "noopt":
         k = param(r["generator_params"], "k") or "8"
         if low:
@@ -185,7 +198,7 @@ def compare(args):
             n, k, lo, hi = tally.get(stage, (0, 0, ratio, ratio))
             tally[stage] = (n + 1, k + hit, min(lo, ratio), max(hi, ratio))
             if not hit:
-                misses.setdefault(reason(stage, r, ratio), []).append((ratio, r["scene"], key[2], stage))
+                misses.setdefault(reason(stage, r, ratio, args.l1_term), []).append((ratio, r["scene"], key[2], stage))
             elif stage == "gen" and r["generator"] != "noopt":
                 lucky.append(f"{key[2]} ({ratio:.2f})")
             out.append(f"| {r['scene']} | {key[2]} | {stage} | {ms:.4f} | {modeled[key]:.4f} | {ratio:.2f} | "
@@ -218,10 +231,12 @@ def main(argv):
     p = sub.add_parser("predict")
     p.add_argument("--model")
     p.add_argument("--preset", default="h200")
+    p.add_argument("--gbuffer", choices=("wide64", "fields60"))
     p.add_argument("tables", nargs="+")
     p.set_defaults(run=predict)
     c = sub.add_parser("compare")
     c.add_argument("--ncu")
+    c.add_argument("--l1-term", action="store_true")
     c.add_argument("prediction")
     c.add_argument("tables", nargs="+")
     c.set_defaults(run=compare)

@@ -87,6 +87,9 @@ struct StageKernelCosts {
   double onesweep32 = 0;  // one onesweep pass, 32-bit keys with 32-bit values: per warp of the tile
   double onesweep64 = 0;  // the same with 64-bit keys (key_bits > 32)
   uint32_t onesweep_threads = 384, onesweep_items32 = 23, onesweep_items64 = 30;  // CUB's tile
+  // The three generation kernels before 63b5750 (60-byte G-buffer records read field by field, GBufferRead::Fields60),
+  // to price the runs made with them.
+  double tile_hits_fields60 = 0, noopt_fields60 = 0, group_fields60 = 0;
 };
 
 struct GpuModelConfig {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/ray_batch.h"
+#include "core/shading_point.h"
 
 namespace raycoh {
 namespace {
@@ -61,24 +62,60 @@ double stage_issue_ms(const GpuModelConfig& gpu, double warps, double cycles) {
   return cycles_ms(gpu, warps * cycles / partitions);
 }
 
-double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, double cycles) {
-  return stage_launch_ms(gpu) + std::max(stage_stream_ms(gpu, bytes), stage_issue_ms(gpu, warps, cycles));
+double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, double cycles, double l1_wavefronts) {
+  return stage_launch_ms(gpu) + std::max({stage_stream_ms(gpu, bytes), stage_issue_ms(gpu, warps, cycles),
+                                          stage_l1_ms(gpu, warps, l1_wavefronts)});
+}
+
+double StageKernelTerms::ms(const GpuModelConfig& gpu) const {
+  return stage_launch_ms(gpu) + std::max({dram_ms, issue_ms, l1_ms});
+}
+
+namespace {
+
+StageKernelTerms kernel_terms(const GpuModelConfig& gpu, double bytes, double warps, double cycles,
+                              double l1_wavefronts) {
+  StageKernelTerms t;
+  t.warps = warps;
+  t.dram_ms = stage_stream_ms(gpu, bytes);
+  t.issue_ms = stage_issue_ms(gpu, warps, cycles);
+  t.l1_wavefronts = l1_wavefronts;
+  t.l1_ms = stage_l1_ms(gpu, warps, l1_wavefronts);
+  return t;
+}
+
+double tiles_of(const StageWork& w) { return div_up(w.width, w.tile_w) * div_up(w.height, w.tile_h); }
+
+}  // namespace
+
+// tile_hits: one 32-byte sector per pixel (its hit flag, prim), a count per tile written; blocks of 128 threads.
+StageKernelTerms stage_tile_hits_terms(const GpuModelConfig& gpu, const StageWork& w) {
+  const double tiles = tiles_of(w), tile_pixels = double(w.tile_w) * w.tile_h;
+  const bool fields = w.gbuffer == GBufferRead::Fields60;
+  return kernel_terms(gpu, double(w.pixels()) * kSectorBytes + 4.0 * tiles,
+                      tiles * div_up(std::min(tile_pixels, kTileHitsThreads), kWarp),
+                      fields ? gpu.stages.tile_hits_fields60 : gpu.stages.tile_hits,
+                      l1_warp_wavefronts(gpu, w, tile_hits_l1(w.gbuffer)));
+}
+
+// The generator: a block per tile, a thread per pixel (noopt's block loops over tiles of more than 256 pixels, the
+// same warps in all), reading the G-buffer (its records: 60 bytes before 63b5750) and writing the batch.
+StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWork& w) {
+  const double warps = tiles_of(w) * div_up(double(w.tile_w) * w.tile_h, kWarp);
+  const StageKernelCosts& c = gpu.stages;
+  const bool fields = w.gbuffer == GBufferRead::Fields60;
+  const double cycles = w.grouping ? (fields ? c.group_fields60 : c.group) : (fields ? c.noopt_fields60 : c.noopt);
+  const double bytes = generation_bytes(w.pixels(), w.rays) -
+                       double(w.pixels()) * (double(sizeof(ShadingPoint)) - gbuffer_record_bytes(w.gbuffer));
+  return kernel_terms(gpu, bytes, warps, cycles,
+                      l1_warp_wavefronts(gpu, w, w.grouping ? group_l1(w.gbuffer) : noopt_l1(w.gbuffer)));
 }
 
 double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w) {
   if (w.rays == 0 || w.pixels() == 0) return 0.0;
-  const double tiles = div_up(w.width, w.tile_w) * div_up(w.height, w.tile_h);
-  const double tile_pixels = double(w.tile_w) * w.tile_h;
-  const StageKernelCosts& c = gpu.stages;
-  // tile_hits: one 32-byte sector per pixel (its hit flag; a ShadingPoint is 64 bytes), a count per tile written.
-  double ms = stage_kernel_ms(gpu, double(w.pixels()) * kSectorBytes + 4.0 * tiles,
-                              tiles * div_up(std::min(tile_pixels, kTileHitsThreads), kWarp), c.tile_hits);
-  ms += scan_ms(gpu, tiles + 1);
-  // The generator: a block per tile, a thread per pixel (noopt's block loops over tiles of more than 256 pixels,
-  // the same warps in all), reading the G-buffer and writing the batch.
-  const double warps = tiles * div_up(tile_pixels, kWarp);
-  ms += stage_kernel_ms(gpu, generation_bytes(w.pixels(), w.rays), warps, w.grouping ? c.group : c.noopt);
-  return ms;
+  double ms = stage_tile_hits_terms(gpu, w).ms(gpu);
+  ms += scan_ms(gpu, tiles_of(w) + 1);
+  return ms + stage_generator_terms(gpu, w).ms(gpu);
 }
 
 double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w) {
@@ -136,6 +173,9 @@ StageKernelCosts stage_costs_sm90() {
   c.tile_hits = 168;
   c.noopt = 1599;
   c.group = 7186;
+  c.tile_hits_fields60 = 172;  // the a26f7f6 kernels: results/model/h200-stages/instructions-sm_90.txt
+  c.noopt_fields60 = 1620;
+  c.group_fields60 = 7241;
   const double keys[7] = {0, 270, 480, 428, 540, 680, 536};  // none, origin, reis, costa, aila, twopoint, mlhcc
   std::copy(keys, keys + 7, c.key);
   c.gather = 160;
@@ -149,6 +189,9 @@ StageKernelCosts stage_costs_sm86() {
   c.tile_hits = 166;
   c.noopt = 1577;
   c.group = 7015;
+  c.tile_hits_fields60 = 170;  // the a26f7f6 kernels: results/model/h200-stages/instructions-sm_86.txt
+  c.noopt_fields60 = 1604;
+  c.group_fields60 = 7068;
   const double keys[7] = {0, 268, 480, 428, 538, 680, 502};
   std::copy(keys, keys + 7, c.key);
   c.gather = 146;

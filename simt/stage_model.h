@@ -1,6 +1,7 @@
 // The timing model of the device pipeline's stages around the trace (generation, keys, sort, gather) on a preset
-// GPU: each kernel launch as a launch term plus the larger of its bytes over an effective streaming bandwidth and
-// its instructions over the SMs' issue rate; CUB's onesweep sort as a per-pass floor plus each pass's bytes (or
+// GPU: each kernel launch as a launch term plus the largest of its bytes over an effective streaming bandwidth, its
+// instructions over the SMs' issue rate and (the generation kernels) its L1 wavefronts over the SMs' L1 pipelines
+// (simt/stage_l1.h); CUB's onesweep sort as a per-pass floor plus each pass's bytes (or
 // instructions). Modeled, never measured; docs/simt-model.md section 3 has the form, every constant's source and
 // what is not modeled. Host only. The bytes each stage moves are simt/pipeline_model.h's.
 //
@@ -22,6 +23,7 @@
 #include "generators/generator.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
+#include "simt/stage_l1.h"
 
 namespace raycoh {
 
@@ -32,9 +34,10 @@ struct StageWork {
   bool grouping = false;  // ours / contiguous (the group kernel), else noopt
   int tile_w = 8, tile_h = 8;
   KeyKind key = KeyKind::None;
-  int key_bits = 0;      // 0: no reordering
-  int window = 0;        // > 0: the windowed reordering (one binning kernel)
-  bool physical = true;  // the gather runs (permute physical)
+  int key_bits = 0;                           // 0: no reordering
+  int window = 0;                             // > 0: the windowed reordering (one binning kernel)
+  bool physical = true;                       // the gather runs (permute physical)
+  GBufferRead gbuffer = GBufferRead::Wide64;  // the generation kernels' G-buffer read (Fields60: before 63b5750)
   size_t pixels() const { return size_t(width) * size_t(height); }
 };
 
@@ -54,8 +57,17 @@ double stage_launch_ms(const GpuModelConfig& gpu);
 double stage_stream_ms(const GpuModelConfig& gpu, double bytes);
 // `warps` warps each occupying an SM partition `cycles` cycles, spread over every partition of the GPU.
 double stage_issue_ms(const GpuModelConfig& gpu, double warps, double cycles);
-// One launch: launch term + max(bytes term, instruction term).
-double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, double cycles);
+// One launch: launch term + max(bytes term, instruction term, L1 term of `l1_wavefronts` per warp).
+double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, double cycles, double l1_wavefronts = 0);
+
+// The terms of one kernel (milliseconds; the L1 term from its mean wavefronts per warp, simt/stage_l1.h).
+struct StageKernelTerms {
+  double warps = 0, dram_ms = 0, issue_ms = 0, l1_ms = 0, l1_wavefronts = 0;
+  double ms(const GpuModelConfig& gpu) const;  // launch + the largest term
+};
+// The generation stage's generator kernel (noopt or group) and tile_hits kernel of pass w.
+StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWork& w);
+StageKernelTerms stage_tile_hits_terms(const GpuModelConfig& gpu, const StageWork& w);
 
 double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w);
 double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w);

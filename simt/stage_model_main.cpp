@@ -1,9 +1,11 @@
 // raycoh_stage_model: the stage model (simt/stage_model.h) of passes described on stdin, one CSV line each:
-//   label,preset,width,height,rays,generator,tile_w,tile_h,encoder,key_bits,permute_bytes
+//   label,preset,width,height,rays,generator,tile_w,tile_h,encoder,key_bits,permute_bytes[,gbuffer]
 // generator: noopt or group (ours / contiguous); encoder: none, origin, reis, costa, aila, twopoint or mlhcc;
-// permute_bytes: the gather's bytes (simt/pipeline_model.h permute_bytes of the pass's order; empty: no gather).
-// Prints label,gen_ms,key_ms,sort_ms,permute_ms, every figure MODELED. No times are read: what a pass is, not
-// what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
+// permute_bytes: the gather's bytes (simt/pipeline_model.h permute_bytes of the pass's order; empty: no gather);
+// gbuffer: wide64 (the default: the kernels since 63b5750) or fields60 (before it, simt/stage_l1.h GBufferRead).
+// Prints label,gen_ms,key_ms,sort_ms,permute_ms and the generator kernel's terms (gen_dram_ms, gen_issue_ms,
+// gen_l1_ms, gen_l1_wavefronts per warp; tile_hits_l1_wavefronts), every figure MODELED. No times are read: what a pass
+// is, not what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -35,12 +37,13 @@ std::vector<std::string> fields(const std::string& line) {
 
 int main() {
   using namespace raycoh;
-  std::cout << "label,gen_ms,key_ms,sort_ms,permute_ms\n";
+  std::cout << "label,gen_ms,key_ms,sort_ms,permute_ms,gen_dram_ms,gen_issue_ms,gen_l1_ms,gen_l1_wavefronts,"
+               "tile_hits_l1_wavefronts\n";
   try {
     for (std::string line; std::getline(std::cin, line);) {
       if (line.empty()) continue;
       const std::vector<std::string> f = fields(line);
-      if (f.size() != 11) throw Error("raycoh_stage_model: 11 fields expected: " + line);
+      if (f.size() != 11 && f.size() != 12) throw Error("raycoh_stage_model: 11 or 12 fields expected: " + line);
       const GpuModelConfig gpu = gpu_preset(f[1]);
       StageWork w;
       w.width = std::stoi(f[2]);
@@ -51,14 +54,19 @@ int main() {
       w.tile_h = std::stoi(f[7]);
       w.key = kind_of(f[8]);
       w.key_bits = w.key == KeyKind::None ? 0 : std::stoi(f[9]);
+      if (f.size() == 12 && f[11] != "wide64" && f[11] != "fields60")
+        throw Error("raycoh_stage_model: gbuffer is wide64 or fields60, not '" + f[11] + "'");
+      if (f.size() == 12 && f[11] == "fields60") w.gbuffer = GBufferRead::Fields60;
       ModeledStages m;
       m.gen_ms = stage_generation_ms(gpu, w);
       m.key_ms = stage_key_ms(gpu, w);
       m.sort_ms = stage_sort_ms(gpu, w.rays, w.key_bits);
       if (!f[10].empty() && w.key_bits > 0) m.permute_ms = stage_permute_ms(gpu, std::stod(f[10]), w.rays);
-      char out[256];
-      std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f\n", f[0].c_str(), m.gen_ms, m.key_ms, m.sort_ms,
-                    m.permute_ms);
+      const StageKernelTerms g = stage_generator_terms(gpu, w);
+      char out[512];
+      std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.2f,%.2f\n", f[0].c_str(), m.gen_ms,
+                    m.key_ms, m.sort_ms, m.permute_ms, g.dram_ms, g.issue_ms, g.l1_ms, g.l1_wavefronts,
+                    stage_tile_hits_terms(gpu, w).l1_wavefronts);
       std::cout << out;
     }
   } catch (const std::exception& e) {

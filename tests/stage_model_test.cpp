@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "core/error.h"
@@ -11,6 +12,7 @@
 #include "generators/generator.h"
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
+#include "simt/stage_l1.h"
 
 namespace raycoh {
 namespace {
@@ -139,6 +141,89 @@ TEST(StageModel, ScanlinePerPixelGeneratorsArePricedWithTheirOneRowTiles) {
     const StageWork tile = stage_work(*make_generator({name, ""}), *none, false, 64, 32, 100);
     EXPECT_EQ(tile.tile_w * tile.tile_h, 64);
   }
+}
+
+// 32 lanes of `width` bytes, `stride` bytes apart from address 0.
+double strided_wavefronts(const GpuModelConfig& g, uint32_t width, uint32_t stride) {
+  uint64_t addr[32];
+  for (uint32_t l = 0; l < 32; ++l) addr[l] = uint64_t{l} * stride;
+  return l1_request_wavefronts(g, addr, 32, width);
+}
+
+// Counts by hand. Tag rule (rtx3060: 4 lines a wavefront, 128-byte data path): 4-byte lanes 60 bytes apart touch
+// lines 0-14 (the last lane's bytes 1860-1863): 15 lines, 4 wavefronts; 16-byte lanes 64 bytes apart 16 lines and
+// 512 bytes: 4. The H100's measured rule: 16-byte lanes 64 bytes apart are served 8 lanes a pass, and lanes i and
+// i + 2 of a pass fall in the same four 4-byte banks (16 words apart): 4 words a bank, 4 passes, 16 wavefronts;
+// 4-byte lanes 64 bytes apart: lanes i and i + 2 share a bank, 16 words in it, 16; 60 bytes apart: 15 words apart,
+// every lane its own bank (15 is odd), and the 15 lines fall 3, 4, 4, 4 in the 4 hashed tag banks: 4.
+TEST(StageModel, L1WavefrontsOfAStrideAndWidthFollowThePresetsRule) {
+  const GpuModelConfig tags = gpu_preset("rtx3060"), h100 = gpu_preset("h100");
+  EXPECT_EQ(strided_wavefronts(tags, 4, 60), 4);
+  EXPECT_EQ(strided_wavefronts(tags, 16, 64), 4);
+  EXPECT_EQ(strided_wavefronts(tags, 4, 4), 1);
+  EXPECT_EQ(strided_wavefronts(h100, 16, 64), 16);
+  EXPECT_EQ(strided_wavefronts(h100, 4, 64), 16);
+  EXPECT_EQ(strided_wavefronts(h100, 4, 60), 4);
+  EXPECT_EQ(strided_wavefronts(h100, 16, 16), 4);  // consecutive: 4 passes of 128 bytes
+  EXPECT_EQ(strided_wavefronts(h100, 4, 0), 1);    // one address: a broadcast
+}
+
+// noopt since 63b5750 on 8x8 tiles under the tag rule, per warp (4 rows of 8 pixels): load_point's 4 loads touch
+// 4 rows x 4 lines and 512 bytes: 4 each, 16; 16 one-address loads: 16; 6 Vec3-column stores (3 lines, 128
+// bytes): 6; pixel and pdf: 2; the ray's 2 16-byte words at a 32-byte stride (8 lines, 512 bytes): 8; the class
+// byte: 1. 49 in all.
+TEST(StageModel, NooptL1InventoryCountsByHand) {
+  const GpuModelConfig tags = gpu_preset("rtx3060");
+  StageWork w = noopt_pass(1920, 1080);
+  EXPECT_DOUBLE_EQ(l1_warp_wavefronts(tags, w, noopt_l1(GBufferRead::Wide64)), 49);
+  EXPECT_DOUBLE_EQ(stage_generator_terms(tags, w).l1_wavefronts, 49);
+  // The 60-byte records read field by field: 16 loads of at least 16 lines (4 wavefronts) each, at most 20 (5).
+  w.gbuffer = GBufferRead::Fields60;
+  const double fields = l1_warp_wavefronts(tags, w, noopt_l1(GBufferRead::Fields60));
+  EXPECT_GE(fields, 49 - 16 + 16 * 4);
+  EXPECT_LE(fields, 49 - 16 + 16 * 5);
+}
+
+TEST(StageModel, KernelIsItsLaunchPlusTheLargestOfThreeTerms) {
+  const GpuModelConfig g = gpu_preset("h200");
+  // 132 warps of 1980e3 wavefronts: 1980e3 cycles on each of the 132 SMs' L1 at 1980 MHz, 1 ms.
+  EXPECT_NEAR(stage_l1_ms(g, 132, 1980e3), 1.0, 1e-12);
+  EXPECT_NEAR(stage_kernel_ms(g, 0, 132, 0, 1980e3), stage_launch_ms(g) + 1.0, 1e-9);
+  EXPECT_NEAR(stage_kernel_ms(g, 2 * 4.32e9, 132, 0, 1980e3), stage_launch_ms(g) + 2.0, 1e-9);      // bytes decide
+  EXPECT_NEAR(stage_kernel_ms(g, 0, 132, 4 * 3 * 1980e3, 1980e3), stage_launch_ms(g) + 3.0, 1e-9);  // issue
+}
+
+// With the presets' constants the generation kernels are issue-bound (or DRAM-bound): the L1 term, priced at the
+// L1-hit rule, stays below. With few instructions and a fast memory it decides.
+TEST(StageModel, TheL1TermDecidesOnlyWhereItIsTheLargest) {
+  for (const char* name : {"h100", "h200", "rtx3060"})
+    for (const GBufferRead read : {GBufferRead::Fields60, GBufferRead::Wide64})
+      for (const bool grouping : {false, true}) {
+        SCOPED_TRACE(name);
+        StageWork w = noopt_pass(1920, 1080);
+        w.gbuffer = read;
+        w.grouping = grouping;
+        const StageKernelTerms t = stage_generator_terms(gpu_preset(name), w);
+        EXPECT_GT(t.l1_ms, 0);
+        EXPECT_LT(t.l1_ms, std::max(t.issue_ms, t.dram_ms));
+      }
+  GpuModelConfig g = gpu_preset("h200");
+  g.stages.noopt = 1;
+  g.gpu.dram_gb_s = 1e6;
+  const StageKernelTerms t = stage_generator_terms(g, noopt_pass(1920, 1080));
+  EXPECT_GT(t.l1_ms, std::max(t.issue_ms, t.dram_ms));
+  EXPECT_NEAR(t.ms(g), stage_launch_ms(g) + t.l1_ms, 1e-12);
+}
+
+// The kernels before 63b5750: their instruction counts and 60-byte records.
+TEST(StageModel, FieldByFieldKernelsArePricedWithTheirCountsAndRecords) {
+  const GpuModelConfig g = gpu_preset("h200");
+  StageWork w = noopt_pass(1920, 1080);
+  const StageKernelTerms wide = stage_generator_terms(g, w);
+  w.gbuffer = GBufferRead::Fields60;
+  const StageKernelTerms fields = stage_generator_terms(g, w);
+  EXPECT_NEAR(fields.issue_ms, stage_issue_ms(g, fields.warps, g.stages.noopt_fields60), 1e-15);
+  EXPECT_NEAR(wide.dram_ms - fields.dram_ms, stage_stream_ms(g, 4.0 * 1920 * 1080), 1e-12);
 }
 
 }  // namespace
