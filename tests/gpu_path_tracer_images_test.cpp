@@ -149,6 +149,32 @@ TEST(GpuPathTracerCoverage, TheListCoversEveryMaterialClassTextureMaskAndLightTy
               test::feature_list(test::kEveryFeature & ~sim).c_str());
 }
 
+// The image tests' power, checked without a device: on every scene whose image test requires it at this size, the
+// z-test rejects the CPU image with seed 1 made 10% brighter (50% at the simulator size) against the CPU image with
+// seed 2, which is what the device image with seed 2 must see too.
+TEST(GpuPathTracerCoverage, TheZTestRejectsABrighterImageOnTheCpuAlone) {
+  const bool sim = test::gpu_test_sim_size();
+  const int frames = test::gpu_test_size(128, 16);
+  const float brighter = test::gpu_test_size(1.1f, 1.5f);
+  for (const CoveredScene& c : test::coverage_list()) {
+    std::string absent = sim && (c.sim_skip || c.sim_weak) ? "not required at the simulator size" : "";
+    const std::optional<Scene> scene = absent.empty() ? test::load_covered(c, absent) : std::nullopt;
+    if (!scene) {
+      std::printf("%s: not checked (%s)\n", c.name, absent.c_str());
+      continue;
+    }
+    SCOPED_TRACE(c.name);
+    const Bvh bvh = build_bvh(*scene);
+    auto cpu = make_tracer({"cpu", ""}, *scene, bvh);
+    auto generator = make_generator({"noopt", ""});
+    const BlockFrameStats a = test::cpu_block_stats(*scene, *cpu, *generator, test::path_settings(2), frames);
+    const BlockFrameStats b = test::cpu_block_stats(*scene, *cpu, *generator, test::path_settings(1), frames, brighter);
+    const BlockZTest apart = block_z_test(a, b, 4.0);
+    EXPECT_GT(apart.beyond, 0u) << apart.summary();
+    std::printf("%s: cpu vs cpu x%.1f %s\n", c.name, brighter, apart.summary().c_str());
+  }
+}
+
 // Each scene that is present has what the list says, at the size its image test renders it (the full size where
 // the list keeps it off the simulator).
 TEST(GpuPathTracerCoverage, EachSceneHasWhatTheListSays) {
