@@ -61,3 +61,9 @@ for _preset in ("h200", "h100"):
     for _gbuffer, _label in (("fields60", "before 63b5750"), ("wide64", "after")):
         CHECKS.append(Figure(f"{L1}/README.md", f"| {_preset} | {_label} | {{:.4f}} | {{:.4f}} | {{:.4f}} / {{:.4f}} | "
                              "{:.4f} / {:.4f} | {:.2f}, {:.2f} |", lambda p=_preset, g=_gbuffer: l1_row(p, g)))
+
+CHECKS += [
+    Generated(f"{L1}/model-vs-measured.md", ["scripts/stage_model_check.py", "compare", "--l1-term", "--ncu", NCU_LOG,
+                                              "prediction-stages.csv", *MEASURED], cwd=L1),
+    Embedded(f"{L1}/README.md", f"{L1}/model-vs-measured.md", "Summary of `model-vs-measured.md`"),
+]
