@@ -125,7 +125,7 @@ __global__ void __launch_bounds__(kMaxGroupTile)
     staged.rays[slot] = r.ray;
     staged.pixel[slot] = p;
     flags = r.flags;
-    if (batch.offsets) write_pixel(b, batch.out, i, pixel_slot(b, i, t.rank, batch.offsets, nullptr), t.sample);
+    if (batch.offsets) write_pixel(b, batch.out, i, batch.offsets[b.tile] + slot, t.sample);  // pixel_slot's
   }
   tally_block(t.hit, flags, block_stats);  // its barriers also publish the staged rays
   trace_staged(view, filter, staged, t.hits, hits, batch.offsets ? batch.offsets[b.tile] : kAtPixel);

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -31,6 +32,28 @@ namespace fs = std::filesystem;
 
 bool is_clock(const std::string& c) { return c == "measured" || c == "simulated"; }
 double number(const std::string& text) { return text.empty() ? std::nan("") : std::atof(text.c_str()); }
+
+// One converge row of the device: its clock, the frame by stage (each present, none negative, adding up to at most
+// the frame) and the first two bounces' wave traces (parts of the trace stage; each first-wave hit leaves at most
+// one second-wave ray).
+void expect_device_frame(const std::map<std::string, std::string>& r) {
+  EXPECT_TRUE(is_clock(r.at("gpu_clock")));
+  EXPECT_GT(number(r.at("frame_gpu_ms")), 0.0);
+  double stages = 0;
+  for (const char* s : {"camera", "generation", "next_event", "sample", "trace", "gather"}) {
+    const double ms = number(r.at(std::string("gpu_") + s + "_ms"));
+    EXPECT_GE(ms, 0.0) << s;
+    stages += ms;
+  }
+  EXPECT_LE(stages, number(r.at("frame_gpu_ms")) * 1.001 + 1e-3);
+  const double first = number(r.at("gpu_first_trace_ms")), second = number(r.at("gpu_second_trace_ms"));
+  EXPECT_GE(first, 0.0);
+  EXPECT_GE(second, 0.0);
+  EXPECT_LE(first + second, number(r.at("gpu_trace_ms")) * 1.001 + 1e-3);
+  EXPECT_GT(number(r.at("first_wave_rays")), 0.0);
+  EXPECT_GE(number(r.at("second_wave_rays")), 0.0);
+  EXPECT_LE(number(r.at("second_wave_rays")), number(r.at("first_wave_rays")));
+}
 
 TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
   SKIP_WITHOUT_GPU();
@@ -64,24 +87,7 @@ TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
   double last = 0;
   for (const auto& r : curve) {
     EXPECT_EQ(r.at("render_device"), "cuda");
-    EXPECT_TRUE(is_clock(r.at("gpu_clock")));
-    EXPECT_GT(number(r.at("frame_gpu_ms")), 0.0);
-    double stages = 0;  // the frame by stage: each present, none negative, adding up to at most the frame
-    for (const char* s : {"camera", "generation", "next_event", "sample", "trace", "gather"}) {
-      const double ms = number(r.at(std::string("gpu_") + s + "_ms"));
-      EXPECT_GE(ms, 0.0) << s;
-      stages += ms;
-    }
-    EXPECT_LE(stages, number(r.at("frame_gpu_ms")) * 1.001 + 1e-3);
-    // The first two bounces' wave traces: parts of the trace stage, with their rays (each first-wave hit leaves at
-    // most one second-wave ray).
-    const double first = number(r.at("gpu_first_trace_ms")), second = number(r.at("gpu_second_trace_ms"));
-    EXPECT_GE(first, 0.0);
-    EXPECT_GE(second, 0.0);
-    EXPECT_LE(first + second, number(r.at("gpu_trace_ms")) * 1.001 + 1e-3);
-    EXPECT_GT(number(r.at("first_wave_rays")), 0.0);
-    EXPECT_GE(number(r.at("second_wave_rays")), 0.0);
-    EXPECT_LE(number(r.at("second_wave_rays")), number(r.at("first_wave_rays")));
+    expect_device_frame(r);
     EXPECT_EQ(r.at("trace_s"), "");  // no trace time apart on the device
     if (r.at("method") == "ours") {
       EXPECT_GT(number(r.at("gpu_s")), last);
@@ -110,6 +116,7 @@ TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
   ASSERT_EQ(fused.size(), curve.size());
   for (size_t i = 0; i < fused.size(); ++i) {
     EXPECT_EQ(fused[i].at("render_device"), "cuda:pipeline=fused");
+    expect_device_frame(fused[i]);
     EXPECT_EQ(fused[i].at("method"), curve[i].at("method"));
     EXPECT_EQ(fused[i].at("rel_mse"), curve[i].at("rel_mse")) << "row " << i;
     EXPECT_EQ(fused[i].at("first_wave_rays"), curve[i].at("first_wave_rays")) << "row " << i;
