@@ -67,6 +67,7 @@ struct CoveredScene {
   uint32_t covers;
   const char* sim_skip = nullptr;
   const char* sim_weak = nullptr;
+  const char* full_weak = nullptr;  // the same at the full size (then only agreement is checked)
 };
 
 // The coverage list.
@@ -88,7 +89,9 @@ inline const std::vector<CoveredScene>& coverage_list() {
       {"LightsPunctualLamp", "sample", "LightsPunctualLamp",
        kGlossy | kTransmissive | kEmissive | kTextures | kEmitterLight | kPointLight, nullptr,
        "16 frames of 16x16 are too noisy to reject a 1.5x brighter image (max |z| 2.46 under GPGPU-Sim, "
-       "2026-11-29)"},
+       "2026-11-29)",
+       "its noise is heavy-tailed: 64x48 cannot tell a 1.1x brighter CPU image (max |z| 1.97 at 128 frames, 2.38 at "
+       "1024; GpuPathTracerCoverage.TheZTestRejectsABrighterImageOnTheCpuAlone, 2026-11-29)"},
   };
   return list;
 }
