@@ -111,8 +111,12 @@ TEST(CliRendering, ConvergeReportsTheReferenceNoise) {
     if (row.at("error").empty() || row.at("baseline_error").empty()) {
       // One curve has no point at the horizon on this clock (on a loaded machine a first frame can take longer
       // than all frames of the other): the corrected figures are as undefined as the raw ones.
-      if (row.at("error").empty()) EXPECT_EQ(row.at("error_corr"), "");
-      if (row.at("baseline_error").empty()) EXPECT_EQ(row.at("baseline_error_corr"), "");
+      if (row.at("error").empty()) {
+        EXPECT_EQ(row.at("error_corr"), "");
+      }
+      if (row.at("baseline_error").empty()) {
+        EXPECT_EQ(row.at("baseline_error_corr"), "");
+      }
       EXPECT_EQ(row.at("equal_time_error_ratio_corr"), "");
       continue;
     }

@@ -40,6 +40,8 @@
 namespace raycoh {
 namespace {
 
+using test::differing;
+
 namespace fs = std::filesystem;
 
 #define SKIP_WITHOUT_GPU() \
@@ -149,14 +151,6 @@ TEST(GpuGBuffer, ThePathTracersDeviceGBufferEqualsMakeGbuffer) {
       EXPECT_EQ(diff.total(), 0u) << "frame " << frame << ": " << diff.summary();
     }
   }
-}
-
-template <class T>
-size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
-  if (a.size() != b.size()) return std::max(a.size(), b.size());
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); ++i) n += std::memcmp(&a[i], &b[i], sizeof(T)) != 0;
-  return n;
 }
 
 // The device path tracer's first bounce (its camera pass, G-buffer and generator) on the textured scenes equals the

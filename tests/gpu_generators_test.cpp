@@ -30,6 +30,8 @@
 namespace raycoh {
 namespace {
 
+using test::differing;
+
 #define SKIP_WITHOUT_GPU() \
   if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
 
@@ -140,14 +142,6 @@ TEST(GpuPrimary, RaysEqualTheCpuForEveryOrderAndSize) {
 }
 
 // ---- generators ----
-
-template <class T>
-size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
-  if (a.size() != b.size()) return std::max(a.size(), b.size());
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); ++i) n += std::memcmp(&a[i], &b[i], sizeof(T)) != 0;
-  return n;
-}
 
 void expect_same_batch(const RayBatch& gpu, const RayBatch& cpu, const GenerationStats& gs, const GenerationStats& cs) {
   EXPECT_EQ(gpu.width, cpu.width);

@@ -1,7 +1,8 @@
 // What the device path tracer's gpu tests share (tests/gpu_path_tracer_test.cpp: first bounce, stage times and
 // same-seed frames bit for bit; tests/gpu_path_tracer_images_test.cpp: whole images within their noise): the
-// render settings at the test's size, the device's copy of them, and a bitwise count of differing elements.
-// RAYCOH_GPU_TEST_SIZE=sim: 16x16 pixels, paths of 3 scattering events, Russian roulette from the second.
+// render settings at the test's size, and the device's copy of them (the bitwise count of differing elements is
+// test::differing, tests/test_util.h). RAYCOH_GPU_TEST_SIZE=sim: 16x16 pixels, paths of 3 scattering events, Russian
+// roulette from the second.
 #pragma once
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include "cuda/device_path_tracer.h"
 #include "shading/path_tracer.h"
 #include "tests/gpu_test_size.h"
+#include "tests/test_util.h"
 
 namespace raycoh::test {
 
@@ -28,15 +30,6 @@ inline RenderSettings path_settings(uint32_t seed, bool sim = gpu_test_sim_size(
 
 inline cuda::DevicePathSettings device_settings(const RenderSettings& rs) {
   return {rs.width, rs.height, rs.seed, rs.max_depth, rs.rr_depth};
-}
-
-// Elements of a and b whose bytes differ (every element when the sizes differ).
-template <class T>
-size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
-  if (a.size() != b.size()) return std::max(a.size(), b.size());
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); ++i) n += std::memcmp(&a[i], &b[i], sizeof(T)) != 0;
-  return n;
 }
 
 }  // namespace raycoh::test

@@ -39,6 +39,8 @@
 namespace raycoh {
 namespace {
 
+using test::differing;
+
 using test::differing_hits;
 using test::trace_with;
 
@@ -47,14 +49,6 @@ using test::trace_with;
 
 constexpr int kWidth = 48, kHeight = 32, kTile = 8;
 constexpr uint32_t kSeed = 5, kFrame = 2;
-
-template <class T>
-size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
-  if (a.size() != b.size()) return std::max(a.size(), b.size());
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); ++i) n += std::memcmp(&a[i], &b[i], sizeof(T)) != 0;
-  return n;
-}
 
 // ShadingPoint has padding bytes (whatever a store left there): compare its fields, each bit for bit.
 size_t differing_points(const std::vector<ShadingPoint>& a, const std::vector<ShadingPoint>& b) {

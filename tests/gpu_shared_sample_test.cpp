@@ -25,12 +25,15 @@
 #include "scenes/scene.h"
 #include "shading/emitters.h"
 #include "tests/gpu_test_size.h"
+#include "tests/test_util.h"
 #include "tests/trace_test_util.h"
 #include "tracers/device_pipeline.h"
 #include "tracers/tracer.h"
 
 namespace raycoh {
 namespace {
+
+using test::differing;
 
 #define SKIP_WITHOUT_GPU() \
   if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
@@ -42,14 +45,6 @@ const std::vector<std::string>& shared_specs() {
   static const std::vector<std::string> specs = {"sadeghi", "sadeghi:interleave=4", "microjitter",
                                                  "microjitter:radius=0.5,order=scanline"};
   return specs;
-}
-
-template <class T>
-size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
-  if (a.size() != b.size()) return std::max(a.size(), b.size());
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); ++i) n += std::memcmp(&a[i], &b[i], sizeof(T)) != 0;
-  return n;
 }
 
 void expect_same_rays(const RayBatch& gpu, const RayBatch& cpu) {

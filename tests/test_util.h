@@ -1,7 +1,9 @@
 // Helpers shared by the tests: where the shared scenes are, temporary files, running the CLI.
 #pragma once
 
+#include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -9,6 +11,16 @@
 #include "core/error.h"
 
 namespace raycoh::test {
+
+// Elements of a and b whose bytes differ (every element when the sizes differ): the bit-for-bit comparisons of the
+// device tests (types without padding bytes).
+template <class T>
+size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
+  if (a.size() != b.size()) return std::max(a.size(), b.size());
+  size_t n = 0;
+  for (size_t i = 0; i < a.size(); ++i) n += std::memcmp(&a[i], &b[i], sizeof(T)) != 0;
+  return n;
+}
 
 // $RAYCOH_SCENES, else RAYCOH_SHARED_SCENES (CMake; default: shared/scenes beside the repository); empty when
 // absent.
