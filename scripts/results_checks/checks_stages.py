@@ -43,27 +43,3 @@ CHECKS = [
     Figure(S + "h200-1a660a1/README.md", "a single-pass look-back over {} tiles of 64 pixels", lambda: (
         tiles("h200-1a660a1"))),
 ]
-
-L1 = "results/model/stage-l1-term"
-
-
-def l1_row(preset, gbuffer):
-    """The README's table row of `preset` and kernels `gbuffer` (sibenik noopt and ours, 8x8), from prediction.csv."""
-    rows = {r["method"]: r for r in load(f"{L1}/prediction.csv") if r["preset"] == preset and
-            r["gbuffer"] == gbuffer and r["scene"] == "sibenik" and r["tile"] == "8x8"}
-    n, o = rows["noopt"], rows["ours"]
-    return tuple(float(r[c]) for r, c in ((n, "gen_ms"), (o, "gen_ms"), (n, "gen_l1_ms"), (n, "gen_issue_ms"),
-                                          (o, "gen_l1_ms"), (o, "gen_issue_ms"), (n, "gen_l1_wavefronts"),
-                                          (o, "gen_l1_wavefronts")))
-
-
-for _preset in ("h200", "h100"):
-    for _gbuffer, _label in (("fields60", "before 63b5750"), ("wide64", "after")):
-        CHECKS.append(Figure(f"{L1}/README.md", f"| {_preset} | {_label} | {{:.4f}} | {{:.4f}} | {{:.4f}} / {{:.4f}} | "
-                             "{:.4f} / {:.4f} | {:.2f}, {:.2f} |", lambda p=_preset, g=_gbuffer: l1_row(p, g)))
-
-CHECKS += [
-    Generated(f"{L1}/model-vs-measured.md", ["scripts/stage_model_check.py", "compare", "--l1-term", "--ncu", NCU_LOG,
-                                              "prediction-stages.csv", *MEASURED], cwd=L1),
-    Embedded(f"{L1}/README.md", f"{L1}/model-vs-measured.md", "Summary of `model-vs-measured.md`"),
-]
