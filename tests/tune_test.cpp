@@ -108,7 +108,8 @@ TEST(CliTune, ChecksItsInputs) {
   expect_error("tune --scene cornell --budget ds8=2 --search random", "--search random");
   expect_error("tune --scene cornell --budget ds8=2 --generator noopt", "--generator noopt");
   expect_error("tune --scene cornell --budget ds8=2 --shard 0/2", "--search grid");
-  expect_error("tune --scene cornell --budget ds8=2 --render-device gpu", "--render-device gpu: expected cpu, cuda or cuda:pipeline=fused");
+  expect_error("tune --scene cornell --budget ds8=2 --render-device gpu",
+               "--render-device gpu: expected cpu, cuda or cuda:pipeline=fused");
   const auto dir = temp_dir("cli_tune_out");
   write_file((dir / "keep.csv").string(), "a,b\n1,2\n");
   expect_error("tune --scene cornell --budget ds8=2 --res 16x12 --out " + (dir / "keep.csv").string(), "keep.csv");
