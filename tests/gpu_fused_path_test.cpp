@@ -21,6 +21,7 @@
 #include "generators/generator.h"
 #include "scenes/scene.h"
 #include "shading/emitters.h"
+#include "tests/batch_test_util.h"
 #include "tests/gpu_path_tracer_util.h"
 #include "tests/test_util.h"
 
@@ -46,16 +47,7 @@ cuda::DevicePathSettings fused_settings(const RenderSettings& rs) {
 
 void expect_same_batch(const RayBatch& fused, const RayBatch& materialized) {
   ASSERT_GT(materialized.size(), 0u);
-  ASSERT_EQ(fused.size(), materialized.size());
-  EXPECT_EQ(test::differing(fused.rays, materialized.rays), 0u);
-  EXPECT_EQ(test::differing(fused.pixel, materialized.pixel), 0u);
-  EXPECT_EQ(test::differing(fused.pdf, materialized.pdf), 0u);
-  EXPECT_EQ(test::differing(fused.weight, materialized.weight), 0u);
-  EXPECT_EQ(test::differing(fused.normal, materialized.normal), 0u);
-  EXPECT_EQ(test::differing(fused.material, materialized.material), 0u);
-  EXPECT_EQ(test::differing(fused.tile, materialized.tile), 0u);
-  EXPECT_EQ(test::differing(fused.group, materialized.group), 0u);
-  EXPECT_EQ(test::differing(fused.group_type, materialized.group_type), 0u);
+  test::expect_same_columns(fused, materialized);
 }
 
 void expect_same_stats(const cuda::DeviceFrameStats& f, const cuda::DeviceFrameStats& m) {

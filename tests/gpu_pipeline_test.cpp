@@ -30,6 +30,7 @@
 #include "plugins/tracer_registry.h"
 #include "records/provenance.h"
 #include "scenes/scene.h"
+#include "tests/batch_test_util.h"
 #include "tests/gbuffer_test_util.h"
 #include "tests/test_util.h"
 #include "tests/trace_test_util.h"
@@ -66,16 +67,7 @@ void expect_same_batch(const RayBatch& gpu, const RayBatch& cpu) {
   EXPECT_EQ(gpu.width, cpu.width);
   EXPECT_EQ(gpu.height, cpu.height);
   EXPECT_EQ(gpu.frame, cpu.frame);
-  ASSERT_EQ(gpu.size(), cpu.size());
-  EXPECT_EQ(differing(gpu.rays, cpu.rays), 0u) << "rays";
-  EXPECT_EQ(differing(gpu.pixel, cpu.pixel), 0u) << "pixel";
-  EXPECT_EQ(differing(gpu.pdf, cpu.pdf), 0u) << "pdf";
-  EXPECT_EQ(differing(gpu.weight, cpu.weight), 0u) << "weight";
-  EXPECT_EQ(differing(gpu.normal, cpu.normal), 0u) << "normal";
-  EXPECT_EQ(differing(gpu.material, cpu.material), 0u) << "material";
-  EXPECT_EQ(differing(gpu.tile, cpu.tile), 0u) << "tile";
-  EXPECT_EQ(differing(gpu.group, cpu.group), 0u) << "group";
-  EXPECT_EQ(differing(gpu.group_type, cpu.group_type), 0u) << "group_type";
+  test::expect_same_columns(gpu, cpu);
 }
 
 void expect_same_stats(const GenerationStats& gpu, const GenerationStats& cpu) {

@@ -24,6 +24,7 @@
 #include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
 #include "shading/emitters.h"
+#include "tests/batch_test_util.h"
 #include "tests/gpu_test_size.h"
 #include "tests/test_util.h"
 #include "tests/trace_test_util.h"
@@ -32,8 +33,6 @@
 
 namespace raycoh {
 namespace {
-
-using test::differing;
 
 #define SKIP_WITHOUT_GPU() \
   if (cuda::device_count() == 0) GTEST_SKIP() << "no CUDA device"
@@ -45,16 +44,6 @@ const std::vector<std::string>& shared_specs() {
   static const std::vector<std::string> specs = {"sadeghi", "sadeghi:interleave=4", "microjitter",
                                                  "microjitter:radius=0.5,order=scanline"};
   return specs;
-}
-
-void expect_same_rays(const RayBatch& gpu, const RayBatch& cpu) {
-  ASSERT_EQ(gpu.size(), cpu.size());
-  EXPECT_EQ(differing(gpu.rays, cpu.rays), 0u) << "rays";
-  EXPECT_EQ(differing(gpu.pixel, cpu.pixel), 0u) << "pixel";
-  EXPECT_EQ(differing(gpu.pdf, cpu.pdf), 0u) << "pdf";
-  EXPECT_EQ(differing(gpu.weight, cpu.weight), 0u) << "weight";
-  EXPECT_EQ(differing(gpu.normal, cpu.normal), 0u) << "normal";
-  EXPECT_EQ(differing(gpu.material, cpu.material), 0u) << "material";
 }
 
 TEST(GpuSharedSample, TheDevicePipelineMakesAndTracesTheHostPipelinesBatch) {
@@ -85,7 +74,7 @@ TEST(GpuSharedSample, TheDevicePipelineMakesAndTracesTheHostPipelinesBatch) {
         std::vector<uint32_t> order;
         std::vector<Hit> hits;
         pipeline->download_secondary(generated, order, permuted, hits);
-        expect_same_rays(generated, host);
+        test::expect_same_columns(generated, host);
         EXPECT_EQ(device_stats.rays, host_stats.rays);
         EXPECT_EQ(device_stats.below_geometric, host_stats.below_geometric);
         EXPECT_EQ(device_stats.below_shading, host_stats.below_shading);
@@ -122,7 +111,7 @@ TEST(GpuSharedSample, TheDevicePathTracersFirstBounceEqualsTheCpuGenerators) {
       GenerationStats stats;
       generator->generate(scene, first.gbuffer, settings.seed, host, stats);
       ASSERT_GT(host.size(), 0u);
-      expect_same_rays(gpu, host);
+      test::expect_same_columns(gpu, host);
     }
   }
 }
