@@ -338,7 +338,15 @@ TEST(CliShard, ReferenceFrameShardsCombineToTheSingleProcessEntry) {
   EXPECT_NE(r.output.find("(cache)"), std::string::npos) << r.output;
 
   expect_error(ref + " --shard 0/3 --out " + (dir / "bad").string(), "valid shard counts: 1, 2, 4, 8");
-  expect_error(ref + " --shard 0/8", "--shard and --out go together");
+  expect_error(ref + " --shard 0/8", "--shard I/N needs --out PART");
+  // --out alone (or --shard 0/1): one part holding every block, which combines to the same entry.
+  r = run_raycoh(ref + " --shard 0/1 --out " + (dir / "one.part").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_raycoh("reference-combine --cache " + (dir / "one").string() + " " + (dir / "one.part").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Image one = read_image((dir / "one" / single[0].filename()).string());
+  ASSERT_EQ(one.rgb.size(), a.rgb.size());
+  EXPECT_EQ(std::memcmp(one.rgb.data(), a.rgb.data(), a.rgb.size() * sizeof(float)), 0);
   expect_error("reference-combine --cache " + (dir / "c2").string() + " " + (dir / "part0").string(),
                "7 of 8 reference shard(s) missing");
 }

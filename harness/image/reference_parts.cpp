@@ -32,18 +32,18 @@ struct ReferenceOptions {
   int frames = 512;       // --frames: as --ref-frames of quality and converge
   std::string cache_dir;  // --cache
   Shard shard;            // --shard I/N: only this shard, into --out
-  std::string out;        // --out: the part file (with --shard)
+  std::string out;        // --out: the part file (of --shard, or alone of every block)
 };
 
 int run_reference(const ReferenceOptions& o) {
   check_common(o.common, false);
   check_frames("--frames", o.frames);
   check_scene_spec("--scene", o.scene);
-  if (o.shard.whole() != o.out.empty())
+  if (!o.shard.whole() && o.out.empty())
     throw Error(
-        "--shard and --out go together: --shard I/N --out PART renders one part file (join them with "
-        "raycoh reference-combine); without both the whole reference goes to the cache");
-  if (o.shard.whole()) {
+        "--shard I/N needs --out PART: a shard renders one part file (join them with raycoh reference-combine); "
+        "--out alone writes every block as one part, and without either the whole reference goes to the cache");
+  if (o.out.empty()) {
     auto ls = load(o.scene, o.common.tracer);
     const ReferenceImage ref = obtain_reference(*ls, o.scene, o.common, o.frames, o.cache_dir, "");
     std::printf("reference %s (%s)\n", ref.path.c_str(), ref.kind.c_str());
@@ -99,7 +99,7 @@ BoundCommand bind_reference(CLI::App& parent) {
                   fmt::format("I/N: render only shard I (0-based) of N, whole blocks of {} frames, into --out",
                               kReferenceFrameBlock))
       ->capture_default_str();
-  cmd->add_option("--out", s->o.out, "the part file of --shard");
+  cmd->add_option("--out", s->o.out, "the part file of --shard (alone: every block as one part)");
   bind_render_common(cmd, s->o.common, s->text);
   bind_protocol(cmd, s->protocol, false);
   return {cmd, [s, cmd](const Provenance&) {
