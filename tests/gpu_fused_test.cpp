@@ -2,8 +2,9 @@
 // the G-buffer and traces them where they are made. Its hits, at each ray's pixel, must be the `cpu` tracer's hits
 // of the CPU generator's batch, bit for bit, for noopt, ours and contiguous in tile and group order, with every
 // trace-kernel form (tuned, classic, CWBVH) and on a scene with alpha MASK cut-outs; its statistics must be the
-// CPU generator's. Small (48x32) so that it also runs under a GPU simulator. What the fused pipeline refuses, and
-// the parameter combinations it cannot run, are checked on the CPU. Label `gpu`.
+// CPU generator's, and the batch the device generator makes again for download_secondary must be the CPU
+// generator's in every column (test::expect_same_columns). Small (48x32) so that it also runs under a GPU simulator.
+// What the fused pipeline refuses, and the parameter combinations it cannot run, are checked on the CPU. Label `gpu`.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include "pipeline/first_hits.h"
 #include "plugins/tracer_registry.h"
 #include "scenes/scene.h"
+#include "tests/batch_test_util.h"
 #include "tests/test_util.h"
 #include "tests/trace_test_util.h"
 #include "tracers/device_pipeline.h"
@@ -83,7 +85,7 @@ void expect_fused_hits_equal_cpu(const std::string& spec, const std::string& cud
     EXPECT_TRUE(order.empty());
     EXPECT_EQ(permuted.size(), 0u);
     ASSERT_EQ(generated.size(), batch.size());
-    EXPECT_EQ(generated.pixel, batch.pixel);
+    test::expect_same_columns(generated, batch);  // the device generator's batch, made again: every column
     EXPECT_EQ(differing_hits(hits, expected), 0u);
     EXPECT_EQ(gpu_stats.rays, cpu_stats.rays);
     EXPECT_EQ(gpu_stats.below_geometric, cpu_stats.below_geometric);

@@ -31,6 +31,7 @@
 #include "shading/emitters.h"
 #include "shading/path_tracer.h"
 #include "tests/alpha_card.h"
+#include "tests/batch_test_util.h"
 #include "tests/block_stats_util.h"
 #include "tests/gbuffer_test_util.h"
 #include "tests/gpu_test_size.h"
@@ -154,8 +155,9 @@ TEST(GpuGBuffer, ThePathTracersDeviceGBufferEqualsMakeGbuffer) {
 }
 
 // The device path tracer's first bounce (its camera pass, G-buffer and generator) on the textured scenes equals the
-// CPU's (first_hits, then the generator), bit for bit: rays, pixels, pdfs, weights and material classes, for noopt
-// (each pixel's own lobe, chosen by its base colour) and ours; and so does the whole frame's radiance, the CPU path
+// CPU's (first_hits, then the generator), bit for bit in every column of the batch (test::expect_same_columns:
+// rays, pixels, pdfs, weights, normals, material classes and ours's tile, group and group type), for noopt (each
+// pixel's own lobe, chosen by its base colour) and ours; and so does the whole frame's radiance, the CPU path
 // tracer's with the same seed and settings (every texel decoded on the paths' later hits too).
 TEST(GpuGBuffer, FirstBounceRaysAndFramesOnTexturedScenesEqualTheCpuBitForBit) {
   SKIP_WITHOUT_GPU();
@@ -191,12 +193,7 @@ TEST(GpuGBuffer, FirstBounceRaysAndFramesOnTexturedScenesEqualTheCpuBitForBit) {
       GenerationStats stats;
       generator->generate(scene, first.gbuffer, kSeed, host, stats);
       ASSERT_GT(host.size(), 0u);
-      ASSERT_EQ(gpu.size(), host.size());
-      EXPECT_EQ(differing(gpu.rays, host.rays), 0u);
-      EXPECT_EQ(differing(gpu.pixel, host.pixel), 0u);
-      EXPECT_EQ(differing(gpu.pdf, host.pdf), 0u);
-      EXPECT_EQ(differing(gpu.weight, host.weight), 0u);
-      EXPECT_EQ(differing(gpu.material, host.material), 0u);
+      test::expect_same_columns(gpu, host);
       std::printf("%s %s: %zu first-bounce rays equal\n", spec.c_str(), gen, host.size());
     }
   }
