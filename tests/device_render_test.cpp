@@ -60,6 +60,9 @@ TEST(DeviceRender, CudaRendersWithALabelledGpuTimeOrSaysWhyNot) {
       EXPECT_TRUE(r.output.find("measured") != std::string::npos || r.output.find("simulated") != std::string::npos)
           << r.output;
       EXPECT_EQ(r.output.find("first bounce fused") != std::string::npos, device != "cuda") << r.output;
+      // Each figure's spread across the 2 frames: [min, max], a 50% interval of the median.
+      EXPECT_NE(r.output.find("GPU time per frame median"), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find("(50% interval over 2 frames)"), std::string::npos) << r.output;
     } else {
       EXPECT_EQ(r.exit_code, 2) << r.output;
       EXPECT_NE(r.output.find("--device " + device + ": "), std::string::npos) << r.output;
@@ -85,7 +88,9 @@ TEST(DeviceRender, CommandsSayWhyThereIsNoDevice) {
     EXPECT_NE(r.output.find("--device cuda: "), std::string::npos) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   }
-  if (!fs::exists(dir / "q.csv")) EXPECT_FALSE(fs::exists(dir / "cache"));
+  if (!fs::exists(dir / "q.csv")) {
+    EXPECT_FALSE(fs::exists(dir / "cache"));
+  }
 }
 
 // A reference made by another renderer (the device's seam, ReferenceRequest::make_renderer) sums its frames in the
@@ -134,7 +139,8 @@ TEST(DeviceRender, DeviceReferenceHasItsOwnEntryAndRenderer) {
 // converge --device cuda's third clock: each frame's GPU milliseconds summed on their own, the error curve against
 // that sum, and the summary's ratios read on it.
 TEST(DeviceRender, DeviceClockSumsFrameTimesAndReadsRatios) {
-  DeviceClock base{"measured"}, fast{"measured"};
+  DeviceClock base, fast;
+  base.label = fast.label = "measured";
   EXPECT_EQ(base.clock_name(), "measured_gpu");
   EXPECT_FALSE(DeviceClock{}.active());
   for (int n = 1; n <= 4; ++n) {

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -17,6 +18,7 @@
 #include "harness/image/render_cli.h"
 #include "harness/image/render_common.h"
 #include "harness/image/render_device.h"
+#include "records/speed_interval.h"
 #include "shading/path_tracer.h"
 
 namespace raycoh {
@@ -40,8 +42,18 @@ std::string render_cpu(const RenderOptions& o, LoadedScene& ls, Generator& gener
                      total.trace_s > 0 ? static_cast<double>(total.rays()) / total.trace_s * 1e-6 : 0.0);
 }
 
-// The frames on the device path tracer (harness/image/render_device.h); returns the timing line, labelled with its
-// clock.
+// "median M [lo, hi] (L% interval over N frames)" of the frames' figures (NaNs left out), or "n/a".
+std::string spread(std::vector<double> v, const char* unit) {
+  std::erase_if(v, [](double x) { return std::isnan(x); });
+  if (v.empty()) return "n/a";
+  const MedianInterval m = median_interval(v);
+  if (m.level == 0) return fmt::format("{:.3f} {} (one frame, no interval)", m.median, unit);
+  return fmt::format("median {:.3f} {} [{:.3f}, {:.3f}] ({:.0f}% interval over {} frames)", m.median, unit, m.lo, m.hi,
+                     100 * m.level, v.size());
+}
+
+// The frames on the device path tracer (harness/image/render_device.h); returns the timing lines, labelled with
+// their clock: totals over the frames, then each figure's median across frames with its interval.
 std::string render_device(const RenderOptions& o, LoadedScene& ls, Generator& generator, Accumulator& acc) {
   Progress bar;
   const auto t0 = std::chrono::steady_clock::now();
@@ -59,10 +71,12 @@ std::string render_device(const RenderOptions& o, LoadedScene& ls, Generator& ge
   return fmt::format(
       "device path tracer on {}: GPU time {:.3f} ms per frame ({}: CUDA events around each frame); wall {:.2f} s; "
       "{:.3g} rays ({:.2f} MRay/s of {} GPU time)\n  by stage, ms per frame ({}; the rest of the frame in none): {}\n"
-      "  trace by bounce ({}): first {:.3f} ms per frame, {:.2f} MRay/s; second {:.3f} ms per frame, {:.2f} MRay/s",
+      "  trace by bounce ({}): first {:.3f} ms per frame, {:.2f} MRay/s; second {:.3f} ms per frame, {:.2f} MRay/s\n"
+      "  across frames ({}): GPU time per frame {}; first bounce's trace {}; second's {}",
       t.device, t.gpu_ms / o.frames, t.clock, wall, static_cast<double>(t.rays), rate(double(t.rays), t.gpu_ms),
       t.clock, t.clock, stages, t.clock, s.first_trace / o.frames, rate(s.first_rays, s.first_trace),
-      s.second_trace / o.frames, rate(s.second_rays, s.second_trace));
+      s.second_trace / o.frames, rate(s.second_rays, s.second_trace), t.clock, spread(t.frame_ms, "ms"),
+      spread(t.first_mrays, "MRay/s"), spread(t.second_mrays, "MRay/s"));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cmath>
 #include <vector>
 
 #include "core/error.h"
@@ -137,6 +138,10 @@ DeviceRenderTotals render_on_device(const LoadedScene& ls, const Generator& gene
     totals.gpu_ms += d.gpu_ms;
     add_stages(totals.stages, d.stages);
     totals.rays += d.rays();
+    const auto mrays = [](double rays, double ms) { return ms > 0 ? rays / ms * 1e-3 : std::nan(""); };
+    totals.frame_ms.push_back(d.gpu_ms);
+    totals.first_mrays.push_back(mrays(d.stages.first_rays, d.stages.first_trace));
+    totals.second_mrays.push_back(mrays(d.stages.second_rays, d.stages.second_trace));
     progress(f);
   }
   return totals;

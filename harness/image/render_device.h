@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "generators/generator.h"
 #include "harness/image/render_common.h"
@@ -66,6 +67,9 @@ struct DeviceRenderTotals {
   uint64_t rays = 0;     // every ray traced: camera, first bounce, later bounces, shadow rays
   std::string clock;     // "measured" on a GPU, "simulated" under GPGPU-Sim
   std::string device;    // the device's name
+  // Per frame, for the spread across frames: the frame's GPU time (ms) and its first and second bounces' wave trace
+  // speeds (MRay/s; NaN where the frame traced no such wave).
+  std::vector<double> frame_ms, first_mrays, second_mrays;
 };
 
 // The device time of a reference's frames (--device cuda): summed GPU milliseconds, frames, clock and device.
