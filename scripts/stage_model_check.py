@@ -12,6 +12,12 @@ pass's own order). Only those descriptions go to the model (raycoh_stage_model, 
 default build/simt/): no measured time is read by `predict`.
 --gbuffer: the generation kernels priced (simt/stage_l1.h GBufferRead): wide64, those since 63b5750, or fields60, the
 earlier ones that made the runs up to it (h200-a26f7f6); without it the model's default (wide64).
+--trip-counts: the group kernel priced by its trip-counted count (simt/stage_paths.h): each pass's k, hybrid rule
+and frame (generator_params) and its group counts (groups_glossy + groups_hybrid + groups_independent, and
+groups_hybrid: workload columns of the row, never a time) go to the model as its five path fields.
+--mlhcc-walks WALKS.csv (with --trip-counts): bench/mlhcc_walks.cpp's counts per scene (origin_trips, end_trips:
+each cut walk's iterations per warp, counted on the CPU's copy of the pass) price MLHCC's key kernel by its
+trip-counted count.
 Printed: one line per pass and stage that ran, every figure MODELED (kind = modeled).
 
   scripts/stage_model_check.py compare [--ncu LOG.xz] [--l1-term] PREDICTION.csv TABLE.csv... > model-vs-measured.md
@@ -65,15 +71,25 @@ def method_label(r):
     return r["method"]
 
 
-def describe(r, preset, label, gbuffer=None):
-    """raycoh_stage_model's input line for the pass of row r (gbuffer: the optional 12th field)."""
+def group_path(r):
+    """The five path fields of a group-kernel pass: k, hybrid, frame, non-diffuse groups, hybrid groups."""
+    params = r["generator_params"]
+    groups = sum(float(r.get(f"groups_{t}") or 0) for t in ("glossy", "hybrid", "independent"))
+    return [param(params, "k") or "8", param(params, "hybrid") or "paper", param(params, "frame") or "duff",
+            f"{groups:.0f}", r.get("groups_hybrid") or "0"]
+
+
+def describe(r, preset, label, gbuffer=None, trips=False, walks=None):
+    """raycoh_stage_model's input line for the pass of row r (gbuffer: the optional 12th field; trips: the group
+    kernel's five path fields after it)."""
     tile = (param(r["generator_params"], "tile") or "8x8").split("x")
     generator = "noopt" if r["generator"] == "noopt" else "group"
     encoder = r.get("encoder") or "none"
     bits = param(r.get("encoder_params"), "bits") or "0"
     permute = r.get("modeled_permute_bytes", "") if r.get("permute") == "physical" else ""
     return ",".join([label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits,
-                     permute] + ([gbuffer] if gbuffer else []))
+                     permute] + ([gbuffer or "wide64"] + group_path(r) if trips else [gbuffer] if gbuffer else []) +
+                    (list(walks.get(r["scene"], ("", ""))) if trips and walks is not None else []))
 
 
 def model_binary(given):
@@ -86,7 +102,11 @@ def model_binary(given):
 
 def predict(args):
     rows = read_passes(args.tables)
-    lines = [describe(r, args.preset, str(i), args.gbuffer) for i, r in enumerate(rows)]
+    walks = None
+    if args.mlhcc_walks:
+        with open(args.mlhcc_walks, newline="") as f:
+            walks = {w["scene"]: (w["origin_trips"], w["end_trips"]) for w in csv.DictReader(f)}
+    lines = [describe(r, args.preset, str(i), args.gbuffer, args.trip_counts, walks) for i, r in enumerate(rows)]
     out = subprocess.run([model_binary(args.model)], input="\n".join(lines) + "\n", capture_output=True, text=True,
                          check=True).stdout
     modeled = {m["label"]: m for m in csv.DictReader(out.splitlines())}
@@ -232,6 +252,8 @@ def main(argv):
     p.add_argument("--model")
     p.add_argument("--preset", default="h200")
     p.add_argument("--gbuffer", choices=("wide64", "fields60"))
+    p.add_argument("--trip-counts", action="store_true")
+    p.add_argument("--mlhcc-walks")
     p.add_argument("tables", nargs="+")
     p.set_defaults(run=predict)
     c = sub.add_parser("compare")

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "simt/cache_model.h"
+#include "simt/stage_paths.h"
 #include "simt/warp_trace.h"
 
 namespace raycoh {
@@ -90,6 +91,9 @@ struct StageKernelCosts {
   // The three generation kernels before 63b5750 (60-byte G-buffer records read field by field, GBufferRead::Fields60),
   // to price the runs made with them.
   double tile_hits_fields60 = 0, noopt_fields60 = 0, group_fields60 = 0;
+  // The group kernel by region, for its trip-counted count (simt/stage_paths.h); empty: the static count `group`.
+  GroupPathCounts group_paths, group_paths_fields60;
+  double mlhcc_walk_body[2] = {0, 0};  // MLHCC's two cut-walk loop bodies (origin, end point), SASS instructions
 };
 
 struct GpuModelConfig {

@@ -27,7 +27,7 @@ double scan_ms(const GpuModelConfig& gpu, double items) {
 }  // namespace
 
 StageWork stage_work(const Generator& generator, const Encoder& encoder, bool physical, int width, int height,
-                     size_t rays) {
+                     size_t rays, const GenerationStats* stats) {
   StageWork w;
   w.width = width;
   w.height = height;
@@ -48,6 +48,17 @@ StageWork stage_work(const Generator& generator, const Encoder& encoder, bool ph
   w.window = encoder.window();
   w.key = encoder.recipe().kind;
   w.physical = physical;
+  if (w.grouping) {
+    w.group_path.k = static_cast<int>(r.grouping.k);
+    w.group_path.rotate = r.grouping.reuse_frame == ReuseFrame::Rotate;
+    w.group_path.hybrid_glossy = r.grouping.hybrid == HybridRule::Glossy;
+    w.group_path.hybrid_own = r.grouping.hybrid == HybridRule::Independent;
+    if (stats) {
+      const auto n = [&](GroupType t) { return double(stats->groups[static_cast<int>(t)]); };
+      w.group_path.nondiffuse_groups = n(GroupType::Glossy) + n(GroupType::Hybrid) + n(GroupType::Independent);
+      w.group_path.hybrid_groups = n(GroupType::Hybrid);
+    }
+  }
   return w;
 }
 
@@ -104,7 +115,13 @@ StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWor
   const double warps = tiles_of(w) * div_up(double(w.tile_w) * w.tile_h, kWarp);
   const StageKernelCosts& c = gpu.stages;
   const bool fields = w.gbuffer == GBufferRead::Fields60;
-  const double cycles = w.grouping ? (fields ? c.group_fields60 : c.group) : (fields ? c.noopt_fields60 : c.noopt);
+  double cycles = w.grouping ? (fields ? c.group_fields60 : c.group) : (fields ? c.noopt_fields60 : c.noopt);
+  const GroupPathCounts& paths = fields ? c.group_paths_fields60 : c.group_paths;
+  if (w.grouping && w.group_path.k > 0 && !paths.empty()) {
+    GroupPath p = w.group_path;
+    p.hit_fraction = w.pixels() ? double(w.rays) / double(w.pixels()) : 0.0;
+    cycles = group_path_instructions(paths, p, double(w.tile_w) * w.tile_h, tiles_of(w));
+  }
   const double bytes = generation_bytes(w.pixels(), w.rays) -
                        double(w.pixels()) * (double(sizeof(ShadingPoint)) - gbuffer_record_bytes(w.gbuffer));
   return kernel_terms(gpu, bytes, warps, cycles,
@@ -121,7 +138,8 @@ double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w) {
 double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w) {
   if (w.key_bits == 0 || w.rays == 0) return 0.0;
   const int kind = static_cast<int>(w.key);
-  const double cycles = kind >= 0 && kind < 7 ? gpu.stages.key[kind] : 0.0;
+  double cycles = kind >= 0 && kind < 7 ? gpu.stages.key[kind] : 0.0;
+  if (w.key == KeyKind::Mlhcc) cycles = mlhcc_walk_instructions(cycles, gpu.stages.mlhcc_walk_body, w.mlhcc_walks);
   return stage_kernel_ms(gpu, key_bytes(w.rays, w.key_bits), div_up(double(w.rays), kWarp), cycles);
 }
 
@@ -176,6 +194,10 @@ StageKernelCosts stage_costs_sm90() {
   c.tile_hits_fields60 = 172;  // the a26f7f6 kernels: results/model/h200-stages/instructions-sm_90.txt
   c.noopt_fields60 = 1620;
   c.group_fields60 = 7241;
+  c.group_paths = group_paths_sm90();  // results/model/stage-trip-counts/group-paths-*sm_90.txt
+  c.group_paths_fields60 = group_paths_sm90_fields60();
+  c.mlhcc_walk_body[0] = 134;  // instructions-sm_90.txt, key mlhcc's loop bodies
+  c.mlhcc_walk_body[1] = 135;
   const double keys[7] = {0, 270, 480, 428, 540, 680, 536};  // none, origin, reis, costa, aila, twopoint, mlhcc
   std::copy(keys, keys + 7, c.key);
   c.gather = 160;
@@ -192,6 +214,10 @@ StageKernelCosts stage_costs_sm86() {
   c.tile_hits_fields60 = 170;  // the a26f7f6 kernels: results/model/h200-stages/instructions-sm_86.txt
   c.noopt_fields60 = 1604;
   c.group_fields60 = 7068;
+  c.group_paths = group_paths_sm86();  // results/model/stage-trip-counts/group-paths-*sm_86.txt
+  c.group_paths_fields60 = group_paths_sm86_fields60();
+  c.mlhcc_walk_body[0] = 134;  // instructions-sm_86.txt
+  c.mlhcc_walk_body[1] = 135;
   const double keys[7] = {0, 268, 480, 428, 538, 680, 502};
   std::copy(keys, keys + 7, c.key);
   c.gather = 146;

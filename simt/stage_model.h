@@ -24,6 +24,7 @@
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
 #include "simt/stage_l1.h"
+#include "simt/stage_paths.h"
 
 namespace raycoh {
 
@@ -38,14 +39,16 @@ struct StageWork {
   int window = 0;                             // > 0: the windowed reordering (one binning kernel)
   bool physical = true;                       // the gather runs (permute physical)
   GBufferRead gbuffer = GBufferRead::Wide64;  // the generation kernels' G-buffer read (Fields60: before 63b5750)
+  GroupPath group_path;  // the group kernel's path (k > 0: its trip-counted count, simt/stage_paths.h)
+  KeyWalks mlhcc_walks;  // MLHCC's cut walks per warp (> 0: its trip-counted count)
   size_t pixels() const { return size_t(width) * size_t(height); }
 };
 
 // The pass a generator and an encoder make on a width x height image: the generator's device recipe (noopt, or the
 // group kernel with its tiles; a generator without a GPU version is priced as noopt on 8x8 tiles) and the
-// encoder's key kind and bits.
+// encoder's key kind and bits. `stats` (optional): the pass's group counts, for the group kernel's path.
 StageWork stage_work(const Generator& generator, const Encoder& encoder, bool physical, int width, int height,
-                     size_t rays);
+                     size_t rays, const GenerationStats* stats = nullptr);
 
 // The constants of the form, the same for every preset (docs/simt-model.md section 3 gives each one's source).
 constexpr double kStreamFraction = 0.9;             // effective streaming bandwidth / the preset's DRAM figure

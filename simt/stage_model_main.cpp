@@ -3,6 +3,12 @@
 // generator: noopt or group (ours / contiguous); encoder: none, origin, reis, costa, aila, twopoint or mlhcc;
 // permute_bytes: the gather's bytes (simt/pipeline_model.h permute_bytes of the pass's order; empty: no gather);
 // gbuffer: wide64 (the default: the kernels since 63b5750) or fields60 (before it, simt/stage_l1.h GBufferRead).
+// Five more fields give the group kernel's path (simt/stage_paths.h), which prices it by its trip-counted count:
+//   ...,gbuffer,k,hybrid,frame,nondiffuse_groups,hybrid_groups   (hybrid: paper, donor, glossy or independent;
+// frame: duff or rotate; the group counts: the pass's groups_glossy + groups_hybrid + groups_independent, and
+// groups_hybrid). Without them (11 or 12 fields) the group kernel is priced by its static count. Two more
+// (19 fields): MLHCC's cut-walk iterations per warp, origin and end point (bench/mlhcc_walks.cpp; empty: unknown),
+// which price its key kernel by its trip-counted count.
 // Prints label,gen_ms,key_ms,sort_ms,permute_ms and the generator kernel's terms (gen_dram_ms, gen_issue_ms,
 // gen_l1_ms, gen_l1_wavefronts per warp; tile_hits_l1_wavefronts), every figure MODELED. No times are read: what a pass
 // is, not what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
@@ -33,6 +39,22 @@ std::vector<std::string> fields(const std::string& line) {
   return out;
 }
 
+// Fields 12-16: k, hybrid, frame, nondiffuse_groups, hybrid_groups.
+raycoh::GroupPath group_path_of(const std::vector<std::string>& f) {
+  raycoh::GroupPath p;
+  p.k = std::stoi(f[12]);
+  if (f[13] != "paper" && f[13] != "donor" && f[13] != "glossy" && f[13] != "independent")
+    throw raycoh::Error("raycoh_stage_model: hybrid is paper, donor, glossy or independent, not '" + f[13] + "'");
+  if (f[14] != "duff" && f[14] != "rotate")
+    throw raycoh::Error("raycoh_stage_model: frame is duff or rotate, not '" + f[14] + "'");
+  p.hybrid_glossy = f[13] == "glossy";
+  p.hybrid_own = f[13] == "independent";
+  p.rotate = f[14] == "rotate";
+  p.nondiffuse_groups = f[15].empty() ? 0.0 : std::stod(f[15]);
+  p.hybrid_groups = f[16].empty() ? 0.0 : std::stod(f[16]);
+  return p;
+}
+
 }  // namespace
 
 int main() {
@@ -43,7 +65,8 @@ int main() {
     for (std::string line; std::getline(std::cin, line);) {
       if (line.empty()) continue;
       const std::vector<std::string> f = fields(line);
-      if (f.size() != 11 && f.size() != 12) throw Error("raycoh_stage_model: 11 or 12 fields expected: " + line);
+      if (f.size() != 11 && f.size() != 12 && f.size() != 17 && f.size() != 19)
+        throw Error("raycoh_stage_model: 11, 12, 17 or 19 fields expected: " + line);
       const GpuModelConfig gpu = gpu_preset(f[1]);
       StageWork w;
       w.width = std::stoi(f[2]);
@@ -54,9 +77,12 @@ int main() {
       w.tile_h = std::stoi(f[7]);
       w.key = kind_of(f[8]);
       w.key_bits = w.key == KeyKind::None ? 0 : std::stoi(f[9]);
-      if (f.size() == 12 && f[11] != "wide64" && f[11] != "fields60")
+      if (f.size() >= 12 && f[11] != "wide64" && f[11] != "fields60")
         throw Error("raycoh_stage_model: gbuffer is wide64 or fields60, not '" + f[11] + "'");
-      if (f.size() == 12 && f[11] == "fields60") w.gbuffer = GBufferRead::Fields60;
+      if (f.size() >= 12 && f[11] == "fields60") w.gbuffer = GBufferRead::Fields60;
+      if (f.size() >= 17 && w.grouping) w.group_path = group_path_of(f);
+      if (f.size() == 19 && !f[17].empty()) w.mlhcc_walks.origin = std::stod(f[17]);
+      if (f.size() == 19 && !f[18].empty()) w.mlhcc_walks.end = std::stod(f[18]);
       ModeledStages m;
       m.gen_ms = stage_generation_ms(gpu, w);
       m.key_ms = stage_key_ms(gpu, w);

@@ -321,7 +321,7 @@ void ExperimentRun::run_method(const Unit& u, const GBuffer& gbuffer, Generated&
     record(std::move(r), ti, stages, t, &generated.stats,
            gpu ? stage_model(*gpu,
                              stage_work(*generators_[mi], enc, permute_ == PermuteMode::Physical, o_.width, o_.height,
-                                        b.batch.size()),
+                                        b.batch.size(), &generated.stats),
                              b.order)
                : ModeledStages{});
   }
