@@ -251,20 +251,29 @@ bool ConvergeRun::render_round() {
 void ConvergeRun::render() {
   denoise_.notice_if_missing();
   Progress bar;
-  double budget = 0;
-  for (const Run& r : runs_) budget += r.active ? o_.time_s : 0;
+  std::vector<bool> counted;  // the runs with work at the start
+  for (const Run& r : runs_) counted.push_back(r.active);
+  const auto runs = std::count(counted.begin(), counted.end(), true);
   try {
-    if (budget == 0) {  // a shard with no unit
+    if (runs == 0) {  // a shard with no unit
       csv_.finish();
       return;
     }
     for (bool any = true; any;) {
       any = render_round();
-      // Progress in hundredths of the whole time budget (the bar counts them as its steps).
+      // Progress in hundredths of the runs' budgets: each run is as far as the nearer of its two ends, the time
+      // budget or --max-frames (the bar counts hundredths as its steps).
       double done = 0;
-      for (const Run& r : runs_) done += std::min(r.total.wall_s, o_.time_s);
-      bar.update(0, 1, static_cast<int>(100 * done / budget), 100,
-                 fmt::format("{}: {:.0f} of {:.0f} s", ls_->scene.name, done, budget));
+      int frames = 0;
+      for (size_t i = 0; i < runs_.size(); ++i) {
+        if (!counted[i]) continue;
+        const Run& r = runs_[i];
+        frames += r.frames;
+        done += r.active ? std::min(1.0, std::max(r.total.wall_s / o_.time_s, double(r.frames) / o_.max_frames)) : 1.0;
+      }
+      bar.update(0, 1, static_cast<int>(100 * done / runs), 100,
+                 fmt::format("{}: {} frames; a generator stops at {:g} s or {} frames", ls_->scene.name, frames,
+                             o_.time_s, o_.max_frames));
     }
   } catch (const Error& e) {
     bar.clear();
