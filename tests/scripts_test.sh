@@ -106,6 +106,17 @@ expect_error() {  # expect_error <text> <command...>: exit code 2 and the text i
 "$scripts/plot_converge.py" converge_gpu.csv --out fig/converge_3.png --clock wall_s,trace_s,modeled_gpu_s && check fig/converge_3.png
 sed 's/^cornell,/voxels,/' converge_gpu.csv > converge_gpu2.csv
 "$scripts/plot_converge.py" converge_gpu.csv converge_gpu2.csv --out fig/converge_2.png && check fig/converge_2.png
+# The device clock (converge --device cuda and cuda:pipeline=fused): one curve per method and form, the clock's
+# kind in the axis; measured and simulated rows in one plot are refused.
+{ echo "scene,method,frame,wall_s,trace_s,rel_mse,mse,rmse,psnr,ssim,preset,mode,gpu_preset,render_device,gpu_clock,gpu_s"
+  for d in cuda cuda:pipeline=fused; do
+    echo "cornell,noopt,1,0.1,0,1.0,0.1,0.31,15,0.3,,,,$d,measured,0.002"
+    echo "cornell,noopt,2,0.2,0,0.5,0.05,0.22,18,0.4,,,,$d,measured,0.004"
+    echo "cornell,ours,1,0.1,0,0.9,0.1,0.31,15,0.3,,,,$d,measured,0.0015"
+  done; } > converge_dev.csv
+"$scripts/plot_converge.py" converge_dev.csv --out fig/converge_dev.png --clock gpu_s && check fig/converge_dev.png
+sed '3s/measured/simulated/' converge_dev.csv > converge_mixed.csv
+expect_error "one of measured or simulated per plot" "$scripts/plot_converge.py" converge_mixed.csv --out fig/x.png --clock gpu_s
 "$scripts/plot_quality.py" quality.csv --out fig/quality.png --markdown fig/quality.md && check fig/quality.png
 check fig/quality.md
 grep -q "| ours | 25.00 | 19.50 |" fig/quality.md || { echo "scripts_test: unexpected table:"; cat fig/quality.md; exit 1; }
