@@ -18,6 +18,9 @@ groups_hybrid: workload columns of the row, never a time) go to the model as its
 --mlhcc-walks WALKS.csv (with --trip-counts): bench/mlhcc_walks.cpp's counts per scene (origin_trips, end_trips:
 each cut walk's iterations per warp, counted on the CPU's copy of the pass) price MLHCC's key kernel by its
 trip-counted count.
+--noopt-path (with --trip-counts): the noopt kernel priced by its path (simt/stage_paths.h NooptPath): the warps
+holding a glossy-like or transmissive lane from the scene's group counts in its `ours` row of the same table
+(the same G-buffer: groups_glossy + groups_hybrid, groups_independent).
 Printed: one line per pass and stage that ran, every figure MODELED (kind = modeled).
 
   scripts/stage_model_check.py compare [--ncu LOG.xz] [--l1-term] PREDICTION.csv TABLE.csv... > model-vs-measured.md
@@ -81,7 +84,17 @@ def group_path(r):
             f"{groups:.0f}", r.get("groups_hybrid") or "0"]
 
 
-def describe(r, preset, label, gbuffer=None, trips=False, walks=None):
+def scene_groups(rows):
+    """scene -> (glossy-like groups, transmissive groups) of its `ours` pass (stages-SCENE.csv)."""
+    out = {}
+    for r in rows:
+        if r["method"] == "ours" and not r["_file"].startswith("stages-sweep"):
+            out[r["scene"]] = (float(r["groups_glossy"] or 0) + float(r["groups_hybrid"] or 0),
+                               float(r["groups_independent"] or 0))
+    return out
+
+
+def describe(r, preset, label, gbuffer=None, trips=False, walks=None, lobes=None):
     """raycoh_stage_model's input line for the pass of row r (gbuffer: the optional 12th field; trips: the group
     kernel's five path fields after it)."""
     tile = (param(r["generator_params"], "tile") or "8x8").split("x")
@@ -91,7 +104,8 @@ def describe(r, preset, label, gbuffer=None, trips=False, walks=None):
     permute = r.get("modeled_permute_bytes", "") if r.get("permute") == "physical" else ""
     return ",".join([label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits,
                      permute] + ([gbuffer or "wide64"] + group_path(r) if trips else [gbuffer] if gbuffer else []) +
-                    (list(walks.get(r["scene"], ("", ""))) if trips and walks is not None else []))
+                    (list((walks or {}).get(r["scene"], ("", ""))) if trips and (walks is not None or lobes) else []) +
+                    ([f"{x:.0f}" for x in lobes[r["scene"]]] if trips and lobes else []))
 
 
 def model_binary(given):
@@ -108,7 +122,9 @@ def predict(args):
     if args.mlhcc_walks:
         with open(args.mlhcc_walks, newline="") as f:
             walks = {w["scene"]: (w["origin_trips"], w["end_trips"]) for w in csv.DictReader(f)}
-    lines = [describe(r, args.preset, str(i), args.gbuffer, args.trip_counts, walks) for i, r in enumerate(rows)]
+    lobes = scene_groups(rows) if args.noopt_path else None
+    lines = [describe(r, args.preset, str(i), args.gbuffer, args.trip_counts, walks, lobes)
+             for i, r in enumerate(rows)]
     out = subprocess.run([model_binary(args.model)], input="\n".join(lines) + "\n", capture_output=True, text=True,
                          check=True).stdout
     modeled = {m["label"]: m for m in csv.DictReader(out.splitlines())}
@@ -279,6 +295,7 @@ def main(argv):
     p.add_argument("--gbuffer", choices=("wide64", "fields60"))
     p.add_argument("--trip-counts", action="store_true")
     p.add_argument("--mlhcc-walks")
+    p.add_argument("--noopt-path", action="store_true")
     p.add_argument("tables", nargs="+")
     p.set_defaults(run=predict)
     c = sub.add_parser("compare")

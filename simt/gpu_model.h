@@ -93,6 +93,7 @@ struct StageKernelCosts {
   double tile_hits_fields60 = 0, noopt_fields60 = 0, group_fields60 = 0;
   // The group kernel by region, for its trip-counted count (simt/stage_paths.h); empty: the static count `group`.
   GroupPathCounts group_paths, group_paths_fields60;
+  NooptPathCounts noopt_paths, noopt_paths_fields60;  // the noopt kernel by region (simt/stage_paths.h)
   double mlhcc_walk_body[2] = {0, 0};  // MLHCC's two cut-walk loop bodies (origin, end point), SASS instructions
 };
 

@@ -122,6 +122,9 @@ StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWor
     p.hit_fraction = w.pixels() ? double(w.rays) / double(w.pixels()) : 0.0;
     cycles = group_path_instructions(paths, p, double(w.tile_w) * w.tile_h, tiles_of(w));
   }
+  const NooptPathCounts& lobes = fields ? c.noopt_paths_fields60 : c.noopt_paths;
+  if (!w.grouping && w.noopt_path.known && !lobes.empty())
+    cycles = noopt_path_instructions(lobes, w.noopt_path, double(w.tile_w) * w.tile_h, tiles_of(w));
   const double bytes = generation_bytes(w.pixels(), w.rays) -
                        double(w.pixels()) * (double(sizeof(ShadingPoint)) - gbuffer_record_bytes(w.gbuffer));
   return kernel_terms(gpu, bytes, warps, cycles,
@@ -196,6 +199,8 @@ StageKernelCosts stage_costs_sm90() {
   c.group_fields60 = 7241;
   c.group_paths = group_paths_sm90();  // results/model/stage-trip-counts/group-paths-*sm_90.txt
   c.group_paths_fields60 = group_paths_sm90_fields60();
+  c.noopt_paths = noopt_paths_sm90();  // results/model/stage-trip-counts/noopt-paths-*sm_90.txt
+  c.noopt_paths_fields60 = noopt_paths_sm90_fields60();
   c.mlhcc_walk_body[0] = 134;  // instructions-sm_90.txt, key mlhcc's loop bodies
   c.mlhcc_walk_body[1] = 135;
   const double keys[7] = {0, 270, 480, 428, 540, 680, 536};  // none, origin, reis, costa, aila, twopoint, mlhcc
@@ -216,6 +221,8 @@ StageKernelCosts stage_costs_sm86() {
   c.group_fields60 = 7068;
   c.group_paths = group_paths_sm86();  // results/model/stage-trip-counts/group-paths-*sm_86.txt
   c.group_paths_fields60 = group_paths_sm86_fields60();
+  c.noopt_paths = noopt_paths_sm86();  // results/model/stage-trip-counts/noopt-paths-*sm_86.txt
+  c.noopt_paths_fields60 = noopt_paths_sm86_fields60();
   c.mlhcc_walk_body[0] = 134;  // instructions-sm_86.txt
   c.mlhcc_walk_body[1] = 135;
   const double keys[7] = {0, 268, 480, 428, 538, 680, 502};

@@ -41,6 +41,7 @@ struct StageWork {
   GBufferRead gbuffer = GBufferRead::Wide64;  // the generation kernels' G-buffer read (Fields60: before 63b5750)
   GroupPath group_path;  // the group kernel's path (k > 0: its trip-counted count, simt/stage_paths.h)
   KeyWalks mlhcc_walks;  // MLHCC's cut walks per warp (> 0: its trip-counted count)
+  NooptPath noopt_path;  // the noopt kernel's path (known: its per-path count)
   size_t pixels() const { return size_t(width) * size_t(height); }
 };
 

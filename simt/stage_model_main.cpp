@@ -8,7 +8,8 @@
 // frame: duff or rotate; the group counts: the pass's groups_glossy + groups_hybrid + groups_independent, and
 // groups_hybrid). Without them (11 or 12 fields) the group kernel is priced by its static count. Two more
 // (19 fields): MLHCC's cut-walk iterations per warp, origin and end point (bench/mlhcc_walks.cpp; empty: unknown),
-// which price its key kernel by its trip-counted count.
+// which price its key kernel by its trip-counted count. Two more (21 fields): the scene's glossy-like and
+// transmissive group counts (simt/stage_paths.h NooptPath), which price the noopt kernel by its path.
 // Prints label,gen_ms,key_ms,sort_ms,permute_ms and the generator kernel's terms (gen_dram_ms, gen_issue_ms,
 // gen_l1_ms, gen_l1_wavefronts per warp; tile_hits_l1_wavefronts), every figure MODELED. No times are read: what a pass
 // is, not what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
@@ -65,8 +66,8 @@ int main() {
     for (std::string line; std::getline(std::cin, line);) {
       if (line.empty()) continue;
       const std::vector<std::string> f = fields(line);
-      if (f.size() != 11 && f.size() != 12 && f.size() != 17 && f.size() != 19)
-        throw Error("raycoh_stage_model: 11, 12, 17 or 19 fields expected: " + line);
+      if (f.size() != 11 && f.size() != 12 && f.size() != 17 && f.size() != 19 && f.size() != 21)
+        throw Error("raycoh_stage_model: 11, 12, 17, 19 or 21 fields expected: " + line);
       const GpuModelConfig gpu = gpu_preset(f[1]);
       StageWork w;
       w.width = std::stoi(f[2]);
@@ -81,8 +82,9 @@ int main() {
         throw Error("raycoh_stage_model: gbuffer is wide64 or fields60, not '" + f[11] + "'");
       if (f.size() >= 12 && f[11] == "fields60") w.gbuffer = GBufferRead::Fields60;
       if (f.size() >= 17 && w.grouping) w.group_path = group_path_of(f);
-      if (f.size() == 19 && !f[17].empty()) w.mlhcc_walks.origin = std::stod(f[17]);
-      if (f.size() == 19 && !f[18].empty()) w.mlhcc_walks.end = std::stod(f[18]);
+      if (f.size() >= 19 && !f[17].empty()) w.mlhcc_walks.origin = std::stod(f[17]);
+      if (f.size() >= 19 && !f[18].empty()) w.mlhcc_walks.end = std::stod(f[18]);
+      if (f.size() == 21 && !w.grouping) w.noopt_path = NooptPath{true, std::stod(f[19]), std::stod(f[20])};
       ModeledStages m;
       m.gen_ms = stage_generation_ms(gpu, w);
       m.key_ms = stage_key_ms(gpu, w);

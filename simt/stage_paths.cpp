@@ -59,6 +59,52 @@ double group_path_instructions(const GroupPathCounts& c, const GroupPath& p, dou
   return n / warps;
 }
 
+// Per tile of m pixels (a block of at most 256 threads; its loop over tile pieces runs once for tiles of at most 256
+// pixels, as every 8x8 pass): W warps run the common code and the diffuse case (every warp is taken to hold a
+// diffuse lane), the glossy and transmissive cases in the warps holding such a lane, the shared tail in either.
+double noopt_path_instructions(const NooptPathCounts& c, const NooptPath& p, double tile_pixels, double tiles) {
+  const double warps = std::ceil(std::min(std::max(1.0, tile_pixels), 256.0) / 32);
+  const double all = std::max(1.0, tiles * warps);
+  const double glossy = std::min(1.0, p.glossy_groups / all), transmissive = std::min(1.0, p.transmissive_groups / all);
+  return region_instructions(c.common, warps) + c.diffuse.straight + glossy * c.glossy.straight +
+         transmissive * c.transmissive.straight + std::min(1.0, glossy + transmissive) * c.tail.straight;
+}
+
+namespace {
+
+NooptPathCounts noopt_counts(double common, const double scan[3], double diffuse, double glossy, double transmissive,
+                             double tail) {
+  NooptPathCounts c;
+  c.common.straight = common;
+  c.common.loop[0] = {scan[0], scan[1], scan[2]};
+  c.diffuse.straight = diffuse;
+  c.glossy.straight = glossy;
+  c.transmissive.straight = transmissive;
+  c.tail.straight = tail;
+  return c;
+}
+
+}  // namespace
+
+// noopt-paths-*.txt: the block scan's loop (its 16x and 4x forms); the four atomic retry loops (8 instructions
+// each, sm_86 7) are counted once each in common's straight count.
+NooptPathCounts noopt_paths_sm90() {
+  const double scan[3] = {72, 21, 0};
+  return noopt_counts(477 + 32, scan, 159, 566, 199, 73);  // 1599
+}
+NooptPathCounts noopt_paths_sm90_fields60() {
+  const double scan[3] = {72, 21, 0};
+  return noopt_counts(492 + 32, scan, 159, 567, 204, 73);  // 1620
+}
+NooptPathCounts noopt_paths_sm86() {
+  const double scan[3] = {71, 20, 0};
+  return noopt_counts(460 + 28, scan, 159, 566, 200, 73);  // 1577
+}
+NooptPathCounts noopt_paths_sm86_fields60() {
+  const double scan[3] = {71, 20, 0};
+  return noopt_counts(477 + 28, scan, 158, 571, 206, 73);  // 1604
+}
+
 namespace {
 
 PathRegion region(double straight, UnrolledLoop a = {}, UnrolledLoop b = {}) {

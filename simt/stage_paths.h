@@ -50,6 +50,26 @@ struct GroupPath {
   double hybrid_groups = 0;
 };
 
+// The per-pixel noopt kernel by region (scripts/count-stage-paths --noopt): sample_direction's cases and the rest.
+struct NooptPathCounts {
+  PathRegion common;  // every warp; loop[0]: the block scan's loop over the block's warps
+  PathRegion diffuse, glossy, transmissive;
+  PathRegion tail;  // the check and return of the two non-diffuse cases
+  bool empty() const { return common.straight == 0; }
+};
+// What the noopt kernel runs on one pass: how many warps hold a glossy-like and a transmissive lane, from the
+// scene's group counts (the same G-buffer's ours pass: glossy + hybrid groups, independent groups), each group in a
+// warp of its own (an upper bound), at most every warp.
+struct NooptPath {
+  bool known = false;  // false: the static count is used
+  double glossy_groups = 0, transmissive_groups = 0;
+};
+double noopt_path_instructions(const NooptPathCounts& c, const NooptPath& p, double tile_pixels, double tiles);
+NooptPathCounts noopt_paths_sm90();
+NooptPathCounts noopt_paths_sm90_fields60();
+NooptPathCounts noopt_paths_sm86();
+NooptPathCounts noopt_paths_sm86_fields60();
+
 // MLHCC's key kernel: the mean over warps of each cut walk's iterations, the warp's largest lane
 // (bench/mlhcc_walks.cpp counts them on the pass), and the SASS body of each walk's loop (count-stage-instructions'
 // loop bodies: the origin's walk, then the end point's). The static count holds each body once.

@@ -148,6 +148,52 @@ TEST(StagePaths, StageModelUsesThePathWhenTheWorkloadGivesIt) {
                        std::max(stage_issue_ms(gpu, 100, 536), stage_stream_ms(gpu, key_bytes(3200, 32))));
 }
 
+NooptPathCounts noopt_hand_counts() {
+  NooptPathCounts c;
+  c.common.straight = 100;
+  c.common.loop[0] = {0, 0, 2};
+  c.diffuse.straight = 10;
+  c.glossy.straight = 1000;
+  c.transmissive.straight = 300;
+  c.tail.straight = 50;
+  return c;
+}
+
+// 8x8 tiles (2 warps), 100 tiles: 200 warps.
+TEST(StagePaths, NooptRunsTheLobesItsWarpsHold) {
+  NooptPath p{true, 0, 0};
+  EXPECT_DOUBLE_EQ(noopt_path_instructions(noopt_hand_counts(), p, 64, 100), 100 + 2 * 2 + 10);
+  p.glossy_groups = 50;        // a quarter of the warps
+  p.transmissive_groups = 20;  // a tenth
+  EXPECT_DOUBLE_EQ(noopt_path_instructions(noopt_hand_counts(), p, 64, 100), 114 + 250 + 30 + 0.35 * 50);
+  p.glossy_groups = 400;  // capped: every warp
+  p.transmissive_groups = 100;
+  EXPECT_DOUBLE_EQ(noopt_path_instructions(noopt_hand_counts(), p, 64, 100), 114 + 1000 + 150 + 50);
+  // A scanline row (1920 x 1) runs blocks of 256 threads: the warps loop 8 times.
+  EXPECT_DOUBLE_EQ(noopt_path_instructions(noopt_hand_counts(), NooptPath{true, 0, 0}, 1920, 1080), 100 + 16 + 10);
+}
+
+double total(const NooptPathCounts& c) {
+  return region_total(c.common) + region_total(c.diffuse) + region_total(c.glossy) + region_total(c.transmissive) +
+         region_total(c.tail);
+}
+
+TEST(StagePaths, NooptRegionsAddUpToTheStaticCount) {
+  EXPECT_DOUBLE_EQ(total(noopt_paths_sm90()), 1599);
+  EXPECT_DOUBLE_EQ(total(noopt_paths_sm90_fields60()), 1620);
+  EXPECT_DOUBLE_EQ(total(noopt_paths_sm86()), 1577);
+  EXPECT_DOUBLE_EQ(total(noopt_paths_sm86_fields60()), 1604);
+  const GpuModelConfig h200 = gpu_preset("h200");
+  EXPECT_DOUBLE_EQ(total(h200.stages.noopt_paths), h200.stages.noopt);
+  StageWork w;
+  w.width = 64;
+  w.height = 32;
+  w.rays = 64 * 32;
+  EXPECT_DOUBLE_EQ(stage_generator_terms(h200, w).issue_ms, stage_issue_ms(h200, 64, h200.stages.noopt));
+  w.noopt_path = NooptPath{true, 0, 0};
+  EXPECT_DOUBLE_EQ(stage_generator_terms(h200, w).issue_ms, stage_issue_ms(h200, 64, 509 + 2 * 21 / 4.0 + 159));
+}
+
 TEST(StagePaths, StageWorkTakesTheGeneratorsPathAndThePassGroupCounts) {
   const auto none = make_encoder({"none", ""}, EncoderContext{});
   GenerationStats stats;
