@@ -85,6 +85,20 @@ def read_hw(path):
     return hw, simt
 
 
+def counters_not_read(path, hw):
+    """Why the CSV's cuda:counters=hw rows hold no counters ("" when some do): the mode said so in one line (the
+    table's log) and ran them as ordinary timings. Under GPGPU-Sim (the rows' device column) that is expected."""
+    if hw:
+        return ""
+    with open(path, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["tracer"] == "cuda" and "counters=hw" in r.get("tracer_params", "")]
+    if any(r.get("device", "").startswith("simulated") for r in rows):
+        return ("simulated device (GPGPU-Sim): no hardware counters, nothing to compare (expected in a dry run; "
+                "the hw_* columns are empty)")
+    return ("NO COUNTERS READ: the cuda:counters=hw rows ran as ordinary timings (the mode's one line in the table's "
+            "log says why: no device, CUPTI not loaded, or profiling restricted); nothing to compare")
+
+
 def hw_value(row, column, per_ray):
     text = row.get(column, "")
     if not text:
@@ -171,7 +185,14 @@ def main(argv):
     if len(args) < 2:
         print(__doc__, file=sys.stderr)
         return 2
+    if not os.path.isfile(args[0]):
+        print(f"# cuda:counters=hw vs Nsight Compute: no {args[0]} (the hw-counters table step failed: its log says why)")
+        return 1
     hw, simt = read_hw(args[0])
+    unread = counters_not_read(args[0], hw)
+    if unread:
+        print(f"# cuda:counters=hw vs Nsight Compute ({args[0]}): {unread}")
+        return 0 if unread.startswith("simulated") else 1
     print(f"# cuda:counters=hw vs Nsight Compute ({args[0]}; both measured on the GPU)")
     by_cache = {}
     for path in args[1:]:

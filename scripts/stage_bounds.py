@@ -59,8 +59,9 @@ def read_bounds(path):
 
 
 def copy_gb_s(facts):
-    """The device's copy bandwidth: the faster of the bench's copy kernel and cudaMemcpy (GB/s)."""
-    return max(float(facts[m]["gb_s"]) for m in ("copy", "memcpy") if m in facts)
+    """The device's copy bandwidth: the faster of the bench's copy kernel and cudaMemcpy (GB/s); None without."""
+    rates = [float(facts[m]["gb_s"]) for m in ("copy", "memcpy") if m in facts and facts[m].get("gb_s")]
+    return max(rates) if rates else None
 
 
 def read_rows(paths):
@@ -96,7 +97,7 @@ def stage_interval(r, stage):
 
 
 def stage_table(rows, facts, out):
-    bw = copy_gb_s(facts)
+    bw = copy_gb_s(facts)  # None: no bounds (the bench did not run), the stages alone
     # Rows that keep every pass's stage times get each stage's 95% interval (scripts/speed_interval.py); the
     # verdict against the bound (<= 2) is then read from the interval's upper end.
     intervals = any(r.get("gen_samples_ms") for r in rows)
@@ -111,20 +112,22 @@ def stage_table(rows, facts, out):
             ms, b = num(r, ms_col), num(r, bytes_col)
             if ms is None or b is None or b <= 0 or ms <= 0:
                 continue
-            bound = b / (bw * 1e6)
-            ratio = ms / bound
-            worst[stage] = max(worst[stage], ratio)
+            bound = b / (bw * 1e6) if bw else None
+            if bound:
+                worst[stage] = max(worst[stage], ms / bound)
             iv = stage_interval(r, stage)
             line = (f"| {r['scene']} | {method_label(r)} | {stage} | {ms:.4f}"
-                    + (f" [{iv[0]:.4f}, {iv[1]:.4f}]" if iv else "")
-                    + f" | {b / 1e6:.1f} | {bound:.4f} | {ratio:.2f} |")
+                    + (f" [{iv[0]:.4f}, {iv[1]:.4f}]" if iv else "") + f" | {b / 1e6:.1f} | "
+                    + (f"{bound:.4f} | {ms / bound:.2f} |" if bound else " | |"))
             if intervals:
-                line += f" {iv[1] / bound:.2f} |" if iv else " |"
+                line += f" {iv[1] / bound:.2f} |" if iv and bound else " |"
             out.append(line)
     out.append("")
     out.append("Worst measured / bound per stage (goal <= 2): " +
-               ", ".join(f"{s} {v:.2f}" for s, v in sorted(worst.items())))
+               (", ".join(f"{s} {v:.2f}" for s, v in sorted(worst.items())) or "no bounds"))
     out.append("")
+    if not facts["cub"]:  # no CUB times to set the sorts beside
+        return
     out.append("| scene | method | key bits | sort measured ms | CUB alone ms | measured / CUB |")
     out.append("|---|---|---:|---:|---:|---:|")
     for r in rows:
@@ -197,19 +200,32 @@ def verdict(rows, out):
     out.append("")
 
 
+def device_facts(facts, path, out):
+    """The bench's lines; without its CSV (or its copy rows) one line says so and the stages follow without bounds."""
+    copy, memcpy, launch = facts.get("copy"), facts.get("memcpy"), facts.get("launch")
+    if copy_gb_s(facts) is None:
+        out.append(f"No stage bounds: {path} is missing or holds no copy bandwidth (raycoh_bench_stages did not run "
+                   "or failed: its step's log says why); the stages follow without their bounds.")
+    if copy:
+        out.append(f"Copy bandwidth (copy kernel, median of the bench's runs): {float(copy['gb_s']):.0f} GB/s"
+                   + (f"; cudaMemcpy device to device: {float(memcpy['gb_s']):.0f} GB/s" if memcpy else "")
+                   + (f"; back-to-back launch gap: {float(launch['median_ms']) * 1e3:.2f} us" if launch else "") + ".")
+    if facts["cub"]:
+        out.append("CUB SortPairs alone, " + ", ".join(f"{b} bits {ms:.4f} ms" for b, ms in sorted(facts["cub"].items()))
+                   + ".")
+    out.append("")
+
+
 def main(argv):
     if len(argv) < 3:
         sys.exit("usage: stage_bounds.py STAGE_BOUNDS.csv TABLE.csv...")
-    facts = read_bounds(argv[1])
+    facts = read_bounds(argv[1]) if os.path.isfile(argv[1]) else {"cub": {}}
     rows = read_rows(argv[2:])
-    out = ["## Device stages beside their bounds (measured)", ""]
-    copy, memcpy, launch = facts["copy"], facts.get("memcpy"), facts.get("launch")
-    out.append(f"Copy bandwidth (copy kernel, median of the bench's runs): {float(copy['gb_s']):.0f} GB/s"
-               + (f"; cudaMemcpy device to device: {float(memcpy['gb_s']):.0f} GB/s" if memcpy else "")
-               + (f"; back-to-back launch gap: {float(launch['median_ms']) * 1e3:.2f} us" if launch else "") + ".")
-    out.append("CUB SortPairs alone, " + ", ".join(f"{b} bits {ms:.4f} ms" for b, ms in sorted(facts["cub"].items()))
-               + ".")
-    out.append("")
+    # A simulator build's rows (device "simulated: GPGPU-Sim ...", scripts/gpu-check dry-run) are not measurements.
+    simulated = any(r.get("device", "").startswith("simulated") for r in rows)
+    out = ["## Device stages beside their bounds (" + ("SIMULATED (GPGPU-Sim), not hardware" if simulated else
+                                                      "measured") + ")", ""]
+    device_facts(facts, argv[1], out)
     if not rows:
         out.append("(no measured device rows in the tables)")
     else:

@@ -197,4 +197,24 @@ CSV
 grep -q "| cornell | 32x24 | ours:order=group | 2304 | 1.00 | 90,560 | 56,600 | -38% | l1 | 1.25 | 1.00 | -20% |" \
   mvs/table.md || { echo "scripts_test: model_vs_sim.py table wrong: $(cat mvs/table.md)"; exit 1; }
 expect_error "no runs/" "$scripts/model_vs_sim.py" table.csv fig/x.png
+# scripts/gpu-check's summaries of a run whose bench or counters are missing (a GPGPU-Sim dry run, a failed step).
+# stage_bounds.py without raycoh_bench_stages' CSV: the stages and the verdict, labelled simulated, no bounds.
+{ echo "scene,pass,method,generator_params,encoder_params,tracer,pipeline,frame,rays,gen_ms,modeled_gen_bytes,trace_ms,gpu_e2e_ms,device"
+  for p in device fused; do
+    echo "s,secondary,noopt,,,cuda,$p,0,100,1.0,2000000,4.0,6.0,simulated: GPGPU-Sim"
+    echo "s,secondary,ours,,,cuda,$p,0,100,1.5,2000000,2.0,4.0,simulated: GPGPU-Sim"
+  done; } > stages-s.csv
+/usr/bin/python3 "$scripts/stage_bounds.py" no-bounds.csv stages-s.csv > stages.md
+grep -q "^## Device stages beside their bounds (SIMULATED (GPGPU-Sim), not hardware)" stages.md &&
+  grep -q "^No stage bounds: no-bounds.csv is missing" stages.md && grep -qF "| s | ours | gen | 1.5000 | 2.0 |  | |" stages.md &&
+  grep -qF "| s | ours | 2.000 | 4.0000 | 1.500 | 4.0000 | 1.500 | 0.750 |" stages.md ||
+  { echo "scripts_test: stage_bounds.py without bounds wrong: $(cat stages.md)"; exit 1; }
+# hw_counters_check.py on counters=hw rows that read no counters: simulated says so and passes, a GPU's fails.
+{ echo "scene,method,tracer,tracer_params,rays,run_under,hw_l1_hit_pct,device"
+  echo "s,noopt,cuda,\"counters=hw,bvh=bvh2\",100,,,simulated: GPGPU-Sim"; } > hw-sim.csv
+sed 's/simulated: GPGPU-Sim/NVIDIA H200/' hw-sim.csv > hw-gpu.csv
+/usr/bin/python3 "$scripts/hw_counters_check.py" hw-sim.csv none.log | grep -q "simulated device (GPGPU-Sim): no hardware" ||
+  { echo "scripts_test: hw_counters_check.py on simulated rows did not pass with its line"; exit 1; }
+out=$(/usr/bin/python3 "$scripts/hw_counters_check.py" hw-gpu.csv none.log) && rc=0 || rc=$?
+[[ $rc -eq 1 && $out == *"NO COUNTERS READ"* ]] || { echo "scripts_test: hw_counters_check.py: rc $rc, $out"; exit 1; }
 echo "scripts_test: all plot scripts wrote their figures"
