@@ -217,4 +217,9 @@ sed 's/simulated: GPGPU-Sim/NVIDIA H200/' hw-sim.csv > hw-gpu.csv
   { echo "scripts_test: hw_counters_check.py on simulated rows did not pass with its line"; exit 1; }
 out=$(/usr/bin/python3 "$scripts/hw_counters_check.py" hw-gpu.csv none.log) && rc=0 || rc=$?
 [[ $rc -eq 1 && $out == *"NO COUNTERS READ"* ]] || { echo "scripts_test: hw_counters_check.py: rc $rc, $out"; exit 1; }
+# gpu-check --render writes no image into OUT (three 1080p PFMs, 75 MB, would keep OUT from coming back).
+(step() { shift 2; echo "$*"; }; OUT_DIR=out raycoh=raycoh scene=s res=1920x1080 prefix=()
+  source "$scripts/gpu-check-steps" && render_steps) > render-steps.txt
+[[ $(grep -c -- "--out /tmp/" render-steps.txt) -eq 6 ]] && ! grep -q "out/" render-steps.txt ||
+  { echo "scripts_test: gpu-check --render writes into OUT: $(cat render-steps.txt)"; exit 1; }
 echo "scripts_test: all plot scripts wrote their figures"
