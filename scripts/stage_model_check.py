@@ -21,6 +21,10 @@ trip-counted count.
 --noopt-path (with --trip-counts): the noopt kernel priced by its path (simt/stage_paths.h NooptPath): the warps
 holding a glossy-like or transmissive lane from the scene's group counts in its `ours` row of the same table
 (the same G-buffer: groups_glossy + groups_hybrid, groups_independent).
+--latency (with --trip-counts): the generator and key kernels get the latency term (simt/stage_latency.h; results/
+model/stage-latency/): a block's dependent chain times the blocks that run one after another on an SM.
+--terms FILE: also writes each pass's kernel terms as raycoh_stage_model prints them (gen_dram_ms, gen_issue_ms,
+gen_l1_ms, gen_latency_ms, key_latency_ms, ...), one line per pass, MODELED.
 Printed: one line per pass and stage that ran, every figure MODELED (kind = modeled).
 
   scripts/stage_model_check.py compare [--ncu LOG.xz] [--l1-term] PREDICTION.csv TABLE.csv... > model-vs-measured.md
@@ -96,14 +100,20 @@ def scene_groups(rows):
     return out
 
 
-def describe(r, preset, label, gbuffer=None, trips=False, walks=None, lobes=None):
+def describe(r, preset, label, gbuffer=None, trips=False, walks=None, lobes=None, latency=False):
     """raycoh_stage_model's input line for the pass of row r (gbuffer: the optional 12th field; trips: the group
-    kernel's five path fields after it)."""
+    kernel's five path fields after it; latency: the 22nd field, 1, after the walks' and lobes' (empty if not
+    given))."""
     tile = (param(r["generator_params"], "tile") or "8x8").split("x")
     generator = "noopt" if r["generator"] == "noopt" else "group"
     encoder = r.get("encoder") or "none"
     bits = param(r.get("encoder_params"), "bits") or "0"
     permute = r.get("modeled_permute_bytes", "") if r.get("permute") == "physical" else ""
+    if latency:
+        return ",".join([label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits,
+                         permute, gbuffer or "wide64"] + group_path(r) +
+                        list((walks or {}).get(r["scene"], ("", ""))) +
+                        ([f"{x:.0f}" for x in lobes[r["scene"]]] if lobes else ["", ""]) + ["1"])
     return ",".join([label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits,
                      permute] + ([gbuffer or "wide64"] + group_path(r) if trips else [gbuffer] if gbuffer else []) +
                     (list((walks or {}).get(r["scene"], ("", ""))) if trips and (walks is not None or lobes) else []) +
@@ -125,11 +135,21 @@ def predict(args):
         with open(args.mlhcc_walks, newline="") as f:
             walks = {w["scene"]: (w["origin_trips"], w["end_trips"]) for w in csv.DictReader(f)}
     lobes = scene_groups(rows) if args.noopt_path else None
-    lines = [describe(r, args.preset, str(i), args.gbuffer, args.trip_counts, walks, lobes)
+    if args.latency and not args.trip_counts:
+        sys.exit("stage_model_check.py: --latency needs --trip-counts")
+    lines = [describe(r, args.preset, str(i), args.gbuffer, args.trip_counts, walks, lobes, args.latency)
              for i, r in enumerate(rows)]
     out = subprocess.run([model_binary(args.model)], input="\n".join(lines) + "\n", capture_output=True, text=True,
                          check=True).stdout
     modeled = {m["label"]: m for m in csv.DictReader(out.splitlines())}
+    if args.terms:
+        with open(args.terms, "w", newline="") as f:
+            t = csv.writer(f, lineterminator="\n")
+            columns = [c for c in next(iter(modeled.values())) if c != "label"]
+            t.writerow(["kind", "preset", "file", "scene", "method"] + columns)
+            for i, r in enumerate(rows):
+                t.writerow(["modeled", args.preset, r["_file"], r["scene"], method_label(r)] +
+                           [modeled[str(i)][c] for c in columns])
     w = csv.writer(sys.stdout, lineterminator="\n")
     w.writerow(["kind", "preset", "file", "scene", "method", "stage", "rays", "generator", "tile", "encoder",
                 "key_bits", "modeled_ms"])
@@ -308,6 +328,8 @@ def main(argv):
     p.add_argument("--trip-counts", action="store_true")
     p.add_argument("--mlhcc-walks")
     p.add_argument("--noopt-path", action="store_true")
+    p.add_argument("--latency", action="store_true")
+    p.add_argument("--terms")
     p.add_argument("tables", nargs="+")
     p.set_defaults(run=predict)
     c = sub.add_parser("compare")

@@ -95,6 +95,12 @@ struct StageKernelCosts {
   GroupPathCounts group_paths, group_paths_fields60;
   NooptPathCounts noopt_paths, noopt_paths_fields60;  // the noopt kernel by region (simt/stage_paths.h)
   double mlhcc_walk_body[2] = {0, 0};  // MLHCC's two cut-walk loop bodies (origin, end point), SASS instructions
+  // The latency term (simt/stage_latency.h): the dependent ALU and shared-memory load latencies (SM cycles), the
+  // shared memory per SM (bytes), and each kernel's registers per thread and static shared memory (ptxas -v of
+  // nvcc 13; results/model/stage-latency/registers-*.txt). 0 registers: the kernel has no latency term.
+  double alu_latency = 0, shared_latency = 0, shared_per_sm = 0;
+  double group_regs = 0, noopt_regs = 0, noopt_regs_fields60 = 0, key_regs[7] = {};
+  double group_static_shared = 0, noopt_static_shared = 0;
 };
 
 struct GpuModelConfig {

@@ -6,6 +6,7 @@
 
 #include "core/ray_batch.h"
 #include "core/shading_point.h"
+#include "generators/grouping_block.h"  // tile_groups_bytes
 
 namespace raycoh {
 namespace {
@@ -13,6 +14,8 @@ namespace {
 constexpr double kWarp = 32;
 constexpr double kSectorBytes = 32;
 constexpr double kTileHitsThreads = 128;  // cuda/device_generators.cu, tile_hits_kernel's block
+constexpr double kKeyThreads = 256;       // cuda/device_keys.cu kBlock, key_kernel's block
+constexpr double kNooptPiece = 256;       // noopt_kernel's block: a tile of more than 256 pixels in pieces of 256
 
 double div_up(double a, double b) { return std::ceil(a / b); }
 
@@ -79,7 +82,7 @@ double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, do
 }
 
 double StageKernelTerms::ms(const GpuModelConfig& gpu) const {
-  return stage_launch_ms(gpu) + std::max({dram_ms, issue_ms, l1_ms});
+  return stage_launch_ms(gpu) + std::max({dram_ms, issue_ms, l1_ms, latency_ms});
 }
 
 namespace {
@@ -96,6 +99,31 @@ StageKernelTerms kernel_terms(const GpuModelConfig& gpu, double bytes, double wa
 }
 
 double tiles_of(const StageWork& w) { return div_up(w.width, w.tile_w) * div_up(w.height, w.tile_h); }
+
+// The generator's latency term: the group kernel's block chain (its trip-counted path only), or noopt's warp chain
+// once per piece of its tile; the occupancy from the kernel's registers and shared memory (simt/stage_latency.h).
+double generator_latency_ms(const GpuModelConfig& gpu, const StageWork& w, double cycles) {
+  const StageKernelCosts& c = gpu.stages;
+  const double m = double(w.tile_w) * w.tile_h, tiles = tiles_of(w);
+  const StageLatencies l = stage_latencies(gpu);
+  const bool fields = w.gbuffer == GBufferRead::Fields60;
+  if (w.grouping) {
+    const GroupPathCounts& paths = fields ? c.group_paths_fields60 : c.group_paths;
+    if (w.group_path.k <= 0 || paths.empty()) return 0;
+    GroupPath p = w.group_path;
+    p.hit_fraction = w.pixels() ? double(w.rays) / double(w.pixels()) : 0.0;
+    const auto k = static_cast<uint32_t>(std::min(double(std::max(1, p.k)), m));
+    const auto pixels = static_cast<uint32_t>(m);
+    const BlockShape b{div_up(m, kWarp) * kWarp, c.group_regs,
+                       double(tile_groups_bytes(pixels, (pixels + k - 1) / k, k)) + c.group_static_shared};
+    return stage_latency_ms(gpu, tiles, resident_blocks(gpu, b),
+                            chain_cycles(l, group_block_chain(paths, p, m, tiles)));
+  }
+  const BlockShape b{div_up(std::min(m, kNooptPiece), kWarp) * kWarp, fields ? c.noopt_regs_fields60 : c.noopt_regs,
+                     c.noopt_static_shared};
+  return stage_latency_ms(gpu, tiles, resident_blocks(gpu, b),
+                          div_up(m, kNooptPiece) * chain_cycles(l, noopt_warp_chain(cycles)));
+}
 
 }  // namespace
 
@@ -127,8 +155,10 @@ StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWor
     cycles = noopt_path_instructions(lobes, w.noopt_path, double(w.tile_w) * w.tile_h, tiles_of(w));
   const double bytes = generation_bytes(w.pixels(), w.rays) -
                        double(w.pixels()) * (double(sizeof(ShadingPoint)) - gbuffer_record_bytes(w.gbuffer));
-  return kernel_terms(gpu, bytes, warps, cycles,
-                      l1_warp_wavefronts(gpu, w, w.grouping ? group_l1(w.gbuffer) : noopt_l1(w.gbuffer)));
+  StageKernelTerms t = kernel_terms(gpu, bytes, warps, cycles,
+                                    l1_warp_wavefronts(gpu, w, w.grouping ? group_l1(w.gbuffer) : noopt_l1(w.gbuffer)));
+  if (w.latency) t.latency_ms = generator_latency_ms(gpu, w, cycles);
+  return t;
 }
 
 double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w) {
@@ -138,12 +168,26 @@ double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w) {
   return ms + stage_generator_terms(gpu, w).ms(gpu);
 }
 
-double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w) {
-  if (w.key_bits == 0 || w.rays == 0) return 0.0;
+// A thread per ray in blocks of 256; the latency term (StageWork::latency): a block's chain is its warps' (each the
+// ray's read and the kernel's count; MLHCC's walks, simt/stage_latency.h), the occupancy from its registers.
+StageKernelTerms stage_key_terms(const GpuModelConfig& gpu, const StageWork& w) {
+  if (w.key_bits == 0 || w.rays == 0) return {};
   const int kind = static_cast<int>(w.key);
   double cycles = kind >= 0 && kind < 7 ? gpu.stages.key[kind] : 0.0;
   if (w.key == KeyKind::Mlhcc) cycles = mlhcc_walk_instructions(cycles, gpu.stages.mlhcc_walk_body, w.mlhcc_walks);
-  return stage_kernel_ms(gpu, key_bytes(w.rays, w.key_bits), div_up(double(w.rays), kWarp), cycles);
+  StageKernelTerms t = kernel_terms(gpu, key_bytes(w.rays, w.key_bits), div_up(double(w.rays), kWarp), cycles, 0);
+  if (w.latency && kind > 0 && kind < 7) {
+    const double walks = w.key == KeyKind::Mlhcc ? w.mlhcc_walks.origin + w.mlhcc_walks.end : 0.0;
+    const double resident = resident_blocks(gpu, BlockShape{kKeyThreads, gpu.stages.key_regs[kind], 0});
+    t.latency_ms = stage_latency_ms(gpu, div_up(double(w.rays), kKeyThreads), resident,
+                                    chain_cycles(stage_latencies(gpu), key_warp_chain(cycles, walks)));
+  }
+  return t;
+}
+
+double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w) {
+  if (w.key_bits == 0 || w.rays == 0) return 0.0;
+  return stage_key_terms(gpu, w).ms(gpu);
 }
 
 double stage_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits) {
@@ -208,6 +252,20 @@ StageKernelCosts stage_costs_sm90() {
   c.gather = 160;
   c.onesweep32 = 4120;
   c.onesweep64 = 2894;
+  // The latency term: Accel-Sim's SM80_A100 configuration (the h100 preset's latency source; gpgpu-sim_distribution
+  // configs/tested-cfgs/SM80_A100/gpgpusim.config: -ptx_opcode_latency_int and _fp 4 for add, max, mul and mad,
+  // -gpgpu_smem_latency 28); compute capability 9.0's 228 KB of shared memory per SM (CUDA C++ Programming Guide);
+  // registers and static shared memory: ptxas -v, nvcc 13, sm_90 (results/model/stage-latency/registers-sm_90.txt).
+  c.alu_latency = 4;
+  c.shared_latency = 28;
+  c.shared_per_sm = 228 * 1024;
+  c.group_regs = 64;  // both revisions (__launch_bounds__(1024) caps it)
+  c.noopt_regs = 64;
+  c.noopt_regs_fields60 = 62;
+  const double regs[7] = {0, 21, 24, 23, 26, 28, 38};  // key kernels, both revisions
+  std::copy(regs, regs + 7, c.key_regs);
+  c.group_static_shared = 176;
+  c.noopt_static_shared = 160;
   return c;
 }
 
@@ -231,6 +289,19 @@ StageKernelCosts stage_costs_sm86() {
   c.onesweep32 = 3892;
   c.onesweep64 = 2142;
   c.onesweep_items32 = c.onesweep_items64 = 21;
+  // The latency term: Accel-Sim's SM86_RTX3070 configuration (the rtx3060 preset's latency source;
+  // -ptx_opcode_latency_int and _fp 4, -gpgpu_smem_latency 29); compute capability 8.6's 100 KB of shared memory
+  // per SM (CUDA C++ Programming Guide); ptxas -v, nvcc 13, sm_86 (results/model/stage-latency/registers-sm_86.txt).
+  c.alu_latency = 4;
+  c.shared_latency = 29;
+  c.shared_per_sm = 100 * 1024;
+  c.group_regs = 64;
+  c.noopt_regs = 64;
+  c.noopt_regs_fields60 = 62;
+  const double regs[7] = {0, 23, 25, 25, 26, 27, 38};
+  std::copy(regs, regs + 7, c.key_regs);
+  c.group_static_shared = 176;
+  c.noopt_static_shared = 160;
   return c;
 }
 

@@ -24,6 +24,7 @@
 #include "simt/gpu_model.h"
 #include "simt/pipeline_model.h"
 #include "simt/stage_l1.h"
+#include "simt/stage_latency.h"
 #include "simt/stage_paths.h"
 
 namespace raycoh {
@@ -42,6 +43,7 @@ struct StageWork {
   GroupPath group_path;  // the group kernel's path (k > 0: its trip-counted count, simt/stage_paths.h)
   KeyWalks mlhcc_walks;  // MLHCC's cut walks per warp (> 0: its trip-counted count)
   NooptPath noopt_path;  // the noopt kernel's path (known: its per-path count)
+  bool latency = false;  // the latency term of the generator and key kernels (simt/stage_latency.h)
   size_t pixels() const { return size_t(width) * size_t(height); }
 };
 
@@ -64,14 +66,17 @@ double stage_issue_ms(const GpuModelConfig& gpu, double warps, double cycles);
 // One launch: launch term + max(bytes term, instruction term, L1 term of `l1_wavefronts` per warp).
 double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, double cycles, double l1_wavefronts = 0);
 
-// The terms of one kernel (milliseconds; the L1 term from its mean wavefronts per warp, simt/stage_l1.h).
+// The terms of one kernel (milliseconds; the L1 term from its mean wavefronts per warp, simt/stage_l1.h; the
+// latency term, simt/stage_latency.h, 0 unless StageWork::latency).
 struct StageKernelTerms {
-  double warps = 0, dram_ms = 0, issue_ms = 0, l1_ms = 0, l1_wavefronts = 0;
+  double warps = 0, dram_ms = 0, issue_ms = 0, l1_ms = 0, l1_wavefronts = 0, latency_ms = 0;
   double ms(const GpuModelConfig& gpu) const;  // launch + the largest term
 };
 // The generation stage's generator kernel (noopt or group) and tile_hits kernel of pass w.
 StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWork& w);
 StageKernelTerms stage_tile_hits_terms(const GpuModelConfig& gpu, const StageWork& w);
+// The key kernel of pass w (its L1 term 0).
+StageKernelTerms stage_key_terms(const GpuModelConfig& gpu, const StageWork& w);
 
 double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w);
 double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w);

@@ -9,9 +9,11 @@
 // groups_hybrid). Without them (11 or 12 fields) the group kernel is priced by its static count. Two more
 // (19 fields): MLHCC's cut-walk iterations per warp, origin and end point (bench/mlhcc_walks.cpp; empty: unknown),
 // which price its key kernel by its trip-counted count. Two more (21 fields): the scene's glossy-like and
-// transmissive group counts (simt/stage_paths.h NooptPath), which price the noopt kernel by its path.
+// transmissive group counts (simt/stage_paths.h NooptPath), which price the noopt kernel by its path. One more
+// (22 fields): latency, 1 to add the latency term to the generator and key kernels (simt/stage_latency.h), else 0.
 // Prints label,gen_ms,key_ms,sort_ms,permute_ms and the generator kernel's terms (gen_dram_ms, gen_issue_ms,
-// gen_l1_ms, gen_l1_wavefronts per warp; tile_hits_l1_wavefronts), every figure MODELED. No times are read: what a pass
+// gen_l1_ms, gen_l1_wavefronts per warp; tile_hits_l1_wavefronts) and the latency terms (gen_latency_ms,
+// key_latency_ms; 0 without it), every figure MODELED. No times are read: what a pass
 // is, not what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
 #include <cstdio>
 #include <iostream>
@@ -61,13 +63,13 @@ raycoh::GroupPath group_path_of(const std::vector<std::string>& f) {
 int main() {
   using namespace raycoh;
   std::cout << "label,gen_ms,key_ms,sort_ms,permute_ms,gen_dram_ms,gen_issue_ms,gen_l1_ms,gen_l1_wavefronts,"
-               "tile_hits_l1_wavefronts\n";
+               "tile_hits_l1_wavefronts,gen_latency_ms,key_latency_ms\n";
   try {
     for (std::string line; std::getline(std::cin, line);) {
       if (line.empty()) continue;
       const std::vector<std::string> f = fields(line);
-      if (f.size() != 11 && f.size() != 12 && f.size() != 17 && f.size() != 19 && f.size() != 21)
-        throw Error("raycoh_stage_model: 11, 12, 17, 19 or 21 fields expected: " + line);
+      if (f.size() != 11 && f.size() != 12 && f.size() != 17 && f.size() != 19 && f.size() != 21 && f.size() != 22)
+        throw Error("raycoh_stage_model: 11, 12, 17, 19, 21 or 22 fields expected: " + line);
       const GpuModelConfig gpu = gpu_preset(f[1]);
       StageWork w;
       w.width = std::stoi(f[2]);
@@ -84,7 +86,11 @@ int main() {
       if (f.size() >= 17 && w.grouping) w.group_path = group_path_of(f);
       if (f.size() >= 19 && !f[17].empty()) w.mlhcc_walks.origin = std::stod(f[17]);
       if (f.size() >= 19 && !f[18].empty()) w.mlhcc_walks.end = std::stod(f[18]);
-      if (f.size() == 21 && !w.grouping) w.noopt_path = NooptPath{true, std::stod(f[19]), std::stod(f[20])};
+      if (f.size() >= 21 && !w.grouping && !f[19].empty())
+        w.noopt_path = NooptPath{true, std::stod(f[19]), std::stod(f[20])};
+      if (f.size() == 22 && f[21] != "0" && f[21] != "1")
+        throw Error("raycoh_stage_model: latency is 0 or 1, not '" + f[21] + "'");
+      w.latency = f.size() == 22 && f[21] == "1";
       ModeledStages m;
       m.gen_ms = stage_generation_ms(gpu, w);
       m.key_ms = stage_key_ms(gpu, w);
@@ -92,9 +98,9 @@ int main() {
       if (!f[10].empty() && w.key_bits > 0) m.permute_ms = stage_permute_ms(gpu, std::stod(f[10]), w.rays);
       const StageKernelTerms g = stage_generator_terms(gpu, w);
       char out[512];
-      std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.2f,%.2f\n", f[0].c_str(), m.gen_ms,
-                    m.key_ms, m.sort_ms, m.permute_ms, g.dram_ms, g.issue_ms, g.l1_ms, g.l1_wavefronts,
-                    stage_tile_hits_terms(gpu, w).l1_wavefronts);
+      std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.2f,%.2f,%.6f,%.6f\n", f[0].c_str(),
+                    m.gen_ms, m.key_ms, m.sort_ms, m.permute_ms, g.dram_ms, g.issue_ms, g.l1_ms, g.l1_wavefronts,
+                    stage_tile_hits_terms(gpu, w).l1_wavefronts, g.latency_ms, stage_key_terms(gpu, w).latency_ms);
       std::cout << out;
     }
   } catch (const std::exception& e) {
