@@ -4,7 +4,9 @@
 Usage:
   scripts/hw_counters_check.py --metrics
       the Nsight Compute metric list the mode reads, comma-separated (what scripts/gpu-check passes to ncu --metrics)
-  scripts/hw_counters_check.py HW.csv NCU.log [NCU.log ...] [--tolerance 0.02]
+  scripts/hw_counters_check.py --modeled-table PRED.csv
+      the prediction's modeled counters per method, alone (results/model/hw-counters/prediction.md)
+  scripts/hw_counters_check.py HW.csv NCU.log [NCU.log ...] [--tolerance 0.02] [--modeled PRED.csv] [--more ALL.csv]
       HW.csv: a `raycoh table` CSV with cuda:counters=hw rows (sibenik, noopt and ours, bvh2 and cwbvh kernels);
       NCU.log: `ncu --csv --page raw --metrics $(--metrics) --kernel-name regex:persistent_kernel --launch-count 6`
       of the same table without the mode (--repeat 1, so launches 2k and 2k+1 are row k's warm-up and timed pass:
@@ -13,6 +15,10 @@ Usage:
       counter is within the tolerance (the issue's goal: 2%), per ncu cache-control setting over both kernels; exits 1
       when no setting meets it. Where the CSV also holds
       simt rows, a modeled-vs-measured table follows (L1 wavefronts, hit rates, DRAM bytes per ray).
+      --modeled PRED.csv: the simt rows of that table from a committed prediction (a `raycoh table --tracers simt:...`
+      CSV made before the measurement, e.g. results/model/hw-counters/prediction.csv) instead of HW.csv's;
+      --more ALL.csv: cuda:counters=hw rows of more methods (every method of the comparison table) for that table
+      only; the ncu comparison reads HW.csv's alone.
 
 Both sides are measured on the GPU; nothing here is modeled except the simt columns of the last table. The mapping
 below must name the same metrics as tracers/hw_counters.cpp (tests/hw_counters_test.cpp checks that it does).
@@ -148,10 +154,37 @@ def compare_log(path, hw, tolerance):
     return cache, ok
 
 
-def modeled_vs_measured(hw, simt):
+def modeled_figures(s):
+    """A simt row's L1 wavefronts, L1 and L2 hit % (of the BVH fetches) and DRAM bytes, per ray: MODELED."""
+    f = lambda c: float(s[c]) if s.get(c) else math.nan  # noqa: E731
+    fetches, l1m, l2m = f("fetches_per_ray"), f("l1_misses_per_ray"), f("l2_misses_per_ray")
+    l1_hit = 100 * (1 - l1m / fetches) if fetches > 0 else math.nan
+    l2_hit = 100 * (1 - l2m / l1m) if l1m > 0 else math.nan
+    return f("modeled_l1_wavefronts_per_ray"), l1_hit, l2_hit, f("dram_bytes_per_ray")
+
+
+def modeled_table(path):
+    """--modeled-table PRED.csv: the prediction's figures alone, per method (what a later run is compared with)."""
+    simt = read_hw(path)[1]
+    if not simt:
+        print(f"hw_counters_check.py: {path}: no simt rows", file=sys.stderr)
+        return 2
+    first = next(iter(simt.values()))
+    print(f"# MODELED counters per ray (simt, {first.get('tracer_params', '').split(',')[0]}; {first.get('scene')} "
+          f"{first.get('width')}x{first.get('height')}, frame {first.get('frame')}, seed {first.get('seed')}; "
+          f"{path})\n")
+    print("| method | L1 wavefronts | L1 hit % | L2 hit % | DRAM bytes |\n|---|---:|---:|---:|---:|")
+    for method, s in simt.items():
+        l1w, l1_hit, l2_hit, dram = modeled_figures(s)
+        print(f"| {method} | {l1w:.1f} | {l1_hit:.1f} | {l2_hit:.1f} | {dram:.1f} |")
+    print("\n(hit rates and DRAM bytes of the BVH fetches only: the model has no other access of the kernel)")
+    return 0
+
+
+def modeled_vs_measured(hw, simt, source):
     if not simt:
         return
-    print("\n## Modeled (simt) vs measured (cuda:counters=hw, BVH2 kernel), per ray\n")
+    print(f"\n## MODELED (simt, {source}) vs MEASURED (cuda:counters=hw, BVH2 kernel), per ray\n")
     print("| method | L1 wavefronts modeled / measured | L1 hit % modeled / measured | "
           "L2 hit % modeled / measured | DRAM bytes modeled / measured |\n|---|---:|---:|---:|---:|")
     for method, s in simt.items():
@@ -159,12 +192,13 @@ def modeled_vs_measured(hw, simt):
         if h is None:
             continue
         f = lambda r, c: float(r[c]) if r.get(c) else math.nan  # noqa: E731
-        fetches, l1m, l2m = f(s, "fetches_per_ray"), f(s, "l1_misses_per_ray"), f(s, "l2_misses_per_ray")
-        l1_hit = 100 * (1 - l1m / fetches) if fetches > 0 else math.nan
-        l2_hit = 100 * (1 - l2m / l1m) if l1m > 0 else math.nan
-        print(f"| {method} | {f(s, 'modeled_l1_wavefronts_per_ray'):.1f} / {f(h, 'hw_l1_wavefronts_per_ray'):.1f} | "
+        l1w, l1_hit, l2_hit, dram = modeled_figures(s)
+        print(f"| {method} | {l1w:.1f} / {f(h, 'hw_l1_wavefronts_per_ray'):.1f} | "
               f"{l1_hit:.1f} / {f(h, 'hw_l1_hit_pct'):.1f} | {l2_hit:.1f} / {f(h, 'hw_l2_hit_pct'):.1f} | "
-              f"{f(s, 'dram_bytes_per_ray'):.1f} / {f(h, 'hw_dram_bytes_per_ray'):.1f} |")
+              f"{dram:.1f} / {f(h, 'hw_dram_bytes_per_ray'):.1f} |")
+    unmeasured = [m for m in simt if ("bvh2", m) not in hw]
+    if unmeasured:
+        print(f"\nModeled but not measured (no cuda:counters=hw row): {', '.join(unmeasured)}")
     print("\n(the model's hit rates and DRAM bytes count BVH fetches only; the GPU's count every access of the "
           "kernel: rays, hits and the stack too)")
 
@@ -173,11 +207,21 @@ def main(argv):
     if argv[1:] == ["--metrics"]:
         print(",".join(metric_names()))
         return 0
-    args, tolerance = [], 0.02
+    if len(argv) == 3 and argv[1] == "--modeled-table":
+        return modeled_table(argv[2])
+    args, tolerance, modeled, more = [], 0.02, None, None
     i = 1
     while i < len(argv):
-        if argv[i] == "--tolerance":
-            tolerance = float(argv[i + 1])
+        if argv[i] in ("--tolerance", "--modeled", "--more") and i + 1 < len(argv):
+            if argv[i] == "--tolerance":
+                tolerance = float(argv[i + 1])
+            elif not os.path.isfile(argv[i + 1]):
+                print(f"hw_counters_check.py: {argv[i]} {argv[i + 1]}: no such file", file=sys.stderr)
+                return 2
+            elif argv[i] == "--modeled":
+                modeled = argv[i + 1]
+            else:
+                more = argv[i + 1]
             i += 2
         else:
             args.append(argv[i])
@@ -204,7 +248,13 @@ def main(argv):
         print(f"- ncu --cache-control {cache}: {'met' if ok else 'NOT met'}")
     if not by_cache:
         print("- no Nsight Compute log to compare with")
-    modeled_vs_measured(hw, simt)
+    table_hw = dict(hw)
+    if more:
+        for key, row in read_hw(more)[0].items():
+            table_hw.setdefault(key, row)
+    if modeled:
+        simt = read_hw(modeled)[1]
+    modeled_vs_measured(table_hw, simt, f"the prediction {modeled}" if modeled else f"the rows of {args[0]}")
     return 0 if any(by_cache.values()) else 1
 
 

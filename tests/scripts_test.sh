@@ -222,4 +222,16 @@ out=$(/usr/bin/python3 "$scripts/hw_counters_check.py" hw-gpu.csv none.log) && r
   source "$scripts/gpu-check-steps" && render_steps) > render-steps.txt
 [[ $(grep -c -- "--out /tmp/" render-steps.txt) -eq 6 ]] && ! grep -q "out/" render-steps.txt ||
   { echo "scripts_test: gpu-check --render writes into OUT: $(cat render-steps.txt)"; exit 1; }
+# hw_counters_check.py --modeled/--more: the modeled-vs-measured table from a committed prediction and the counter
+# rows of more methods (the ncu comparison keeps HW.csv's own rows).
+{ echo "scene,method,tracer,tracer_params,rays,run_under,hw_l1_hit_pct,hw_l2_hit_pct,hw_l1_wavefronts_per_ray,hw_dram_bytes_per_ray,device"
+  echo "s,noopt,cuda,\"counters=hw,bvh=bvh2\",100,cupti-counters,50,80,20,30,NVIDIA H200"; } > hw-one.csv
+sed 's/^s,noopt,/s,ours,/; s/,50,80,20,30,/,60,85,12,20,/' hw-one.csv > hw-all.csv
+{ echo "scene,method,tracer,rays,fetches_per_ray,l1_misses_per_ray,l2_misses_per_ray,modeled_l1_wavefronts_per_ray,dram_bytes_per_ray"
+  echo "s,noopt,simt,100,10,5,1,18,25"; echo "s,ours,simt,100,10,4,1,11,16"; echo "s,mlhcc,simt,100,10,4,1,11,16"; } > pred.csv
+out=$(/usr/bin/python3 "$scripts/hw_counters_check.py" hw-one.csv none.log --modeled pred.csv --more hw-all.csv) || true
+[[ $out == *"MODELED (simt, the prediction pred.csv) vs MEASURED"* && $out == *"| noopt | 18.0 / 20.0 | 50.0 / 50.0 | 80.0 / 80.0 | 25.0 / 30.0 |"* &&
+  $out == *"| ours | 11.0 / 12.0 | 60.0 / 60.0 | 75.0 / 85.0 | 16.0 / 20.0 |"* && $out == *"not measured (no cuda:counters=hw row): mlhcc"* ]] ||
+  { echo "scripts_test: hw_counters_check.py --modeled/--more: $out"; exit 1; }
+expect_error "--modeled gone.csv: no such file" /usr/bin/python3 "$scripts/hw_counters_check.py" hw-one.csv none.log --modeled gone.csv
 echo "scripts_test: all plot scripts wrote their figures"

@@ -56,6 +56,8 @@ CHECKS = [
     *l1_probe("h100-9566ba3"),
     *[stages(r) for r in ("h200-1a660a1", "h200-26a4674", "h200-6ebd003", "h200-a26f7f6", "h200-ab8957e",
                           "h200-d31e7d7", "h200-f400a3e")],
+    Generated("results/model/hw-counters/prediction.md",
+              ["scripts/hw_counters_check.py", "--modeled-table", "results/model/hw-counters/prediction.csv"]),
     Generated("results/intervals/cpu-79f5306/intervals.txt",
               ["scripts/speed_interval.py", "results/intervals/cpu-79f5306/table.csv"]),
     Generated("results/intervals/cpu-79f5306/intervals-e2e.txt",
