@@ -243,10 +243,11 @@ void print_winners(const std::vector<SceneResult>& results, const std::vector<Me
   for (const ResultKey& tl : results.front().tracers) {
     const Accumulated& first = results.front().by_tracer.at(tl).at("noopt");
     if ((first.counters.any && !first.model.any) || first.hw.replayed) continue;  // counters only: no time
-    const std::string kind = first.model.any ? "modeled"
-                             : first.measured.on_device
-                                 ? (device_times(tl) == "SIMULATED" ? "simulated GPU" : "measured on the GPU")
-                                 : "measured";
+    // A cuda tracer under GPGPU-Sim is simulated whichever pipeline made its batches (pipeline=host traces there).
+    const std::string kind = first.model.any                               ? "modeled"
+                             : simulated_device(PluginSpec{tl.tracer, ""}) ? "simulated GPU"
+                             : first.measured.on_device                    ? "measured on the GPU"
+                                                                           : "measured";
     for (const SceneResult& r : results) {
       const auto& m = r.by_tracer.at(tl);
       std::string verdict;

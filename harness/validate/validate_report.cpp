@@ -32,7 +32,10 @@ std::string heading(const std::string& order, int width, int height, const Valid
   return fmt::format(
       "## {} beside the paper: {}x{}, ours in {} order\n\n{} Paper: Liu et al. 2024, measured on an RTX 3060. "
       "Ratio error = our ratio / the paper's ratio - 1.\n",
-      first.kind == "modeled" ? "The GPU timing model" : "Measured speeds", width, height, order, what);
+      first.kind == "modeled"    ? "The GPU timing model"
+      : first.kind == "measured" ? "Measured speeds"
+                                 : "Simulated speeds (GPGPU-Sim, not hardware)",
+      width, height, order, what);
 }
 
 std::string table1(const std::vector<ValidateRow>& rows, const std::string& column) {
