@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/material.h"
+#include "core/platform.h"
 #include "core/ray.h"
 #include "core/shading_point.h"
 
@@ -40,6 +41,11 @@ struct GBuffer {
 // group whose hit members are all transmissive is "independent". Direct reuse shares one world direction.
 enum class GroupType : uint8_t { Independent = 0, Diffuse = 1, Glossy = 2, Hybrid = 3, WorldShared = 4 };
 const char* to_string(GroupType t);
+// A ray of a hybrid group whose own material class is diffuse: a pixel the hybrid rule gives another lobe's
+// direction (generators/generator.h hybrid_diffuse_rays; the device's count, cuda/device_generators.h).
+RAYCOH_HD RAYCOH_INLINE bool is_hybrid_diffuse(GroupType g, MaterialClass m) {
+  return g == GroupType::Hybrid && m == MaterialClass::Diffuse;
+}
 
 // Structure-of-arrays batch; element i of every array belongs to ray i. The order of the batch is part of the
 // method (docs/design.md section 1): warps are 32 consecutive rays.

@@ -291,6 +291,27 @@ void DeviceGenerator::finish(GenerationStats& stats) {
 
 BatchView DeviceGenerator::device_batch() const { return impl_->view; }
 
+namespace {
+__global__ void hybrid_diffuse_kernel(const GroupType* group_type, const MaterialClass* material, size_t n,
+                                      unsigned long long* count) {
+  const size_t i = static_cast<size_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  const unsigned lanes = __ballot_sync(0xffffffffu, i < n && is_hybrid_diffuse(group_type[i], material[i]));
+  if ((threadIdx.x & 31) == 0 && lanes) atomicAdd(count, static_cast<unsigned long long>(__popc(lanes)));
+}
+}  // namespace
+
+uint64_t DeviceGenerator::count_hybrid_diffuse() const {
+  const Impl& m = *impl_;
+  if (!m.grouping || m.fused || m.hits == 0 || !m.view.group_type) return 0;
+  DeviceBuffer<unsigned long long> count;
+  count.zero(1);
+  hybrid_diffuse_kernel<<<blocks_for(m.hits, 256), 256>>>(m.view.group_type, m.view.material, m.hits, count.get());
+  RAYCOH_CUDA_CHECK_LAUNCH();
+  unsigned long long n = 0;
+  count.download(&n, 1);
+  return n;
+}
+
 size_t DeviceGenerator::device_count() const { return impl_->hits; }
 
 void DeviceGenerator::download(RayBatch& out) const {

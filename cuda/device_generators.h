@@ -102,6 +102,9 @@ class DeviceGenerator {
   void finish(GenerationStats& stats);
   BatchView device_batch() const;
   size_t device_count() const;
+  // The rays of the launched batch that is_hybrid_diffuse (core/ray_batch.h), counted on the device (one kernel,
+  // then a wait: call it outside a timed span); 0 for a batch without groups or a fused launch without a batch.
+  uint64_t count_hybrid_diffuse() const;
   void download(RayBatch& out) const;
   // Device time of the last generate() / finish() (every kernel and scan of it, not the transfers), CUDA events.
   float last_kernel_ms() const;

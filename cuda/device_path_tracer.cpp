@@ -136,6 +136,7 @@ DevicePathTracer::~DevicePathTracer() = default;
 DeviceFrameStats DevicePathTracer::render_frame(uint32_t frame, std::vector<Vec3>& radiance) {
   Impl& d = *impl_;
   DeviceFrameStats stats;
+  bool made_first = false;
   d.stages.start_span();
   d.camera(frame);
   for (int bounce = 0; bounce < d.settings.max_depth && d.shading.vertices() > 0; ++bounce) {
@@ -144,6 +145,7 @@ DeviceFrameStats DevicePathTracer::render_frame(uint32_t frame, std::vector<Vec3
     if (bounce == 0) {
       d.clock.enter(kGeneration);
       d.first_bounce(stats.generation);
+      made_first = true;
     } else {
       d.clock.enter(kSample);
       d.shading.sample(bounce);
@@ -156,6 +158,8 @@ DeviceFrameStats DevicePathTracer::render_frame(uint32_t frame, std::vector<Vec3
   stats.frame_ms = d.stages.wait_span_ms();
   stats.stages = d.stage_times();
   stats.rays = d.shading.counts();
+  // After the frame's span, so not in its time: the first-bounce batch stays the generator's until its next launch.
+  stats.hybrid_diffuse = made_first ? d.device_generator.count_hybrid_diffuse() : 0;
   d.shading.download_radiance(radiance);
   return stats;
 }

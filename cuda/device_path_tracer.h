@@ -65,6 +65,9 @@ struct DeviceFrameStats {
   GenerationStats generation;
   float frame_ms = 0.f;      // CUDA events around the frame (see above)
   DeviceFrameStages stages;  // frame_ms by stage (see above)
+  // First-bounce rays of a hybrid group whose own class is diffuse (the CPU's FrameStats::hybrid_diffuse), counted
+  // after the frame's span (not in frame_ms).
+  uint64_t hybrid_diffuse = 0;
 };
 
 // The scene's alpha MASK arrays (Scene::alpha) as the DeviceTracer takes them (empty when the scene has none);

@@ -63,8 +63,7 @@ void tally_ray(uint32_t flags, GenerationStats& stats) {
 size_t hybrid_diffuse_rays(const RayBatch& batch) {
   if (!batch.has_groups()) return 0;
   size_t n = 0;
-  for (size_t i = 0; i < batch.size(); ++i)
-    n += batch.group_type[i] == GroupType::Hybrid && batch.material[i] == MaterialClass::Diffuse;
+  for (size_t i = 0; i < batch.size(); ++i) n += is_hybrid_diffuse(batch.group_type[i], batch.material[i]);
   return n;
 }
 

@@ -30,6 +30,7 @@ SourcedFrame FrameSource::render(uint32_t frame, Accumulator& acc, AuxAccumulato
   out.stats.bounce_rays = d.bounce_rays;
   out.stats.shadow_rays = d.shadow_rays;
   out.stats.generation = d.generation;
+  out.stats.hybrid_diffuse = d.hybrid_diffuse;
   out.stats.non_finite = acc.non_finite_samples() - non_finite;
   out.gpu_ms = d.gpu_ms;
   out.gpu_stages = d.stages;

@@ -5,8 +5,8 @@
 //
 // On the device, a frame's FrameStats hold its wall time (the call, GPU and host together), its ray counts and the
 // device generator's statistics; trace_s and gen_s are 0 (not measured apart: the device's clock is gpu_ms, CUDA
-// events around the frame, labelled by clock()) and hybrid_diffuse is 0 (the first-bounce batch stays on the
-// device). The denoiser's first-hit albedo and normal (aux) come from a CPU camera pass of the same frame and seed,
+// events around the frame, labelled by clock()); hybrid_diffuse is counted on the device after the frame's span.
+// The denoiser's first-hit albedo and normal (aux) come from a CPU camera pass of the same frame and seed,
 // whose camera rays are the device's bit for bit.
 #pragma once
 

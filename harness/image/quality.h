@@ -25,8 +25,8 @@
 //   denoised_*: --denoise oidn: those figures of each render after OIDN (harness/image/denoise_eval.h); empty without
 //   it.
 // --device cuda renders every frame on the device path tracer (harness/image/frame_source.h), the same figures from
-// the same accumulation; the row adds render_device, gpu_clock and gpu_frame_ms (trace_s, gen_ms, mray_s and
-// hybrid_diffuse_share empty: not measured apart on the device).
+// the same accumulation; the row adds render_device, gpu_clock and gpu_frame_ms (trace_s, gen_ms and mray_s empty:
+// not measured apart on the device; hybrid_diffuse_share counted there after each frame's span).
 // --protocol ci|paper sets resolution, frames, reference frames and the metric space at once (render_options.h);
 // --metrics linear computes PSNR/SSIM on linear radiance (the paper's protocol) instead of the tone-mapped image. The
 // console shows the Table 2 layout (one row per generator, one column per scene, PSNR) and a detailed table. Images of

@@ -167,10 +167,9 @@ void fill_measurements(QualityRow& row, const Renders& m, int R, int frames, con
     row.gen_ms = nan;
     row.mray_s = nan;
   }
-  row.hybrid_diffuse_share = !m.gpu_clock.empty()          ? nan
-                             : m.total.generation.rays > 0 ? static_cast<double>(m.total.hybrid_diffuse) /
-                                                                 static_cast<double>(m.total.generation.rays)
-                                                           : nan;
+  row.hybrid_diffuse_share = m.total.generation.rays > 0 ? static_cast<double>(m.total.hybrid_diffuse) /
+                                                               static_cast<double>(m.total.generation.rays)
+                                                         : nan;
 }
 
 void fill_denoised(QualityRow& row, const Renders& m, const ReferenceNoise* noise) {

@@ -83,6 +83,7 @@ DeviceFrame DeviceFrames::render(uint32_t frame, Accumulator& acc) {
   f.bounce_rays = s.rays.bounce;
   f.shadow_rays = s.rays.shadow;
   f.generation = s.generation;
+  f.hybrid_diffuse = s.hybrid_diffuse;
   return f;
 }
 

@@ -38,7 +38,8 @@ struct DeviceFrame {
   double gpu_ms = 0;     // CUDA events around the frame (cuda/device_path_tracer.h frame_ms)
   DeviceStageMs stages;  // gpu_ms by stage (cuda/device_path_tracer.h DeviceFrameStages)
   uint64_t primary_rays = 0, secondary_rays = 0, bounce_rays = 0, shadow_rays = 0;
-  GenerationStats generation;  // the device generator's first-bounce batch
+  GenerationStats generation;   // the device generator's first-bounce batch
+  uint64_t hybrid_diffuse = 0;  // of that batch: rays of a hybrid group with a diffuse class (not in gpu_ms)
   uint64_t rays() const { return primary_rays + secondary_rays + bounce_rays + shadow_rays; }
 };
 
