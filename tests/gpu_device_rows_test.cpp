@@ -55,6 +55,28 @@ void expect_device_frame(const std::map<std::string, std::string>& r) {
   EXPECT_LE(number(r.at("second_wave_rays")), number(r.at("first_wave_rays")));
 }
 
+// The hybrid rule's exposure in device quality rows (noopt, ours on cornell), counted on the device after each
+// frame: the CPU quality rows' share, as the batches are equal. common: the device run's options.
+void expect_hybrid_share_as_on_the_cpu(const std::vector<std::map<std::string, std::string>>& rows, const fs::path& dir,
+                                       const std::string& frames, const std::string& common) {
+  ASSERT_EQ(rows.size(), 2u);
+  std::string on_cpu = common;
+  on_cpu.replace(on_cpu.find("--device cuda"), 13, "--device cpu");
+  const std::string cache = (dir / "cache").string();  // the CPU's reference in a cache of its own (checked below)
+  on_cpu.replace(on_cpu.find(cache), cache.size(), (dir / "cache-cpu").string());
+  const test::CommandResult qc =
+      test::run_raycoh("quality --scenes cornell --generators noopt,ours --frames " + frames +
+                       " --bias-renders 2 --out " + (dir / "qc.csv").string() + on_cpu);
+  ASSERT_EQ(qc.exit_code, 0) << qc.output;
+  const auto cpu_rows = test::read_rows(dir / "qc.csv");
+  ASSERT_EQ(cpu_rows.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(rows[i].at("hybrid_diffuse_share"), cpu_rows[i].at("hybrid_diffuse_share")) << rows[i].at("method");
+  }
+  EXPECT_EQ(number(rows[0].at("hybrid_diffuse_share")), 0.0);  // noopt has no groups
+  EXPECT_GT(number(rows[1].at("hybrid_diffuse_share")), 0.0);  // cornell's ours has hybrid groups
+}
+
 TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
   SKIP_WITHOUT_GPU();
   const fs::path dir = test::temp_dir("gpu_device_rows");
@@ -77,22 +99,7 @@ TEST(GpuDeviceRows, QualityAndConvergeRowsOfTheDevice) {
     EXPECT_TRUE(std::isfinite(number(r.at("psnr")))) << r.at("psnr");
     EXPECT_TRUE(std::isfinite(number(r.at("rel_mse_ds2")))) << r.at("rel_mse_ds2");
   }
-  // The hybrid rule's exposure, counted on the device after each frame: the CPU's count, as the batches are equal.
-  std::string on_cpu = common;
-  on_cpu.replace(on_cpu.find("--device cuda"), 13, "--device cpu");
-  const std::string cache = (dir / "cache").string();  // the CPU's reference in a cache of its own (checked below)
-  on_cpu.replace(on_cpu.find(cache), cache.size(), (dir / "cache-cpu").string());
-  const test::CommandResult qc =
-      test::run_raycoh("quality --scenes cornell --generators noopt,ours --frames " + frames +
-                       " --bias-renders 2 --out " + (dir / "qc.csv").string() + on_cpu);
-  ASSERT_EQ(qc.exit_code, 0) << qc.output;
-  const auto cpu_rows = test::read_rows(dir / "qc.csv");
-  ASSERT_EQ(cpu_rows.size(), 2u);
-  for (size_t i = 0; i < 2; ++i) {
-    EXPECT_EQ(rows[i].at("hybrid_diffuse_share"), cpu_rows[i].at("hybrid_diffuse_share")) << rows[i].at("method");
-  }
-  EXPECT_EQ(number(rows[0].at("hybrid_diffuse_share")), 0.0);  // noopt has no groups
-  EXPECT_GT(number(rows[1].at("hybrid_diffuse_share")), 0.0);  // cornell's ours has hybrid groups
+  expect_hybrid_share_as_on_the_cpu(rows, dir, frames, common);
 
   const test::CommandResult c =
       test::run_raycoh("converge --scene cornell --generators noopt,ours --time 1000s --gpu-model none --max-frames " +
