@@ -53,10 +53,6 @@ double stage_latency_ms(const GpuModelConfig& gpu, double blocks, double residen
 
 namespace {
 
-double region_trips(const PathRegion& r, double trips) {
-  return r.straight + unrolled_loop_instructions(r.loop[0], trips) + unrolled_loop_instructions(r.loop[1], trips);
-}
-
 LatencyChain chain(double instructions, double shared, double l1 = 0, double l2 = 0, double dram = 0) {
   return LatencyChain{instructions, shared, l1, l2, dram};
 }
@@ -82,13 +78,13 @@ LatencyChain group_block_chain(const GroupPathCounts& c, const GroupPath& p, dou
   const double blocks = std::max(1.0, tiles);
   const double nondiffuse = std::min(1.0, p.nondiffuse_groups / blocks);
   const double hybrid = std::min(1.0, p.hybrid_groups / blocks);
-  LatencyChain n = chain(region_trips(c.common, warps), 2, 0, 1, 1);
-  n += chain(region_trips(c.member_rank, k), 2 * k);
-  n += chain(region_trips(c.census, k), 2 * k);
-  n += chain(region_trips(c.positions, members), 2 * members);
+  LatencyChain n = chain(region_instructions(c.common, warps), 2, 0, 1, 1);
+  n += chain(region_instructions(c.member_rank, k), 2 * k);
+  n += chain(region_instructions(c.census, k), 2 * k);
+  n += chain(region_instructions(c.positions, members), 2 * members);
   n += scaled(chain(c.own_lobe.straight, 2, 1, 1, 1), nondiffuse);
-  n += chain(region_trips(c.shared_mean, members), 1 + 2 * members, 0, 1);
-  if (p.hybrid_glossy) n += scaled(chain(region_trips(c.shared_glossy, members), 2 * members, 1, 0, 1), hybrid);
+  n += chain(region_instructions(c.shared_mean, members), 1 + 2 * members, 0, 1);
+  if (p.hybrid_glossy) n += scaled(chain(region_instructions(c.shared_glossy, members), 2 * members, 1, 0, 1), hybrid);
   const double frame = p.rotate ? c.reuse_rotate.straight : c.reuse_local.straight;
   n += chain(c.reuse.straight + frame, 2, 1, 0, 1);
   if (p.hybrid_own) n += scaled(chain(c.reuse_own.straight, 0), hybrid);

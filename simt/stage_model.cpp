@@ -100,6 +100,16 @@ StageKernelTerms kernel_terms(const GpuModelConfig& gpu, double bytes, double wa
 
 double tiles_of(const StageWork& w) { return div_up(w.width, w.tile_w) * div_up(w.height, w.tile_h); }
 
+// The group kernel's counts for the kernels pass w reads, and the pass's path with its hit fraction.
+const GroupPathCounts& group_counts(const StageKernelCosts& c, const StageWork& w) {
+  return w.gbuffer == GBufferRead::Fields60 ? c.group_paths_fields60 : c.group_paths;
+}
+GroupPath group_path_of(const StageWork& w) {
+  GroupPath p = w.group_path;
+  p.hit_fraction = w.pixels() ? double(w.rays) / double(w.pixels()) : 0.0;
+  return p;
+}
+
 // The generator's latency term: the group kernel's block chain (its trip-counted path only), or noopt's warp chain
 // once per piece of its tile; the occupancy from the kernel's registers and shared memory (simt/stage_latency.h).
 double generator_latency_ms(const GpuModelConfig& gpu, const StageWork& w, double cycles) {
@@ -108,10 +118,9 @@ double generator_latency_ms(const GpuModelConfig& gpu, const StageWork& w, doubl
   const StageLatencies l = stage_latencies(gpu);
   const bool fields = w.gbuffer == GBufferRead::Fields60;
   if (w.grouping) {
-    const GroupPathCounts& paths = fields ? c.group_paths_fields60 : c.group_paths;
+    const GroupPathCounts& paths = group_counts(c, w);
     if (w.group_path.k <= 0 || paths.empty()) return 0;
-    GroupPath p = w.group_path;
-    p.hit_fraction = w.pixels() ? double(w.rays) / double(w.pixels()) : 0.0;
+    const GroupPath p = group_path_of(w);
     const auto k = static_cast<uint32_t>(std::min(double(std::max(1, p.k)), m));
     const auto pixels = static_cast<uint32_t>(m);
     const BlockShape b{div_up(m, kWarp) * kWarp, c.group_regs,
@@ -144,12 +153,9 @@ StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWor
   const StageKernelCosts& c = gpu.stages;
   const bool fields = w.gbuffer == GBufferRead::Fields60;
   double cycles = w.grouping ? (fields ? c.group_fields60 : c.group) : (fields ? c.noopt_fields60 : c.noopt);
-  const GroupPathCounts& paths = fields ? c.group_paths_fields60 : c.group_paths;
-  if (w.grouping && w.group_path.k > 0 && !paths.empty()) {
-    GroupPath p = w.group_path;
-    p.hit_fraction = w.pixels() ? double(w.rays) / double(w.pixels()) : 0.0;
-    cycles = group_path_instructions(paths, p, double(w.tile_w) * w.tile_h, tiles_of(w));
-  }
+  const GroupPathCounts& paths = group_counts(c, w);
+  if (w.grouping && w.group_path.k > 0 && !paths.empty())
+    cycles = group_path_instructions(paths, group_path_of(w), double(w.tile_w) * w.tile_h, tiles_of(w));
   const NooptPathCounts& lobes = fields ? c.noopt_paths_fields60 : c.noopt_paths;
   if (!w.grouping && w.noopt_path.known && !lobes.empty())
     cycles = noopt_path_instructions(lobes, w.noopt_path, double(w.tile_w) * w.tile_h, tiles_of(w));

@@ -29,14 +29,9 @@ double mlhcc_walk_instructions(double static_count, const double body[2], const 
   return static_count + std::max(0.0, walks.origin - 1) * body[0] + std::max(0.0, walks.end - 1) * body[1];
 }
 
-namespace {
-
-// A region run once with its loops iterated `trips` times each.
 double region_instructions(const PathRegion& r, double trips) {
   return r.straight + unrolled_loop_instructions(r.loop[0], trips) + unrolled_loop_instructions(r.loop[1], trips);
 }
-
-}  // namespace
 
 // Per tile: W warps (thread i = pixel i), G = ceil(m / k) groups, held by the first ceil(G / 32) warps (thread q =
 // group q). A region's warps run it once (a warp runs a branch when any lane takes it); the per-slot loops run k

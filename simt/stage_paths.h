@@ -21,6 +21,8 @@ struct PathRegion {
   double straight = 0;
   UnrolledLoop loop[2];
 };
+// A region run once with its loops iterated `trips` times each.
+double region_instructions(const PathRegion& r, double trips);
 
 // The group kernel's regions (scripts/count-stage-paths prints them; results/model/stage-trip-counts/).
 struct GroupPathCounts {
