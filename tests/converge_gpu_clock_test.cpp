@@ -103,7 +103,9 @@ TEST(ConvergeGpuClock, ModeledColumnsArePositiveMonotoneAndNeverMeasured) {
     EXPECT_GT(frame_ms, 0.0);
     // (the CSV holds 6 significant digits)
     EXPECT_NEAR(frame_ms, num(r, "frame_modeled_gen_ms") + num(r, "frame_modeled_trace_ms"), 1e-5 * frame_ms);
-    if (r.at("modeled_frame") == "0") EXPECT_EQ(frame_ms, last_frame_ms[m]);  // held from the last modeled
+    if (r.at("modeled_frame") == "0") {
+      EXPECT_EQ(frame_ms, last_frame_ms[m]);  // held from the last modeled
+    }
     // Cumulative: strictly increasing, and exactly the sum of the frames' modeled times (nothing measured in it).
     const double s = num(r, "modeled_gpu_s");
     EXPECT_GT(s, last_s[m]);
