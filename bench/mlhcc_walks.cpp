@@ -27,24 +27,12 @@
 namespace raycoh {
 namespace {
 
-// mlhcc_write_path's loop, counting the iterations it starts (the same exits: a level at or past the needed bits,
-// a leaf, the level limit).
+// The iterations mlhcc_write_path's loop starts for one point: the walk itself, counted as it runs (its code is
+// dropped).
 int walk_trips(const MlhccCuts& cuts, Vec3 p, int field_stride, int field_index, int needed_bits) {
-  if (cuts.node_count == 0) return 0;
-  int32_t node = 0, trips = 0;
-  for (int depth = 0; depth < kMlhccMaxLevels; ++depth) {
-    ++trips;
-    const BvhNode& n = cuts.nodes[node];
-    const int c = locate_child(n, p);
-    const uint32_t level = cuts.cuts[node].level[c];
-    if (level > 0) {
-      const int width = cuts.level_bits[level - 1];
-      if (field_stride * cuts.level_offset[level - 1] + field_index * width >= needed_bits) return trips;
-    }
-    const int32_t child = n.child[c];
-    if (is_leaf_ref(child)) return trips;
-    node = child;
-  }
+  uint64_t code = 0;
+  int trips = 0;
+  mlhcc_write_path(cuts, p, field_stride, field_index, needed_bits, code, [&trips] { ++trips; });
   return trips;
 }
 
