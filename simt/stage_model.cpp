@@ -91,6 +91,7 @@ StageKernelTerms kernel_terms(const GpuModelConfig& gpu, double bytes, double wa
                               double l1_wavefronts) {
   StageKernelTerms t;
   t.warps = warps;
+  t.cycles = cycles;
   t.dram_ms = stage_stream_ms(gpu, bytes);
   t.issue_ms = stage_issue_ms(gpu, warps, cycles);
   t.l1_wavefronts = l1_wavefronts;
@@ -110,28 +111,35 @@ GroupPath group_path_of(const StageWork& w) {
   return p;
 }
 
+// The latency term of `blocks` blocks of shape b whose chain takes `chain` cycles, and what it was made of.
+void set_latency(const GpuModelConfig& gpu, double blocks, const BlockShape& b, double chain, StageKernelTerms& t) {
+  const double resident = resident_blocks(gpu, b);
+  t.resident_warps = resident * div_up(b.threads, kWarp);
+  t.chain_cycles = chain;
+  t.latency_ms = stage_latency_ms(gpu, blocks, resident, chain);
+}
+
 // The generator's latency term: the group kernel's block chain (its trip-counted path only), or noopt's warp chain
 // once per piece of its tile; the occupancy from the kernel's registers and shared memory (simt/stage_latency.h).
-double generator_latency_ms(const GpuModelConfig& gpu, const StageWork& w, double cycles) {
+void generator_latency(const GpuModelConfig& gpu, const StageWork& w, double cycles, StageKernelTerms& t) {
   const StageKernelCosts& c = gpu.stages;
   const double m = double(w.tile_w) * w.tile_h, tiles = tiles_of(w);
   const StageLatencies l = stage_latencies(gpu);
   const bool fields = w.gbuffer == GBufferRead::Fields60;
   if (w.grouping) {
     const GroupPathCounts& paths = group_counts(c, w);
-    if (w.group_path.k <= 0 || paths.empty()) return 0;
+    if (w.group_path.k <= 0 || paths.empty()) return;
     const GroupPath p = group_path_of(w);
     const auto k = static_cast<uint32_t>(std::min(double(std::max(1, p.k)), m));
     const auto pixels = static_cast<uint32_t>(m);
     const BlockShape b{div_up(m, kWarp) * kWarp, c.group_regs,
                        double(tile_groups_bytes(pixels, (pixels + k - 1) / k, k)) + c.group_static_shared};
-    return stage_latency_ms(gpu, tiles, resident_blocks(gpu, b),
-                            chain_cycles(l, group_block_chain(paths, p, m, tiles)));
+    set_latency(gpu, tiles, b, chain_cycles(l, group_block_chain(paths, p, m, tiles)), t);
+    return;
   }
   const BlockShape b{div_up(std::min(m, kNooptPiece), kWarp) * kWarp, fields ? c.noopt_regs_fields60 : c.noopt_regs,
                      c.noopt_static_shared};
-  return stage_latency_ms(gpu, tiles, resident_blocks(gpu, b),
-                          div_up(m, kNooptPiece) * chain_cycles(l, noopt_warp_chain(cycles)));
+  set_latency(gpu, tiles, b, div_up(m, kNooptPiece) * chain_cycles(l, noopt_warp_chain(cycles)), t);
 }
 
 }  // namespace
@@ -163,7 +171,7 @@ StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWor
                        double(w.pixels()) * (double(sizeof(ShadingPoint)) - gbuffer_record_bytes(w.gbuffer));
   StageKernelTerms t = kernel_terms(gpu, bytes, warps, cycles,
                                     l1_warp_wavefronts(gpu, w, w.grouping ? group_l1(w.gbuffer) : noopt_l1(w.gbuffer)));
-  if (w.latency) t.latency_ms = generator_latency_ms(gpu, w, cycles);
+  if (w.latency) generator_latency(gpu, w, cycles, t);
   return t;
 }
 
@@ -184,9 +192,8 @@ StageKernelTerms stage_key_terms(const GpuModelConfig& gpu, const StageWork& w) 
   StageKernelTerms t = kernel_terms(gpu, key_bytes(w.rays, w.key_bits), div_up(double(w.rays), kWarp), cycles, 0);
   if (w.latency && kind > 0 && kind < 7) {
     const double walks = w.key == KeyKind::Mlhcc ? w.mlhcc_walks.origin + w.mlhcc_walks.end : 0.0;
-    const double resident = resident_blocks(gpu, BlockShape{kKeyThreads, gpu.stages.key_regs[kind], 0});
-    t.latency_ms = stage_latency_ms(gpu, div_up(double(w.rays), kKeyThreads), resident,
-                                    chain_cycles(stage_latencies(gpu), key_warp_chain(cycles, walks)));
+    set_latency(gpu, div_up(double(w.rays), kKeyThreads), BlockShape{kKeyThreads, gpu.stages.key_regs[kind], 0},
+                chain_cycles(stage_latencies(gpu), key_warp_chain(cycles, walks)), t);
   }
   return t;
 }

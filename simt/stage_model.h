@@ -70,6 +70,9 @@ double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, do
 // latency term, simt/stage_latency.h, 0 unless StageWork::latency).
 struct StageKernelTerms {
   double warps = 0, dram_ms = 0, issue_ms = 0, l1_ms = 0, l1_wavefronts = 0, latency_ms = 0;
+  // What the terms were made of: partition cycles per warp (the issue term's count), and with the latency term the
+  // resident warps per SM and one block's dependent chain (SM cycles; noopt: every piece of its tile in turn).
+  double cycles = 0, resident_warps = 0, chain_cycles = 0;
   double ms(const GpuModelConfig& gpu) const;  // launch + the largest term
 };
 // The generation stage's generator kernel (noopt or group) and tile_hits kernel of pass w.

@@ -15,6 +15,9 @@
 // gen_l1_ms, gen_l1_wavefronts per warp; tile_hits_l1_wavefronts) and the latency terms (gen_latency_ms,
 // key_latency_ms; 0 without it), every figure MODELED. No times are read: what a pass
 // is, not what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
+// --per-warp: also what the generator and key kernels' terms are made of, to set beside Nsight Compute's counters
+// (scripts/stage_counters.py): warps, partition cycles per warp, resident warps per SM and a block's chain (SM
+// cycles; both 0 without the latency term), for each of the two kernels (gen_*, key_*).
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -58,12 +61,28 @@ raycoh::GroupPath group_path_of(const std::vector<std::string>& f) {
   return p;
 }
 
+// The --per-warp columns of one kernel's terms.
+std::string per_warp(const raycoh::StageKernelTerms& t) {
+  char out[160];
+  std::snprintf(out, sizeof out, ",%.0f,%.2f,%.0f,%.1f", t.warps, t.cycles, t.resident_warps, t.chain_cycles);
+  return out;
+}
+
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   using namespace raycoh;
+  const bool warp_columns = argc == 2 && std::string(argv[1]) == "--per-warp";
+  if (argc > 2 || (argc == 2 && !warp_columns)) {
+    std::cerr << "raycoh_stage_model: the one option is --per-warp; passes are read from stdin\n";
+    return 2;
+  }
   std::cout << "label,gen_ms,key_ms,sort_ms,permute_ms,gen_dram_ms,gen_issue_ms,gen_l1_ms,gen_l1_wavefronts,"
-               "tile_hits_l1_wavefronts,gen_latency_ms,key_latency_ms\n";
+               "tile_hits_l1_wavefronts,gen_latency_ms,key_latency_ms";
+  if (warp_columns)
+    std::cout << ",gen_warps,gen_cycles_per_warp,gen_resident_warps,gen_chain_cycles,key_warps,key_cycles_per_warp,"
+                 "key_resident_warps,key_chain_cycles";
+  std::cout << "\n";
   try {
     for (std::string line; std::getline(std::cin, line);) {
       if (line.empty()) continue;
@@ -98,10 +117,11 @@ int main() {
       if (!f[10].empty() && w.key_bits > 0) m.permute_ms = stage_permute_ms(gpu, std::stod(f[10]), w.rays);
       const StageKernelTerms g = stage_generator_terms(gpu, w);
       char out[512];
-      std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.2f,%.2f,%.6f,%.6f\n", f[0].c_str(),
+      const StageKernelTerms k = stage_key_terms(gpu, w);
+      std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.2f,%.2f,%.6f,%.6f", f[0].c_str(),
                     m.gen_ms, m.key_ms, m.sort_ms, m.permute_ms, g.dram_ms, g.issue_ms, g.l1_ms, g.l1_wavefronts,
-                    stage_tile_hits_terms(gpu, w).l1_wavefronts, g.latency_ms, stage_key_terms(gpu, w).latency_ms);
-      std::cout << out;
+                    stage_tile_hits_terms(gpu, w).l1_wavefronts, g.latency_ms, k.latency_ms);
+      std::cout << out << (warp_columns ? per_warp(g) + per_warp(k) : std::string()) << "\n";
     }
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "simt/gpu_model.h"
 #include "simt/stage_model.h"
 
@@ -143,6 +145,33 @@ TEST(StageLatency, OnlyWhenAskedAndThenTheLargerTerm) {
   EXPECT_NEAR(on.latency_ms / small, 1.0, 0.1);
   // The latency term grows with k (the serial phases' loops).
   EXPECT_GT(on.latency_ms, stage_generator_terms(h, sweep_pass(32, 8, 8, true)).latency_ms * 2);
+}
+
+TEST(StageLatency, TermsSayWhatTheyWereMadeOf) {
+  const GpuModelConfig h = gpu_preset("h200");
+  // 32x8 tiles: 8 warps a block, 4 blocks a SM (above); the term is the block chain over whole waves of them.
+  const StageKernelTerms on = stage_generator_terms(h, sweep_pass(32, 8, 64, true));
+  EXPECT_DOUBLE_EQ(on.resident_warps, 32);
+  EXPECT_GT(on.chain_cycles, 0);
+  EXPECT_DOUBLE_EQ(on.latency_ms, stage_latency_ms(h, 60 * 135, 4, on.chain_cycles));
+  EXPECT_DOUBLE_EQ(on.issue_ms, stage_issue_ms(h, on.warps, on.cycles));
+  // Without the latency term only the count is said.
+  const StageKernelTerms off = stage_generator_terms(h, sweep_pass(32, 8, 64, false));
+  EXPECT_DOUBLE_EQ(off.cycles, on.cycles);
+  EXPECT_DOUBLE_EQ(off.resident_warps, 0);
+  EXPECT_DOUBLE_EQ(off.chain_cycles, 0);
+  // The key kernel: blocks of 256 threads, its chain that of one warp.
+  StageWork k;
+  k.width = 1920;
+  k.height = 1080;
+  k.rays = 1920 * 1080;
+  k.key = KeyKind::Origin;
+  k.key_bits = 32;
+  k.latency = true;
+  const StageKernelTerms key = stage_key_terms(h, k);
+  EXPECT_GT(key.resident_warps, 0);
+  EXPECT_DOUBLE_EQ(std::fmod(key.resident_warps, 8), 0);
+  EXPECT_DOUBLE_EQ(key.chain_cycles, chain_cycles(stage_latencies(h), key_warp_chain(key.cycles, 0)));
 }
 
 }  // namespace
