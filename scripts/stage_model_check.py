@@ -103,23 +103,28 @@ def scene_groups(rows):
 
 
 def describe(r, preset, label, gbuffer=None, trips=False, walks=None, lobes=None, latency=False):
-    """raycoh_stage_model's input line for the pass of row r (gbuffer: the optional 12th field; trips: the group
-    kernel's five path fields after it; latency: the 22nd field, 1, after the walks' and lobes' (empty if not
-    given))."""
+    """raycoh_stage_model's input line for the pass of row r: its 11 workload fields, then (gbuffer, or trips) the
+    12th, the G-buffer read (wide64 if not given); trips: the group kernel's five path fields after it, then the
+    walks' two (with walks, lobes or latency) and the lobes' two (with lobes or latency), empty for a scene not
+    given; latency (implies trips): the 22nd field, 1."""
+    trips = trips or latency
     tile = (param(r["generator_params"], "tile") or "8x8").split("x")
     generator = "noopt" if r["generator"] == "noopt" else "group"
     encoder = r.get("encoder") or "none"
     bits = param(r.get("encoder_params"), "bits") or "0"
     permute = r.get("modeled_permute_bytes", "") if r.get("permute") == "physical" else ""
+    fields = [label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits, permute]
+    if trips or gbuffer:
+        fields.append(gbuffer or "wide64")
+    if trips:
+        fields += group_path(r)
+        if walks is not None or lobes or latency:
+            fields += list((walks or {}).get(r["scene"], ("", "")))
+        if lobes or latency:
+            fields += [f"{x:.0f}" for x in lobes[r["scene"]]] if lobes else ["", ""]
     if latency:
-        return ",".join([label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits,
-                         permute, gbuffer or "wide64"] + group_path(r) +
-                        list((walks or {}).get(r["scene"], ("", ""))) +
-                        ([f"{x:.0f}" for x in lobes[r["scene"]]] if lobes else ["", ""]) + ["1"])
-    return ",".join([label, preset, r["width"], r["height"], r["rays"], generator, tile[0], tile[1], encoder, bits,
-                     permute] + ([gbuffer or "wide64"] + group_path(r) if trips else [gbuffer] if gbuffer else []) +
-                    (list((walks or {}).get(r["scene"], ("", ""))) if trips and (walks is not None or lobes) else []) +
-                    ([f"{x:.0f}" for x in lobes[r["scene"]]] if trips and lobes else []))
+        fields.append("1")
+    return ",".join(fields)
 
 
 def model_binary(given):
