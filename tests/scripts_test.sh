@@ -252,10 +252,30 @@ out=$(/usr/bin/python3 "$scripts/stage_counters.py" compare counters-pred.csv ra
   { echo "scripts_test: stage_counters.py compare: $out"; exit 1; }
 expect_error "give each log as LOG=METHOD" /usr/bin/python3 "$scripts/stage_counters.py" compare counters-pred.csv raw.log
 expect_error "gone.log: no such file" /usr/bin/python3 "$scripts/stage_counters.py" compare counters-pred.csv gone.log=noopt
+# stage_regions.py: a kernel's per-instruction executions and stall samples (ncu's source page) summed by the
+# regions of count-stage-paths --listing, per warp of the launch in an ncu log; a foreign binary is refused.
+printf '%s\n' "# arch sm_90: noopt_kernel SASS" "0x0000 LDC common" "0x0010 FFMA lobe_diffuse" "0x0020 FFMA lobe_glossy" \
+  "0x0030 EXIT common" > listing.txt
+{ echo '"Kernel Name","noopt_kernel"'
+  echo '"Address","Source","Instructions Executed","Warp Stall Sampling (All Samples)","stall_long_sb","stall_wait"'
+  echo '"7f0000","LDC R1, c[0x0][0x28]","100","50","40","10"'
+  echo '"7f0010","@P0 FFMA R2, R3, R4, R5","100","30","0","30"'
+  echo '"7f0020","FFMA R2, R3, R4, R5","10","0","0","0"'
+  echo '"7f0030","EXIT","100","20","0","20"'
+  echo '"7f0040","NOP","0","0","0","0"'; } > source.csv
+out=$(/usr/bin/python3 "$scripts/stage_regions.py" source.csv listing.txt --warps-from raw.log)
+[[ $out == *"| common | 2 | 2.0 | 70.0 | long_sb 57%, wait 43% |"* && $out == *"| lobe_diffuse | 1 | 1.0 | 30.0 | wait 100% |"* &&
+  $out == *"| lobe_glossy | 1 | 0.1 | 0.0 | — |"* && $out == *"| all | 4 | 3.1 | 100.0 | |"* ]] ||
+  { echo "scripts_test: stage_regions.py: $out"; exit 1; }
+sed 's/"7f0010","@P0 FFMA/"7f0010","IMAD/; s/"7f0020","FFMA/"7f0020","IADD3/' source.csv > foreign.csv
+expect_error "differ from the listing's opcodes" /usr/bin/python3 "$scripts/stage_regions.py" foreign.csv listing.txt --warps-from raw.log
+expect_error "no SASS rows" /usr/bin/python3 "$scripts/stage_regions.py" listing.txt listing.txt --warps-from raw.log
 # gpu-check --stages under Nsight Compute: one log per method, named by its label, each method's generator and encoder.
-(step() { echo "$1 ${*:3}"; }; OUT_DIR=out raycoh=raycoh scene=s res=1920x1080 prefix=()
-  source "$scripts/gpu-check-steps" && ncu_path() { echo ncu; } && stage_counter_steps) > counter-steps.txt
-[[ $(grep -c "^ncu-stage-" counter-steps.txt) -eq 5 ]] &&
+(cd "$scripts/.." && step() { echo "$1 ${*:3}"; } && OUT_DIR=out raycoh=raycoh scene=s res=1920x1080 prefix=() &&
+  source scripts/gpu-check-steps && ncu_path() { echo ncu; } && stage_counter_steps) > counter-steps.txt
+[[ $(grep -c "^ncu-stage-[a-z_0-9]* env" counter-steps.txt) -eq 5 ]] &&
+  [[ $(grep -c "^ncu-stage-source-\(noopt\|ours\) .*--section SourceCounters" counter-steps.txt) -eq 2 ]] &&
+  [[ $(grep -c "^ncu-stage-source-\(noopt\|ours\)-csv .*--page source --csv --print-source sass" counter-steps.txt) -eq 2 ]] &&
   grep -q "^ncu-stage-ours_tile_32x8_k_8_order_tile .*--generators ours:tile=32x8,k=8 --encoders none" counter-steps.txt &&
   grep -q "^ncu-stage-noopt_mlhcc .*--generators noopt --encoders mlhcc" counter-steps.txt ||
   { echo "scripts_test: gpu-check stage counter steps: $(cat counter-steps.txt)"; exit 1; }
