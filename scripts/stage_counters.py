@@ -14,8 +14,9 @@ Usage:
       TABLE.csv... > prediction.csv
       The model with the trip-counted paths and the latency term (as `scripts/stage_model_check.py predict
       --trip-counts --noopt-path --latency`) of every pass of the tables, kernel by kernel (raycoh_stage_model
-      --per-warp): warps, partition cycles per warp, L1 wavefronts per warp (the generator), resident warps per SM
-      and a block's chain (SM cycles). MODELED; no time is read.
+      --per-warp): warps, partition cycles per warp, bytes per warp, L1 wavefronts per warp (the generator),
+      resident warps per SM and a block's chain (SM cycles), for the generator, key and gather kernels. MODELED;
+      no time is read.
   scripts/stage_counters.py compare PREDICTION.csv [--scene S] LOG[@FIRST-LAST]=METHOD...
       Each profiled kernel (the last launch of each in the log: the timed pass; @FIRST-LAST: among those launches,
       numbered from 0 as ncu numbers them) beside its modeled make-up.
@@ -35,6 +36,9 @@ What is measured, per kernel (Nsight Compute):
                           resident warps, each living its lifetime), checked on the measured figures alone (raw
                           layout only: with derived instructions it is the SM active cycles by construction)
   L1 wavefronts per warp  l1tex__data_pipe_lsu_wavefronts.sum / warps (raw layout only); L1 hit rate; L1/TEX %
+  bytes per warp          dram__bytes_read.sum + dram__bytes_write.sum, and lts__t_bytes.sum, / warps (raw layout
+                          only), beside the model's
+                          bytes term (the traffic it prices at the streaming bandwidth)
   stalls                  the reasons of the warp state statistics, cycles per issued instruction (raw layout: every
                           reason over 1 cycle; section layout: the one the profiler's rule names)
 """
@@ -56,7 +60,8 @@ METRICS = ("smsp__inst_executed.sum", "l1tex__data_pipe_lsu_wavefronts.sum",
            "l1tex__t_sectors_pipe_lsu_mem_global_op_ld.sum", "l1tex__t_sectors_pipe_lsu_mem_global_op_ld_lookup_miss.sum",
            "l1tex__t_sectors_pipe_lsu_mem_global_op_st.sum", "l1tex__f_wavefronts.sum", "l1tex__data_bank_writes.sum",
            "l1tex__lsuin_requests.sum", "l1tex__t_sector_hit_rate.pct", "lts__t_sector_hit_rate.pct",
-           "lts__t_bytes.sum", "dram__bytes_read.sum", "l1tex__throughput.avg.pct_of_peak_sustained_active",
+           "lts__t_bytes.sum", "dram__bytes_read.sum", "dram__bytes_write.sum",
+           "l1tex__throughput.avg.pct_of_peak_sustained_active",
            "smsp__issue_active.avg.pct_of_peak_sustained_active")
 
 # The kernels the stage model prices (cuda/): the name a launch carries -> the model's kernel.
@@ -75,6 +80,9 @@ FIGURES = {
     "l1_wavefronts": ("l1tex__data_pipe_lsu_wavefronts.sum", None),
     "l1_hit": ("l1tex__t_sector_hit_rate.pct", "L1/TEX Hit Rate"),
     "l1_pct": ("l1tex__throughput.avg.pct_of_peak_sustained_active", "L1/TEX Cache Throughput"),
+    "dram_read": ("dram__bytes_read.sum", None),
+    "dram_write": ("dram__bytes_write.sum", None),
+    "l2_bytes": ("lts__t_bytes.sum", None),
 }
 STALL = re.compile(r"smsp__average_warps_issue_stalled_(\w+)_per_issue_active\.ratio")
 RULE_STALL = re.compile(r"spends ([\d.]+) cycles being stalled (.+?)\. ")
@@ -146,7 +154,8 @@ def measured(k):
             "elapsed": figure(k, "elapsed"), "theoretical": figure(k, "theoretical"),
             "achieved": figure(k, "achieved"), "l1_wavefronts": figure(k, "l1_wavefronts") / warps if warps else
             math.nan, "l1_hit": figure(k, "l1_hit"), "l1_pct": figure(k, "l1_pct"),
-            "stalls": stalls}
+            "dram": (figure(k, "dram_read") + figure(k, "dram_write")) / warps if warps else math.nan,
+            "l2_bytes": figure(k, "l2_bytes") / warps if warps else math.nan, "stalls": stalls}
 
 
 def kernel_of(name):
@@ -167,7 +176,7 @@ def predict(args):
     modeled = {m["label"]: m for m in csv.DictReader(out.splitlines())}
     w = csv.writer(sys.stdout, lineterminator="\n")
     w.writerow(["kind", "preset", "gbuffer", "file", "scene", "method", "kernel", "warps", "cycles_per_warp",
-                "l1_wavefronts_per_warp", "resident_warps", "chain_cycles"])
+                "bytes_per_warp", "l1_wavefronts_per_warp", "resident_warps", "chain_cycles"])
     seen = set()
     for i, r in enumerate(rows):
         m, key = modeled[str(i)], (r["scene"], smc.method_label(r))
@@ -175,12 +184,13 @@ def predict(args):
             continue  # a method in two tables (noopt): the same pass
         seen.add(key)
         lead = ["modeled", args.preset, args.gbuffer, r["_file"], r["scene"], smc.method_label(r)]
-        w.writerow(lead + ["gen", m["gen_warps"], m["gen_cycles_per_warp"], m["gen_l1_wavefronts"],
-                           m["gen_resident_warps"], m["gen_chain_cycles"]])
-        if float(m["key_warps"]) > 0:
-            w.writerow(lead + ["key", m["key_warps"], m["key_cycles_per_warp"], "", m["key_resident_warps"],
-                               m["key_chain_cycles"]])
-
+        for kernel in ("gen", "key", "gather"):
+            warps = float(m[f"{kernel}_warps"])
+            if warps > 0:
+                w.writerow(lead + [kernel, m[f"{kernel}_warps"], m[f"{kernel}_cycles_per_warp"],
+                                   f"{float(m[f'{kernel}_bytes']) / warps:.1f}",
+                                   m["gen_l1_wavefronts"] if kernel == "gen" else "",
+                                   m[f"{kernel}_resident_warps"], m[f"{kernel}_chain_cycles"]])
 
 
 def fmt(v, digits=0):
@@ -203,7 +213,7 @@ def compare(args):
           "resident warps / SM, measured (theoretical, achieved) | modeled | L1 wavefronts / warp, measured | "
           "modeled | L1 hit % | L1/TEX % | elapsed cycles, measured | warps a SM ÷ achieved × lifetime |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|")
-    notes = []
+    notes, traffic = [], []
     for item in args.logs:
         path, _, method = item.partition("=")
         path, _, span = path.partition("@")
@@ -224,10 +234,19 @@ def compare(args):
                   f"{fmt(x['theoretical'])}, {fmt(x['achieved'], 1)} | {fmt(res)} | {fmt(x['l1_wavefronts'], 1)} | "
                   f"{fmt(ml, 1)} | {fmt(x['l1_hit'], 1)} | {fmt(x['l1_pct'], 1)} | {fmt(x['elapsed'])} | "
                   f"{fmt(x['waves_lifetime'])} |")
+            mb = number(p.get("bytes_per_warp", "nan"))
+            if not (math.isnan(x["dram"]) and math.isnan(x["l2_bytes"])):
+                traffic.append(f"| {method} | {kernel} | {fmt(x['dram'])} | {fmt(x['l2_bytes'])} | {fmt(mb)} | "
+                               f"{ratio(mb, x['dram'])} |")
             if x["stalls"]:
                 top = sorted(x["stalls"].items(), key=lambda s: -s[1])[:4]
                 notes.append(f"- {method}, {kernel}: " + "; ".join(f"{r} {v:.1f}" for r, v in top) +
                              f" (of {fmt(x['cpi'], 1)} cycles per issued instruction)")
+    print("\nBytes per warp: DRAM (read and written) and L2 traffic (measured) beside the bytes the model's bytes "
+          "term prices (modeled):\n")
+    print("| method | kernel | DRAM, measured | L2, measured | modeled | modeled / DRAM |")
+    print("|---|---|---:|---:|---:|---:|")
+    print("\n".join(traffic) if traffic else "| — | | | | | |")
     if notes:
         print("\nStalls, cycles per issued instruction by reason (measured):\n")
         print("\n".join(notes))
@@ -256,8 +275,8 @@ def main(argv):
         span = item.partition("=")[0].partition("@")[2]
         if span and not re.fullmatch(r"\d+(-\d+)?", span):
             p.error(f"{item}: @{span}: give the launches as @FIRST-LAST (ncu's launch numbers, e.g. @0-3)")
-    paths = [args.prediction] + [i.partition("=")[0].partition("@")[0] for i in args.logs] \
-        if args.command == "compare" else list(args.tables) + [args.mlhcc_walks]
+    paths = {"compare": lambda: [args.prediction] + [i.partition("=")[0].partition("@")[0] for i in args.logs],
+             "predict": lambda: list(args.tables) + [args.mlhcc_walks]}[args.command]()
     for path in paths:
         if not os.path.isfile(path):
             p.error(f"{path}: no such file")

@@ -92,6 +92,7 @@ StageKernelTerms kernel_terms(const GpuModelConfig& gpu, double bytes, double wa
   StageKernelTerms t;
   t.warps = warps;
   t.cycles = cycles;
+  t.bytes = bytes;
   t.dram_ms = stage_stream_ms(gpu, bytes);
   t.issue_ms = stage_issue_ms(gpu, warps, cycles);
   t.l1_wavefronts = l1_wavefronts;
@@ -221,7 +222,11 @@ double stage_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits) {
 
 double stage_permute_ms(const GpuModelConfig& gpu, double permute_bytes, size_t n) {
   if (n == 0) return 0.0;
-  return stage_kernel_ms(gpu, permute_bytes, div_up(double(n), kWarp), gpu.stages.gather);
+  return stage_permute_terms(gpu, permute_bytes, n).ms(gpu);
+}
+
+StageKernelTerms stage_permute_terms(const GpuModelConfig& gpu, double permute_bytes, size_t n) {
+  return kernel_terms(gpu, permute_bytes, div_up(double(n), kWarp), gpu.stages.gather, 0);
 }
 
 ModeledStages stage_model(const GpuModelConfig& gpu, const StageWork& w, const std::vector<uint32_t>& order) {

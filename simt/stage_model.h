@@ -70,10 +70,11 @@ double stage_kernel_ms(const GpuModelConfig& gpu, double bytes, double warps, do
 // latency term, simt/stage_latency.h, 0 unless StageWork::latency).
 struct StageKernelTerms {
   double warps = 0, dram_ms = 0, issue_ms = 0, l1_ms = 0, l1_wavefronts = 0, latency_ms = 0;
-  // What the terms were made of: partition cycles per warp (the issue term's count), and with the latency term the
+  // What the terms were made of: partition cycles per warp (the issue term's count), the bytes it moves, and with
+  // the latency term the
   // resident warps per SM and one block's dependent chain (SM cycles; noopt: every piece of its tile in turn).
-  double cycles = 0, resident_warps = 0, chain_cycles = 0;
-  double ms(const GpuModelConfig& gpu) const;  // launch + the largest term
+  double cycles = 0, bytes = 0, resident_warps = 0, chain_cycles = 0;  // bytes: the bytes term's traffic
+  double ms(const GpuModelConfig& gpu) const;                          // launch + the largest term
 };
 // The generation stage's generator kernel (noopt or group) and tile_hits kernel of pass w.
 StageKernelTerms stage_generator_terms(const GpuModelConfig& gpu, const StageWork& w);
@@ -85,6 +86,8 @@ double stage_generation_ms(const GpuModelConfig& gpu, const StageWork& w);
 double stage_key_ms(const GpuModelConfig& gpu, const StageWork& w);
 double stage_sort_ms(const GpuModelConfig& gpu, size_t n, int key_bits);
 double stage_permute_ms(const GpuModelConfig& gpu, double permute_bytes, size_t n);
+// The gather kernel's terms (no L1 or latency term).
+StageKernelTerms stage_permute_terms(const GpuModelConfig& gpu, double permute_bytes, size_t n);
 
 // The stage kernels' costs per architecture (simt/stage_model.cpp has their sources), for the presets.
 StageKernelCosts stage_costs_sm90();

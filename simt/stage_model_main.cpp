@@ -16,8 +16,9 @@
 // key_latency_ms; 0 without it), every figure MODELED. No times are read: what a pass
 // is, not what it took. scripts/stage_model_check.py drives it (results/model/h200-stages/).
 // --per-warp: also what the generator and key kernels' terms are made of, to set beside Nsight Compute's counters
-// (scripts/stage_counters.py): warps, partition cycles per warp, resident warps per SM and a block's chain (SM
-// cycles; both 0 without the latency term), for each of the two kernels (gen_*, key_*).
+// (scripts/stage_counters.py): warps, partition cycles per warp, the bytes it moves, resident warps per SM and a
+// block's chain (SM cycles; both 0 without the latency term), for the generator, key and gather kernels (gen_*,
+// key_*, gather_*; 0 where the pass has no such kernel).
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -64,7 +65,8 @@ raycoh::GroupPath group_path_of(const std::vector<std::string>& f) {
 // The --per-warp columns of one kernel's terms.
 std::string per_warp(const raycoh::StageKernelTerms& t) {
   char out[160];
-  std::snprintf(out, sizeof out, ",%.0f,%.2f,%.0f,%.1f", t.warps, t.cycles, t.resident_warps, t.chain_cycles);
+  std::snprintf(out, sizeof out, ",%.0f,%.2f,%.0f,%.0f,%.1f", t.warps, t.cycles, t.bytes, t.resident_warps,
+                t.chain_cycles);
   return out;
 }
 
@@ -80,8 +82,9 @@ int main(int argc, char** argv) {
   std::cout << "label,gen_ms,key_ms,sort_ms,permute_ms,gen_dram_ms,gen_issue_ms,gen_l1_ms,gen_l1_wavefronts,"
                "tile_hits_l1_wavefronts,gen_latency_ms,key_latency_ms";
   if (warp_columns)
-    std::cout << ",gen_warps,gen_cycles_per_warp,gen_resident_warps,gen_chain_cycles,key_warps,key_cycles_per_warp,"
-                 "key_resident_warps,key_chain_cycles";
+    for (const char* k : {"gen", "key", "gather"})
+      std::cout << "," << k << "_warps," << k << "_cycles_per_warp," << k << "_bytes," << k << "_resident_warps," << k
+                << "_chain_cycles";
   std::cout << "\n";
   try {
     for (std::string line; std::getline(std::cin, line);) {
@@ -121,7 +124,9 @@ int main(int argc, char** argv) {
       std::snprintf(out, sizeof out, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.2f,%.2f,%.6f,%.6f", f[0].c_str(),
                     m.gen_ms, m.key_ms, m.sort_ms, m.permute_ms, g.dram_ms, g.issue_ms, g.l1_ms, g.l1_wavefronts,
                     stage_tile_hits_terms(gpu, w).l1_wavefronts, g.latency_ms, k.latency_ms);
-      std::cout << out << (warp_columns ? per_warp(g) + per_warp(k) : std::string()) << "\n";
+      const StageKernelTerms gather =
+          m.permute_ms > 0 ? stage_permute_terms(gpu, std::stod(f[10]), w.rays) : StageKernelTerms{};
+      std::cout << out << (warp_columns ? per_warp(g) + per_warp(k) + per_warp(gather) : std::string()) << "\n";
     }
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";

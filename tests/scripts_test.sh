@@ -236,19 +236,20 @@ out=$(/usr/bin/python3 "$scripts/hw_counters_check.py" hw-one.csv none.log --mod
 expect_error "--modeled gone.csv: no such file" /usr/bin/python3 "$scripts/hw_counters_check.py" hw-one.csv none.log --modeled gone.csv
 # stage_counters.py compare: a kernel's measured make-up (an ncu --page raw log) beside the prediction's; the section
 # layout's instruction count is derived from its occupancy and cycles per instruction.
-{ echo "kind,preset,gbuffer,file,scene,method,kernel,warps,cycles_per_warp,l1_wavefronts_per_warp,resident_warps,chain_cycles"
-  echo "modeled,h200,wide64,t.csv,sibenik,noopt,gen,100,700,100,32,3500"; } > counters-pred.csv
-{ echo '"ID","Kernel Name","Block Size","Grid Size","smsp__inst_executed.sum","smsp__average_warp_latency_per_inst_issued.ratio","sm__warps_active.avg.per_cycle_active","l1tex__data_pipe_lsu_wavefronts.sum","smsp__average_warps_issue_stalled_barrier_per_issue_active.ratio"'
-  echo '"","","","","inst","cycle","warp","","ratio"'
-  echo '"0","noopt_kernel(const ShadingPoint *)","(64, 1, 1)","(50, 1, 1)","50,000","10","30","12,000","2.5"'
-  echo '"1","noopt_kernel(const ShadingPoint *)","(64, 1, 1)","(50, 1, 1)","100,000","14","30","25,000","3.5"'; } > raw.log
+{ echo "kind,preset,gbuffer,file,scene,method,kernel,warps,cycles_per_warp,bytes_per_warp,l1_wavefronts_per_warp,resident_warps,chain_cycles"
+  echo "modeled,h200,wide64,t.csv,sibenik,noopt,gen,100,700,3000,100,32,3500"; } > counters-pred.csv
+{ echo '"ID","Kernel Name","Block Size","Grid Size","smsp__inst_executed.sum","smsp__average_warp_latency_per_inst_issued.ratio","sm__warps_active.avg.per_cycle_active","l1tex__data_pipe_lsu_wavefronts.sum","smsp__average_warps_issue_stalled_barrier_per_issue_active.ratio","dram__bytes_read.sum","dram__bytes_write.sum"'
+  echo '"","","","","inst","cycle","warp","","ratio","byte","byte"'
+  echo '"0","noopt_kernel(const ShadingPoint *)","(64, 1, 1)","(50, 1, 1)","50,000","10","30","12,000","2.5","1","1"'
+  echo '"1","noopt_kernel(const ShadingPoint *)","(64, 1, 1)","(50, 1, 1)","100,000","14","30","25,000","3.5","200,000","100,000"'; } > raw.log
 { echo '"ID","Kernel Name","Block Size","Grid Size","Section Name","Metric Name","Metric Unit","Metric Value","Rule Description"'
   for m in '"SM Active Cycles","","70,000"' '"Achieved Active Warps Per SM","","20"' '"Warp Cycles Per Issued Instruction","","14"' '"# SMs","","1"'; do
     echo "\"0\",\"noopt_kernel(int)\",\"(64, 1, 1)\",\"(50, 1, 1)\",\"S\",$m,\"\""; done; } > sections.log
 out=$(/usr/bin/python3 "$scripts/stage_counters.py" compare counters-pred.csv raw.log=noopt sections.log@0=noopt)
 [[ $out == *"| noopt | gen | 1,000 | 700 | 0.70 | 14.0 | 14,000 | 3,500 | 0.25 | —, 30.0 | 32 | 250.0 | 100.0 | — | — | — | — |"* &&
   $out == *"| noopt | gen | 1,000 (derived) | 700 | 0.70 | 14.0 | 14,000 | 3,500 | 0.25 |"* &&
-  $out == *"- noopt, gen: barrier 3.5 (of 14.0 cycles per issued instruction)"* ]] ||
+  $out == *"- noopt, gen: barrier 3.5 (of 14.0 cycles per issued instruction)"* &&
+  $out == *"| noopt | gen | 3,000 | — | 3,000 | 1.00 |"* ]] ||
   { echo "scripts_test: stage_counters.py compare: $out"; exit 1; }
 expect_error "give each log as LOG=METHOD" /usr/bin/python3 "$scripts/stage_counters.py" compare counters-pred.csv raw.log
 expect_error "gone.log: no such file" /usr/bin/python3 "$scripts/stage_counters.py" compare counters-pred.csv gone.log=noopt

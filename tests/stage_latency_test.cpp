@@ -155,6 +155,7 @@ TEST(StageLatency, TermsSayWhatTheyWereMadeOf) {
   EXPECT_GT(on.chain_cycles, 0);
   EXPECT_DOUBLE_EQ(on.latency_ms, stage_latency_ms(h, 60 * 135, 4, on.chain_cycles));
   EXPECT_DOUBLE_EQ(on.issue_ms, stage_issue_ms(h, on.warps, on.cycles));
+  EXPECT_DOUBLE_EQ(on.dram_ms, stage_stream_ms(h, on.bytes));
   // Without the latency term only the count is said.
   const StageKernelTerms off = stage_generator_terms(h, sweep_pass(32, 8, 64, false));
   EXPECT_DOUBLE_EQ(off.cycles, on.cycles);
@@ -172,6 +173,12 @@ TEST(StageLatency, TermsSayWhatTheyWereMadeOf) {
   EXPECT_GT(key.resident_warps, 0);
   EXPECT_DOUBLE_EQ(std::fmod(key.resident_warps, 8), 0);
   EXPECT_DOUBLE_EQ(key.chain_cycles, chain_cycles(stage_latencies(h), key_warp_chain(key.cycles, 0)));
+  // The gather: its bytes as given, a thread per ray, no latency term; the stage is its launch.
+  const StageKernelTerms gather = stage_permute_terms(h, 5e7, k.rays);
+  EXPECT_DOUBLE_EQ(gather.bytes, 5e7);
+  EXPECT_DOUBLE_EQ(gather.warps, 1920 * 1080 / 32);
+  EXPECT_DOUBLE_EQ(gather.chain_cycles, 0);
+  EXPECT_DOUBLE_EQ(gather.ms(h), stage_permute_ms(h, 5e7, k.rays));
 }
 
 }  // namespace
