@@ -32,7 +32,7 @@ namespace {
 int walk_trips(const MlhccCuts& cuts, Vec3 p, int field_stride, int field_index, int needed_bits) {
   uint64_t code = 0;
   int trips = 0;
-  mlhcc_write_path(cuts, p, field_stride, field_index, needed_bits, code, [&trips] { ++trips; });
+  mlhcc_write_path(cuts, p, field_stride, field_index, needed_bits, code, [&trips](int32_t) { ++trips; });
   return trips;
 }
 

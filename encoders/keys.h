@@ -287,11 +287,11 @@ RAYCOH_HD RAYCOH_INLINE Vec3 clamp_to_box(Vec3 p, const Bounds& box) {
 // Descends from the root to the leaf that holds p and writes the rank of every cut node on the way into the
 // code: the rank at level l goes to bit offset (field_stride x level_offset[l] + field_index x level_bits[l])
 // from the MSB, so that with the end point (stride 2) origin and end point alternate level by level. The
-// descent stops at the first level that starts at or past bit offset `needed_bits`. on_iteration() runs as each
-// iteration starts: the key kernel's does nothing (its SASS is the loop's alone, the stage model's instruction
-// count); bench/mlhcc_walks.cpp counts the walk's trips with it.
+// descent stops at the first level that starts at or past bit offset `needed_bits`. on_iteration(node) runs as
+// each iteration starts, with the index of the node it reads: the key kernel's does nothing (its SASS is the
+// loop's alone, the stage model's instruction count); bench/mlhcc_walks.cpp counts the walk's trips with it.
 struct MlhccNoCount {
-  RAYCOH_HD RAYCOH_INLINE void operator()() const {}
+  RAYCOH_HD RAYCOH_INLINE void operator()(int32_t) const {}
 };
 template <class OnIteration = MlhccNoCount>
 RAYCOH_HD RAYCOH_INLINE void mlhcc_write_path(const MlhccCuts& cuts, Vec3 p, int field_stride, int field_index,
@@ -299,7 +299,7 @@ RAYCOH_HD RAYCOH_INLINE void mlhcc_write_path(const MlhccCuts& cuts, Vec3 p, int
   if (cuts.node_count == 0) return;
   int32_t node = 0;
   for (int depth = 0; depth < kMlhccMaxLevels; ++depth) {
-    on_iteration();
+    on_iteration(node);
     const BvhNode& n = cuts.nodes[node];
     const int c = locate_child(n, p);
     const uint32_t level = cuts.cuts[node].level[c];
