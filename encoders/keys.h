@@ -289,7 +289,8 @@ RAYCOH_HD RAYCOH_INLINE Vec3 clamp_to_box(Vec3 p, const Bounds& box) {
 // from the MSB, so that with the end point (stride 2) origin and end point alternate level by level. The
 // descent stops at the first level that starts at or past bit offset `needed_bits`. on_iteration(node) runs as
 // each iteration starts, with the index of the node it reads: the key kernel's does nothing (its SASS is the
-// loop's alone, the stage model's instruction count); bench/mlhcc_walks.cpp counts the walk's trips with it.
+// loop's alone, the stage model's instruction count); bench/mlhcc_walks.cpp counts the walk's trips with it and
+// names the loads each iteration makes (bench/mlhcc_key_l1.h record_walk).
 struct MlhccNoCount {
   RAYCOH_HD RAYCOH_INLINE void operator()(int32_t) const {}
 };
