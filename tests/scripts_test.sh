@@ -271,10 +271,20 @@ out=$(/usr/bin/python3 "$scripts/stage_regions.py" source.csv listing.txt --warp
 sed 's/"7f0010","@P0 FFMA/"7f0010","IMAD/; s/"7f0020","FFMA/"7f0020","IADD3/' source.csv > foreign.csv
 expect_error "differ from the listing's opcodes" /usr/bin/python3 "$scripts/stage_regions.py" foreign.csv listing.txt --warps-from raw.log
 expect_error "no SASS rows" /usr/bin/python3 "$scripts/stage_regions.py" listing.txt listing.txt --warps-from raw.log
+# mlhcc_key_l1.py measured: the key launch's L1 counters per warp (the last launch: the timed pass).
+{ echo '"ID","Kernel Name","Block Size","Grid Size","l1tex__t_requests_pipe_lsu_mem_global_op_ld.sum","l1tex__t_sectors_pipe_lsu_mem_global_op_ld.sum","l1tex__t_sectors_pipe_lsu_mem_global_op_ld_lookup_miss.sum","l1tex__t_sector_hit_rate.pct","lts__t_bytes.sum","dram__bytes_read.sum"'
+  echo '"0","void key_kernel<(KeyKind)6>(RayView)","(256, 1, 1)","(4, 1, 1)","1","1","1","1","1","1"'
+  echo '"1","void key_kernel<(KeyKind)6>(RayView)","(256, 1, 1)","(4, 1, 1)","14,400","86,400","3,456","95.5","112,000","32,000"'; } > key.log
+out=$(/usr/bin/python3 "$scripts/mlhcc_key_l1.py" measured key.log raw.log)
+[[ $out == *"| key.log | 450.0 | 2,700 | 108.0 | 96.00 | 95.50 | 3,500 | 1,000 |"* && $out == *"| raw.log | no key_kernel launch |"* ]] ||
+  { echo "scripts_test: mlhcc_key_l1.py measured: $out"; exit 1; }
+expect_error "gone.log: no such file" /usr/bin/python3 "$scripts/mlhcc_key_l1.py" measured gone.log
 # gpu-check --stages under Nsight Compute: one log per method, named by its label, each method's generator and encoder.
 (cd "$scripts/.." && step() { echo "$1 ${*:3}"; } && OUT_DIR=out raycoh=raycoh scene=s res=1920x1080 prefix=() &&
   source scripts/gpu-check-steps && ncu_path() { echo ncu; } && stage_counter_steps) > counter-steps.txt
 [[ $(grep -c "^ncu-stage-[a-z_0-9]* env" counter-steps.txt) -eq 5 ]] &&
+  grep -q "^ncu-stage-noopt_mlhcc-conference .*--scenes \./conference .*--encoders mlhcc" counter-steps.txt &&
+  grep -q "^mlhcc-key-l1 .*mlhcc_key_l1.py measured out/ncu-stage-noopt_mlhcc.log out/ncu-stage-noopt_mlhcc-conference.log out/ncu-stage-noopt_mlhcc-country_kitchen.log$" counter-steps.txt &&
   [[ $(grep -c "^ncu-stage-source-\(noopt\|ours\) .*--section SourceCounters" counter-steps.txt) -eq 2 ]] &&
   [[ $(grep -c "^ncu-stage-source-\(noopt\|ours\)-csv .*--page source --csv --print-source sass" counter-steps.txt) -eq 2 ]] &&
   grep -q "^ncu-stage-ours_tile_32x8_k_8_order_tile .*--generators ours:tile=32x8,k=8 --encoders none" counter-steps.txt &&

@@ -52,3 +52,13 @@ CHECKS = [
     Figure(README, "a warp issuing once in {:.0f} to {:.0f} cycles",
            lambda: (measured(6, 9)["cpi"], measured(0, 3)["cpi"])),
 ]
+
+# MLHCC's key kernel's L1 (mlhcc-key-l1.md, not a README: its tables are checked the same way).
+MLHCC = f"{C}/mlhcc-key-l1.md"
+MLHCC_TABLE = f"{C}/mlhcc-key-l1-table.md"
+CHECKS += [
+    Generated(MLHCC_TABLE, ["scripts/mlhcc_key_l1.py", "table", "mlhcc-key-l1.csv"], cwd=C),
+    Embedded(MLHCC, MLHCC_TABLE, "The first three rows are the prediction"),
+    Embedded(MLHCC, MLHCC_TABLE, "The first three rows are the prediction", prefix="- sibenik"),
+    Embedded(MLHCC, MLHCC_TABLE, "Set beside sibenik's row"),
+]
