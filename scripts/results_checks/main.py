@@ -6,14 +6,14 @@ import time
 from results_checks import (checks_denoise, checks_first_run, checks_generated, checks_gpu, checks_kernels, checks_l1,
                             checks_model, checks_ncu, checks_readme_converge, checks_readme_cwbvh,
                             checks_readme_gpu, checks_readme_model, checks_readme_quality, checks_readme_schema,
-                            checks_scaling, checks_shard, checks_stage_counters, checks_stage_l1, checks_stage_latency,
-                            checks_stage_trips, checks_stages,
+                            checks_scaling, checks_shard, checks_stage_counters, checks_stage_gpgpusim, checks_stage_l1,
+                            checks_stage_latency, checks_stage_trips, checks_stages,
                             checks_top, checks_tune, coverage)
 from results_checks.core import Embedded, Figure, Generated, Unrecorded, read_file, render, squash
 from results_checks.rows import ROOT
 
 MODULES = (checks_gpu, checks_first_run, checks_ncu, checks_kernels, checks_scaling, checks_stages, checks_stage_l1,
-           checks_stage_trips, checks_stage_latency, checks_stage_counters, checks_model,
+           checks_stage_trips, checks_stage_latency, checks_stage_counters, checks_stage_gpgpusim, checks_model,
            checks_tune, checks_top, checks_readme_converge, checks_readme_cwbvh, checks_readme_gpu,
            checks_readme_model, checks_readme_quality, checks_readme_schema, checks_shard, checks_denoise, checks_l1,
            checks_generated)
