@@ -7,6 +7,7 @@
 
 #include "simt/gpu_model.h"
 #include "simt/stage_model.h"
+#include "tests/stage_hand_counts.h"
 
 namespace raycoh {
 namespace {
@@ -59,24 +60,7 @@ TEST(StageLatency, WavesAreWholeAndRunOneAfterAnother) {
   EXPECT_DOUBLE_EQ(stage_latency_ms(h, 100, 0, 1980), 0);
 }
 
-GroupPathCounts hand_counts() {
-  GroupPathCounts c;
-  c.common.straight = 100;
-  c.common.loop[0] = {0, 0, 2};  // over the block's warps
-  c.member_rank.straight = 10;
-  c.member_rank.loop[0] = {0, 0, 3};
-  c.census.straight = 20;
-  c.census.loop[0] = {0, 0, 5};
-  c.positions.straight = 30;
-  c.positions.loop[0] = {0, 0, 7};
-  c.shared_mean.straight = 40;
-  c.shared_mean.loop[0] = {0, 0, 11};
-  c.own_lobe.straight = 1000;
-  c.reuse.straight = 50;
-  c.reuse_rotate.straight = 70;
-  c.reuse_local.straight = 60;
-  return c;
-}
+using test::hand_counts;
 
 // 8x8 tile (2 warps), every pixel hit, all groups diffuse, duff.
 TEST(StageLatency, GroupBlockChainCountedByHand) {

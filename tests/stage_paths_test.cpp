@@ -10,6 +10,7 @@
 #include "generators/generator.h"
 #include "simt/gpu_model.h"
 #include "simt/stage_model.h"
+#include "tests/stage_hand_counts.h"
 
 namespace raycoh {
 namespace {
@@ -25,28 +26,7 @@ TEST(StagePaths, UnrolledLoopRunsSixteensThenFoursThenOnes) {
   EXPECT_DOUBLE_EQ(unrolled_loop_instructions(UnrolledLoop{0, 0, 7}, 5), 35);
 }
 
-GroupPathCounts hand_counts() {
-  GroupPathCounts c;
-  c.common.straight = 100;
-  c.common.loop[0] = {0, 0, 2};  // a loop over the block's warps
-  c.member_rank.straight = 10;
-  c.member_rank.loop[0] = {0, 0, 3};
-  c.census.straight = 20;
-  c.census.loop[0] = {0, 0, 5};
-  c.positions.straight = 30;
-  c.positions.loop[0] = {0, 0, 7};
-  c.shared_mean.straight = 40;
-  c.shared_mean.loop[0] = {0, 0, 11};
-  c.shared_glossy.straight = 300;
-  c.shared_glossy.loop[0] = {0, 0, 13};
-  c.shared_glossy.loop[1] = {0, 0, 17};
-  c.own_lobe.straight = 1000;
-  c.reuse.straight = 50;
-  c.reuse_own.straight = 500;
-  c.reuse_rotate.straight = 70;
-  c.reuse_local.straight = 60;
-  return c;
-}
+using test::hand_counts;
 
 // 8x8 tiles (2 warps), k = 8 (8 groups, all in warp 0), 100 tiles, every pixel hit, all groups diffuse, duff.
 TEST(StagePaths, GroupKernelAllDiffuseTileCountedByHand) {
